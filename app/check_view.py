@@ -1,0 +1,72 @@
+"""Turn a :class:`budget.check.CheckResult` into the check page's table (no Streamlit here).
+
+Every number is the library's: verdicts, binding parameter and margins from
+``CheckResult.records``, the minimum margin from ``CheckResult.min_margin``. This module only
+lays them out and colours them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from budget.check import CheckResult
+from budget.plots.check import PARAM_LABELS
+
+PASS_BG, FAIL_BG, NONE_BG = "#c7e9c0", "#fcbba1", "#eeeeee"
+#: Darker shades mark the binding (smallest-margin) parameter of each part.
+PASS_BINDING_BG, FAIL_BINDING_BG = "#74c476", "#fb6a4a"
+
+
+def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
+    """One row per part: part_id, grade, verdict, binding, min margin, a margin per parameter,
+    unspecified parameters. Margins are bound/spec (≥ 1 passes); NaN where not in the datasheet."""
+    recs = result.records(scenario_index)
+    mins = np.asarray(result.min_margin[:, scenario_index], float)
+    rows = []
+    for rec, mm in zip(recs, mins):
+        row = {"part_id": rec["part_id"], "grade": rec["grade"], "verdict": rec["verdict"],
+               "binding": PARAM_LABELS.get(rec["binding"], rec["binding"]) if rec["binding"] else None,
+               "min margin": float(mm) if math.isfinite(mm) else math.nan}
+        for p in result.params:
+            row[PARAM_LABELS[p]] = rec["margins"].get(p, math.nan)
+        row["unspecified"] = len(rec["unspecified"])
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def verdict_counts(frame: pd.DataFrame) -> dict[str, int]:
+    """Number of parts per verdict (pass, fail, unknown)."""
+    counts = frame["verdict"].value_counts()
+    return {v: int(counts.get(v, 0)) for v in ("pass", "fail", "unknown")}
+
+
+def _margin_css(v, binding: bool = False) -> str:
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return f"background-color: {NONE_BG}; color: #888888"
+    if binding:
+        return (f"background-color: {PASS_BINDING_BG if v >= 1.0 else FAIL_BINDING_BG}; "
+                "font-weight: bold; outline: 2px solid #333333")
+    return f"background-color: {PASS_BG if v >= 1.0 else FAIL_BG}"
+
+
+def _verdict_css(v: str) -> str:
+    return {"pass": f"background-color: {PASS_BG}", "fail": f"background-color: {FAIL_BG}"}.get(
+        v, f"background-color: {NONE_BG}")
+
+
+def style_check_frame(frame: pd.DataFrame):
+    """Colour margins (green ≥ 1, red < 1, grey unspecified; binding parameter darker) and verdicts."""
+    margin_cols = [c for c in frame.columns if c in PARAM_LABELS.values()] + ["min margin"]
+
+    def margins_css(row: pd.Series) -> list[str]:
+        return [_margin_css(row[col], binding=(col == row["binding"])) if col in margin_cols else ""
+                for col in row.index]
+
+    return (frame.style
+            .apply(margins_css, axis=1)
+            .map(_verdict_css, subset=["verdict"])
+            .format(na_rep="–")
+            .format("{:.3g}", subset=margin_cols, na_rep="–"))

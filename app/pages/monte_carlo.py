@@ -1,0 +1,165 @@
+"""Page: Monte Carlo verdict — P(pass) before/after PGA per part, failure reasons, metric
+distributions and the worst trials (images and phase error), all from :func:`budget.mc.run_mc`."""
+
+from __future__ import annotations
+
+import pandas as pd
+import streamlit as st
+
+from budget.catalog.schema import PartSpec
+from budget.errors import InputError
+from budget.mc import REASONS, TRIAL_METRICS, McOptions, McResult, run_mc
+from budget.plots.mc import (has_detail, metric_histogram_figure, pass_probability_figure,
+                             trial_images_figure, trial_phase_figure)
+from budget.scenario import Scenario
+
+import components as c
+import sidebar
+from page_frame import run_page
+
+DEFAULT_PART = "ADIS16405"
+DEFAULT_TRIALS = 64
+DEFAULT_SEED = 1
+MAX_TRIALS = 100_000
+#: Session-state key of the last run request (scenario JSON, part ids, trials, seed).
+RUN_KEY = "mc_request"
+
+
+@st.cache_data(show_spinner=False, max_entries=16)
+def _run(scenario_json: str, part_json: str, trials: int, seed: int) -> McResult:
+    """One part's verdict, cached on scenario, part, trials and seed (worst trials with images)."""
+    part = PartSpec.model_validate_json(part_json)
+    bar = st.progress(0.0, text=f"{part.part_id}: 0 / {trials} trials")
+
+    def progress(done: int, total: int) -> None:
+        bar.progress(done / total, text=f"{part.part_id}: {done} / {total} trials")
+
+    result = run_mc(Scenario.model_validate_json(scenario_json), part, trials, seed,
+                    options=McOptions(), progress=progress, keep_detail=True)
+    bar.empty()
+    return result
+
+
+def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, bool]:
+    ids = list(catalog)
+    default = [DEFAULT_PART] if DEFAULT_PART in catalog else ids[:1]
+    parts = st.multiselect("parts", ids, default=default, key="mc_parts")
+    left, mid, right = st.columns([1, 1, 1])
+    trials = left.number_input("trials", min_value=1, max_value=MAX_TRIALS, value=DEFAULT_TRIALS, step=64,
+                               key="mc_trials", help="a run of 64 trials takes about 10 s per part")
+    seed = mid.number_input("seed", min_value=0, value=DEFAULT_SEED, step=1, key="mc_seed",
+                            help="same seed → same trials, same result")
+    right.markdown("&nbsp;")
+    clicked = right.button("Run Monte Carlo", key="mc_run", type="primary", disabled=not parts)
+    return parts, int(trials), int(seed), clicked
+
+
+def summary_frame(results: dict[str, McResult]) -> pd.DataFrame:
+    """One row per part: trials, P(pass) before/after PGA with the 95 % Wilson interval."""
+    return pd.DataFrame([{
+        "part_id": pid, "trials": r.trials,
+        "P(pass) before PGA": r.p_pass_before, "CI95 before low": r.ci_before[0], "CI95 before high": r.ci_before[1],
+        "P(pass) after PGA": r.p_pass_after, "CI95 after low": r.ci_after[0], "CI95 after high": r.ci_after[1],
+        "cancelled": r.cancelled} for pid, r in results.items()])
+
+
+def _summary(results: dict[str, McResult], scenario: Scenario, seed: int) -> None:
+    st.subheader("P(pass)")
+    st.caption(f"scenario **{scenario.name}** (Tc = {scenario.tc_s:.4g} s) · seed {seed} · "
+               "95 % Wilson intervals. Pass = image acceptance after PGA, range migration ≤ 1 cell, "
+               "fast residual phase ≤ 1° rms (seed 004).")
+    if len(results) == 1:
+        (pid, r), = results.items()
+        cols = st.columns(2)
+        cols[0].metric(f"P(pass) before PGA — {pid}", f"{r.p_pass_before:.3f}",
+                       help=f"95 % CI [{r.ci_before[0]:.3f}, {r.ci_before[1]:.3f}]")
+        cols[1].metric(f"P(pass) after PGA — {pid}", f"{r.p_pass_after:.3f}",
+                       help=f"95 % CI [{r.ci_after[0]:.3f}, {r.ci_after[1]:.3f}]")
+    fmt = {k: "{:.3f}" for k in summary_frame(results).columns if k.startswith(("P(", "CI"))}
+    st.dataframe(summary_frame(results).style.format(fmt), hide_index=True, key="mc_summary")
+    st.plotly_chart(pass_probability_figure(results), key="mc_pass_plot", width="stretch")
+    st.subheader("Failure reasons (trials failing for each reason, after PGA)")
+    st.dataframe(pd.DataFrame([{"part_id": pid, **r.agg.failure_reasons()} for pid, r in results.items()],
+                              columns=["part_id", *REASONS]), hide_index=True, key="mc_reasons")
+
+
+def _percentiles(results: dict[str, McResult]) -> None:
+    st.subheader("Metric percentiles (worst target per trial)")
+    tabs = st.tabs(list(results))
+    for tab, (pid, r) in zip(tabs, results.items()):
+        tab.dataframe(r.to_frame().style.format({k: "{:.4g}" for k in r.to_frame().columns if k != "metric"}),
+                      hide_index=True, key=f"mc_pct_{pid}")
+
+
+def _distribution(results: dict[str, McResult]) -> None:
+    st.subheader("Metric distribution over trials")
+    metric = st.selectbox("metric", TRIAL_METRICS, index=TRIAL_METRICS.index("residual_phase_rms_deg"),
+                          key="mc_metric")
+    values = {pid: r.to_json_dict().get("metrics_after", {}).get(metric, []) for pid, r in results.items()}
+    st.plotly_chart(metric_histogram_figure(values, metric), key="mc_hist", width="stretch")
+
+
+def _inspector(results: dict[str, McResult]) -> None:
+    st.subheader("Worst trials")
+    left, right = st.columns(2)
+    pid = left.selectbox("part", list(results), key="mc_worst_part")
+    worst = results[pid].worst_trials()
+    if not worst:
+        st.info("No trial kept for inspection.")
+        return
+    labels = {o.trial: f"trial {o.trial} — {', '.join(o.reasons) or 'passed'}" for o in worst}
+    trial = right.selectbox("trial (worst first)", list(labels), format_func=labels.get, key="mc_worst_trial")
+    o = next(w for w in worst if w.trial == trial)
+    st.dataframe(pd.DataFrame([{"metric": m, "before PGA": o.before.get(m), "after PGA": o.after.get(m)}
+                               for m in TRIAL_METRICS]), hide_index=True, key="mc_worst_metrics")
+    st.caption(f"peak range migration {o.peak_range_cells:.3g} range cells · PGA "
+               f"{'converged' if o.pga_converged else 'did not converge'} ({o.pga_reason})")
+    if not has_detail(o.detail):
+        st.info("This run kept no images for its worst trials.")
+        return
+    st.plotly_chart(trial_images_figure(o.detail, title=f"{pid}, trial {o.trial}: image (dB re. peak)"),
+                    key="mc_worst_images", width="stretch")
+    st.plotly_chart(trial_phase_figure(o.detail, title=f"{pid}, trial {o.trial}: phase error, truth vs. PGA"),
+                    key="mc_worst_phase", width="stretch")
+
+
+def render() -> None:
+    ctx = sidebar.require_context()
+    if ctx is None:
+        return
+    s = ctx.scenario
+    st.title("Monte Carlo verdict")
+    st.markdown("Each trial draws the part's IMU errors, propagates them to the antenna phase centre, "
+                "forms the image with the IMU-measured track and runs PGA autofocus. Does autofocus "
+                "absorb what the IMU leaves? The scenario comes from the sidebar.")
+    catalog = c.session_catalog()
+    parts, trials, seed, clicked = _inputs(catalog)
+    request = (s.model_dump_json(), tuple(parts), trials, seed)
+    if clicked:
+        st.session_state[RUN_KEY] = request
+    last = st.session_state.get(RUN_KEY)
+    if last is None:
+        st.info("Pick parts, trials and seed, then press **Run Monte Carlo**.")
+        return
+    if last != request:
+        st.info("The inputs changed since the last run; press **Run Monte Carlo** to update. "
+                "Showing the last run.")
+    scen_json, run_parts, run_trials, run_seed = last
+    results: dict[str, McResult] = {}
+    for pid in run_parts:
+        if pid not in catalog:
+            st.warning(f"{pid} is no longer in the catalog.")
+            continue
+        try:
+            results[pid] = _run(scen_json, catalog[pid].model_dump_json(), run_trials, run_seed)
+        except InputError as err:
+            st.error(f"{pid}: {err}", icon=":material/error:")
+    if not results:
+        return
+    _summary(results, Scenario.model_validate_json(scen_json), run_seed)
+    _percentiles(results)
+    _distribution(results)
+    _inspector(results)
+
+
+run_page(render)

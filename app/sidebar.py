@@ -1,0 +1,129 @@
+"""The sidebar every page shares: scenario (preset + editable fields), bounds mode, assumptions.
+
+Every page draws it first (through :func:`page_frame.run_page`); :func:`components.keep` carries
+its values across runs and pages. The result is a :class:`Context` in ``st.session_state["ctx"]``
+that pages read with :func:`context`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import streamlit as st
+
+from budget.bounds import DerivedAssumptions, NoAutofocusAssumptions
+from budget.errors import InputError
+from budget.presets import PRESETS, get_preset
+from budget.scenario import Scenario
+
+from components import keep, keep_model_state, model_from_state, model_inputs
+
+DEFAULT_PRESET = "airborne_xband"
+SCENARIO_PREFIX = "scn_"
+DERIVED_PREFIX = "da_"
+NOAF_PREFIX = "na_"
+MODES = ("paper", "derived", "no-autofocus")
+MODE_HELP = {
+    "paper": "seed 004 (6)–(11) as printed",
+    "derived": "same bounds from physics; assumptions editable below",
+    "no-autofocus": "without PGA the phase error itself must stay small",
+}
+#: Scenario fields shown at the top of the sidebar; the rest go in an expander.
+MAIN_FIELDS = ("medium", "carrier_frequency_hz", "slant_range_m", "platform_speed_m_s",
+               "azimuth_resolution_m", "range_resolution_m", "squint_deg", "window_broadening")
+MORE_FIELDS = tuple(f for f in Scenario.model_fields if f not in MAIN_FIELDS)
+
+
+@dataclass(frozen=True)
+class Context:
+    """What the pages work from: the current scenario, bounds mode and assumptions."""
+
+    scenario: Scenario | None
+    mode: str
+    derived: DerivedAssumptions | None
+    no_autofocus: NoAutofocusAssumptions | None
+    errors: tuple[str, ...] = field(default=())
+
+    def assumptions(self, mode: str | None = None):
+        """Assumptions model for ``mode`` (default: the selected mode); None for ``paper``."""
+        mode = mode or self.mode
+        return {"derived": self.derived, "no-autofocus": self.no_autofocus}.get(mode)
+
+    @property
+    def ok(self) -> bool:
+        return self.scenario is not None and not self.errors
+
+
+def _keep_scenario(preset: str, force: bool) -> None:
+    s = get_preset(preset)
+    keep_model_state(SCENARIO_PREFIX, s, force=force, fallbacks={"propagation_speed_m_s": s.c_m_s})
+
+
+def _apply_preset() -> None:
+    keep("scn_preset", st.session_state["scn_preset"], force=True)
+    _keep_scenario(st.session_state["scn_preset"], force=True)
+
+
+def _reset_assumptions(prefix: str, model) -> None:
+    keep_model_state(prefix, model, force=True)
+
+
+def _build(model_cls, prefix: str, what: str, errors: list[str]):
+    try:
+        return model_from_state(model_cls, prefix)
+    except InputError as err:
+        errors.append(f"{what}: {err}")
+        return None
+
+
+def render() -> Context:
+    """Draw the sidebar and store the resulting :class:`Context` in session state."""
+    keep("scn_preset", DEFAULT_PRESET)
+    keep("bounds_mode", MODES[0])
+    _keep_scenario(st.session_state["scn_preset"], force=False)
+    keep_model_state(DERIVED_PREFIX, DerivedAssumptions())
+    keep_model_state(NOAF_PREFIX, NoAutofocusAssumptions())
+
+    sb = st.sidebar
+    sb.header("Scenario")
+    sb.selectbox("preset", options=sorted(PRESETS), key="scn_preset", on_change=_apply_preset,
+                 help="picking a preset overwrites the fields below")
+    model_inputs(Scenario, SCENARIO_PREFIX, MAIN_FIELDS, sb)
+    with sb.expander("More scenario fields"):
+        model_inputs(Scenario, SCENARIO_PREFIX, MORE_FIELDS, st)
+
+    sb.header("Bounds")
+    sb.radio("bounds mode", MODES, key="bounds_mode", format_func=lambda m: f"{m} — {MODE_HELP[m]}",
+             help="used by the check matrix and highlighted in the plots")
+    with sb.expander("Derived-mode assumptions"):
+        model_inputs(DerivedAssumptions, DERIVED_PREFIX, DerivedAssumptions.model_fields, st)
+        st.button("reset to defaults", key="da_reset", on_click=_reset_assumptions,
+                  args=(DERIVED_PREFIX, DerivedAssumptions()))
+    with sb.expander("No-autofocus assumptions"):
+        model_inputs(NoAutofocusAssumptions, NOAF_PREFIX, NoAutofocusAssumptions.model_fields, st)
+        st.button("reset to defaults", key="na_reset", on_click=_reset_assumptions,
+                  args=(NOAF_PREFIX, NoAutofocusAssumptions()))
+
+    errors: list[str] = []
+    scenario = _build(Scenario, SCENARIO_PREFIX, "scenario", errors)
+    derived = _build(DerivedAssumptions, DERIVED_PREFIX, "derived assumptions", errors)
+    noaf = _build(NoAutofocusAssumptions, NOAF_PREFIX, "no-autofocus assumptions", errors)
+    for e in errors:
+        sb.error(e, icon=":material/error:")
+    ctx = Context(scenario, st.session_state["bounds_mode"], derived, noaf, tuple(errors))
+    st.session_state["ctx"] = ctx
+    return ctx
+
+
+def context() -> Context:
+    """The context drawn by :func:`render` in this run."""
+    return st.session_state["ctx"]
+
+
+def require_context() -> Context | None:
+    """The context, or None after telling the user to fix the sidebar first."""
+    ctx = context()
+    if not ctx.ok:
+        st.warning("Fix the inputs in the sidebar first: " + "; ".join(ctx.errors), icon=":material/warning:")
+        return None
+    return ctx

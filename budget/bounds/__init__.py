@@ -1,0 +1,32 @@
+"""Analytic sensor-error bounds driven by the synthetic-aperture time Tc (seed 004).
+
+* :mod:`.paper` — seed 004 (6)–(11) exactly, as printed.
+* :mod:`.derived` — the same bounds from physics, every assumption explicit.
+* :mod:`.no_autofocus` — what each error may be when no autofocus runs.
+* :mod:`.fast_phase` — the limits on what autofocus cannot remove.
+"""
+
+from .table import BOUND_FIELDS, BoundsTable
+from .paper import paper_bounds
+from .derived import DerivedAssumptions, derived_bounds
+from .no_autofocus import NoAutofocusAssumptions, no_autofocus_bounds
+from .fast_phase import fast_phase_limits, FastPhaseLimits
+from .legendre import random_walk_constants
+
+__all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", "derived_bounds",
+           "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
+           "random_walk_constants", "compute_bounds"]
+
+
+def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_m=None,
+                   assumptions=None) -> BoundsTable:
+    """Bounds in ``mode`` ``paper`` | ``derived`` | ``no-autofocus`` for arrays of Tc and δr."""
+    if mode == "paper":
+        return paper_bounds(tc_s, range_resolution_m)
+    if mode == "derived":
+        return derived_bounds(tc_s, range_resolution_m, assumptions or DerivedAssumptions())
+    if mode in ("no-autofocus", "no_autofocus"):
+        if wavelength_m is None:
+            raise ValueError("no-autofocus bounds need the wavelength (they limit phase, not range cells)")
+        return no_autofocus_bounds(tc_s, wavelength_m, assumptions or NoAutofocusAssumptions())
+    raise ValueError(f"unknown bounds mode {mode!r}; expected paper, derived or no-autofocus")

@@ -1,0 +1,72 @@
+"""What autofocus cannot remove: fast phase limits (seed 004, DESIGN.md §2 and §4).
+
+PGA removes smooth phase errors; a fast harmonic phase error must stay ≤ 1° peak and random
+phase noise ≤ 1° rms. As LOS range error: Δr = λ/(4π)·φ (1.7e-5 m at 24 GHz, 5.4e-6 m at
+77 GHz). A fast sinusoid of amplitude β rad gives paired echoes at 20·log10(β/2) dB; white
+phase noise of σ rad moves σ² of the main-lobe energy into the sidelobes (ISLR ≈ 10·log10 σ²).
+
+Random walks also leave a part PGA's low-order model does not take: the rms beyond the cubic
+Legendre term (:mod:`.legendre`). :func:`fast_phase_limits` turns the 1° rms limit into VRW and
+ARW limits for a given Tc — a bound the paper does not print, shown beside its (10)–(11).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ..units import G0
+from .legendre import random_walk_constants
+
+
+@dataclass(frozen=True)
+class FastPhaseLimits:
+    """Fast-phase limits for one wavelength (SI)."""
+
+    wavelength_m: float
+    noise_rms_deg: float
+    harmonic_peak_deg: float
+    noise_range_rms_m: float
+    harmonic_range_peak_m: float
+    paired_echo_db: float
+    noise_islr_db: float
+    tc_s: np.ndarray
+    vrw_m_s2_rt_hz: np.ndarray
+    arw_rad_s_rt_hz: np.ndarray
+
+    def to_frame(self) -> pd.DataFrame:
+        return pd.DataFrame({"tc_s": self.tc_s, "vrw_fast_limit_m_s2_rt_hz": self.vrw_m_s2_rt_hz,
+                             "arw_fast_limit_rad_s_rt_hz": self.arw_rad_s_rt_hz})
+
+    def summary(self) -> str:
+        return (f"fast phase (λ = {self.wavelength_m:.4g} m): random ≤ {self.noise_rms_deg}° rms "
+                f"→ {self.noise_range_rms_m:.3g} m rms, harmonic ≤ {self.harmonic_peak_deg}° peak → "
+                f"{self.harmonic_range_peak_m:.3g} m peak; paired echoes {self.paired_echo_db:.1f} dB, "
+                f"noise ISLR {self.noise_islr_db:.1f} dB")
+
+
+def fast_phase_limits(wavelength_m: float, tc_s=(), *, noise_rms_deg: float = 1.0,
+                      harmonic_peak_deg: float = 1.0, gravity_m_s2: float = G0) -> FastPhaseLimits:
+    """Fast-phase limits for ``wavelength_m`` and, for each Tc, the VRW/ARW whose residual beyond
+    the cubic Legendre term stays within ``noise_rms_deg`` rms."""
+    lam = float(wavelength_m)
+    if not (math.isfinite(lam) and lam > 0):
+        raise ValueError("wavelength must be finite and > 0 m")
+    to_range = lam / (4.0 * math.pi)
+    noise_m = math.radians(noise_rms_deg) * to_range
+    harm_m = math.radians(harmonic_peak_deg) * to_range
+    tc = np.atleast_1d(np.asarray(tc_s, dtype=float))
+    r_v = random_walk_constants("vrw")["resid_rms"][3]
+    r_a = random_walk_constants("arw")["resid_rms"][3]
+    sigma = math.radians(noise_rms_deg)
+    return FastPhaseLimits(
+        wavelength_m=lam, noise_rms_deg=noise_rms_deg, harmonic_peak_deg=harmonic_peak_deg,
+        noise_range_rms_m=noise_m, harmonic_range_peak_m=harm_m,
+        paired_echo_db=20.0 * math.log10(math.radians(harmonic_peak_deg) / 2.0),
+        noise_islr_db=10.0 * math.log10(sigma**2),
+        tc_s=tc, vrw_m_s2_rt_hz=noise_m / (r_v * tc**1.5),
+        arw_rad_s_rt_hz=noise_m / (r_a * gravity_m_s2 * tc**2.5),
+    )

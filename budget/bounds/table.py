@@ -1,0 +1,61 @@
+"""The bounds result: SI arrays inside, datasheet units in :meth:`BoundsTable.to_frame`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from .. import units as u
+
+#: Output keys (datasheet units) in the order of seed 004 Tables 1–2, and their SI → unit map.
+BOUND_FIELDS: dict[str, tuple[str, callable]] = {
+    "accel_scale_factor_ppm": ("accel_scale_factor", u.ratio_to_ppm),
+    "gyro_scale_factor_ppm": ("gyro_scale_factor", u.ratio_to_ppm),
+    "misalignment_mrad": ("misalignment_rad", u.rad_to_mrad),
+    "accel_bias_ug": ("accel_bias_m_s2", u.m_s2_to_ug),
+    "gyro_bias_deg_h": ("gyro_bias_rad_s", u.rad_s_to_deg_h),
+    "accel_vrw_ug_rt_hz": ("accel_vrw_m_s2_rt_hz", u.m_s2_rt_hz_to_ug_rt_hz),
+    "gyro_arw_deg_rt_h": ("gyro_arw_rad_s_rt_hz", u.rad_s_rt_hz_to_deg_rt_h),
+}
+
+
+@dataclass(frozen=True)
+class BoundsTable:
+    """Maximum allowed sensor errors, one value per Tc (arrays broadcast over Tc and δr).
+
+    SI: scale factors as ratios, misalignment rad, accel bias m/s², gyro bias rad/s,
+    VRW m/s²/√Hz, ARW rad/s/√Hz.
+    """
+
+    mode: str
+    tc_s: np.ndarray
+    range_resolution_m: np.ndarray
+    accel_scale_factor: np.ndarray
+    gyro_scale_factor: np.ndarray
+    misalignment_rad: np.ndarray
+    accel_bias_m_s2: np.ndarray
+    gyro_bias_rad_s: np.ndarray
+    accel_vrw_m_s2_rt_hz: np.ndarray
+    gyro_arw_rad_s_rt_hz: np.ndarray
+    notes: tuple[str, ...] = field(default=())
+
+    def datasheet(self) -> dict[str, np.ndarray]:
+        """Bounds in datasheet units keyed as in the CLI JSON (``accel_bias_ug`` …)."""
+        return {key: conv(np.asarray(getattr(self, si))) for key, (si, conv) in BOUND_FIELDS.items()}
+
+    def to_frame(self) -> pd.DataFrame:
+        data = {"tc_s": np.ravel(self.tc_s), "range_resolution_m": np.ravel(
+            np.broadcast_to(self.range_resolution_m, np.shape(self.tc_s)))}
+        data.update({k: np.ravel(v) for k, v in self.datasheet().items()})
+        return pd.DataFrame(data)
+
+    def records(self) -> list[dict]:
+        """One dict per Tc with ``tc_s`` and the datasheet-unit keys (the CLI JSON list)."""
+        frame = self.to_frame().drop(columns="range_resolution_m")
+        return frame.to_dict(orient="records")
+
+    def summary(self) -> str:
+        head = f"Bounds ({self.mode} mode)"
+        return head + "\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}")

@@ -1,0 +1,174 @@
+"""Catalog row models: an IMU part and an IMU grade, in datasheet units (the catalog's edge).
+
+A part row *is* a noise model: :meth:`PartSpec.to_si` gives the SI error parameters the
+simulator and the bounds check use. Unknown datasheet values stay ``None`` (empty cell) —
+never invented; consumers treat ``None`` as "not specified".
+
+Bias-instability convention: most vendors quote the *minimum of the Allan deviation*; IEEE
+Std 952 defines the flicker coefficient B with that minimum = B·√(2 ln2/π) ≈ 0.664·B. The
+column ``bias_instability_convention`` says which one a row holds (default ``adev_min``);
+:meth:`PartSpec.to_si` always returns the Allan-deviation floor *and* IEEE B.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from .. import units as u
+
+GRADES = ("strategic", "navigation", "stabilization", "tactical", "industrial", "consumer")
+#: Rank 1 = best. Used for "cheapest/lowest grade that passes" and sorting.
+GRADE_RANK = {g: i + 1 for i, g in enumerate(GRADES)}
+
+#: √(2 ln 2 / π): Allan-deviation floor of flicker noise per unit IEEE B.
+FLICKER_FLOOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
+
+_num = dict(ge=0.0, allow_inf_nan=False)
+
+#: Numeric columns of parts.csv with their unit (for messages and docs) and plausible maximum.
+PART_NUMERIC_COLUMNS: dict[str, tuple[str, float]] = {
+    "rate_hz": ("Hz", 1e6),
+    "gyro_bias_instability_deg_h": ("deg/h", 1e5),
+    "gyro_bias_repeatability_deg_h": ("deg/h", 1e6),
+    "gyro_arw_deg_rt_h": ("deg/√h", 1e3),
+    "gyro_rrw_deg_h_rt_h": ("deg/h/√h", 1e5),
+    "gyro_scale_factor_ppm": ("ppm", 1e6),
+    "gyro_misalignment_mrad": ("mrad", 1e3),
+    "accel_bias_instability_ug": ("µg", 1e6),
+    "accel_bias_repeatability_ug": ("µg", 1e7),
+    "accel_vrw_m_s_rt_h": ("m/s/√h", 1e2),
+    "accel_scale_factor_ppm": ("ppm", 1e6),
+    "accel_misalignment_mrad": ("mrad", 1e3),
+    "mass_g": ("g", 1e6),
+    "price_usd": ("USD", 1e8),
+}
+PART_TEXT_COLUMNS = ("part_id", "vendor", "model", "grade", "source",
+                     "bias_instability_convention", "notes")
+#: Canonical column order of parts.csv.
+PART_COLUMNS = ("part_id", "vendor", "model", "grade", *PART_NUMERIC_COLUMNS, "source",
+                "bias_instability_convention", "notes")
+PART_REQUIRED = ("part_id", "grade", "source")
+
+
+class PartSpec(BaseModel):
+    """One IMU part in datasheet units (a row of ``catalog/parts.csv``)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    part_id: str = Field(..., pattern=r"^[A-Za-z0-9][A-Za-z0-9._\-]{0,63}$")
+    vendor: str = ""
+    model: str = ""
+    grade: Literal["strategic", "navigation", "stabilization", "tactical", "industrial", "consumer"]
+    rate_hz: float | None = Field(None, gt=0.0, le=1e6, allow_inf_nan=False)
+    gyro_bias_instability_deg_h: float | None = Field(None, le=1e5, **_num)
+    gyro_bias_repeatability_deg_h: float | None = Field(None, le=1e6, **_num)
+    gyro_arw_deg_rt_h: float | None = Field(None, le=1e3, **_num)
+    gyro_rrw_deg_h_rt_h: float | None = Field(None, le=1e5, **_num)
+    gyro_scale_factor_ppm: float | None = Field(None, le=1e6, **_num)
+    gyro_misalignment_mrad: float | None = Field(None, le=1e3, **_num)
+    accel_bias_instability_ug: float | None = Field(None, le=1e6, **_num)
+    accel_bias_repeatability_ug: float | None = Field(None, le=1e7, **_num)
+    accel_vrw_m_s_rt_h: float | None = Field(None, le=1e2, **_num)
+    accel_scale_factor_ppm: float | None = Field(None, le=1e6, **_num)
+    accel_misalignment_mrad: float | None = Field(None, le=1e3, **_num)
+    mass_g: float | None = Field(None, le=1e6, **_num)
+    price_usd: float | None = Field(None, le=1e8, **_num)
+    source: str = Field(..., min_length=1)
+    bias_instability_convention: Literal["adev_min", "ieee_b"] = "adev_min"
+    notes: str = ""
+
+    @field_validator("vendor", "model", "source", "notes")
+    @classmethod
+    def _no_formula(cls, v: str) -> str:
+        if v and v[0] in "=+-@" and not v[1:2].isdigit():
+            raise ValueError("text starting with =, +, - or @ looks like a spreadsheet formula")
+        return v
+
+    def to_si(self) -> "ImuErrorsSI":
+        """SI error parameters (``None`` datasheet values become 0.0 and are listed in ``missing``)."""
+        missing = tuple(k for k in PART_NUMERIC_COLUMNS
+                        if k not in ("mass_g", "price_usd") and getattr(self, k) is None)
+
+        def val(name: str) -> float:
+            v = getattr(self, name)
+            return 0.0 if v is None else float(v)
+
+        def floor_and_b(raw_si: float) -> tuple[float, float]:
+            if self.bias_instability_convention == "adev_min":
+                return raw_si, raw_si / FLICKER_FLOOR
+            return raw_si * FLICKER_FLOOR, raw_si
+
+        g_floor, g_b = floor_and_b(u.deg_h_to_rad_s(val("gyro_bias_instability_deg_h")))
+        a_floor, a_b = floor_and_b(u.ug_to_m_s2(val("accel_bias_instability_ug")))
+        return ImuErrorsSI(
+            rate_hz=self.rate_hz,
+            gyro_bias_instability_adev_rad_s=g_floor,
+            gyro_bias_instability_b_rad_s=g_b,
+            gyro_turn_on_bias_rad_s=u.deg_h_to_rad_s(val("gyro_bias_repeatability_deg_h")),
+            gyro_arw_rad_s_rt_hz=u.deg_rt_h_to_rad_s_rt_hz(val("gyro_arw_deg_rt_h")),
+            gyro_rrw_rad_s_rt_s=u.deg_h_rt_h_to_rad_s_rt_s(val("gyro_rrw_deg_h_rt_h")),
+            gyro_scale_factor=u.ppm_to_ratio(val("gyro_scale_factor_ppm")),
+            gyro_misalignment_rad=u.mrad_to_rad(val("gyro_misalignment_mrad")),
+            accel_bias_instability_adev_m_s2=a_floor,
+            accel_bias_instability_b_m_s2=a_b,
+            accel_turn_on_bias_m_s2=u.ug_to_m_s2(val("accel_bias_repeatability_ug")),
+            accel_vrw_m_s2_rt_hz=u.m_s_rt_h_to_m_s2_rt_hz(val("accel_vrw_m_s_rt_h")),
+            accel_scale_factor=u.ppm_to_ratio(val("accel_scale_factor_ppm")),
+            accel_misalignment_rad=u.mrad_to_rad(val("accel_misalignment_mrad")),
+            missing=missing,
+        )
+
+
+@dataclass(frozen=True)
+class ImuErrorsSI:
+    """IMU error parameters in SI (rad, s, m). Absent datasheet values are 0.0, named in ``missing``.
+
+    ``*_bias_instability_adev_*`` is the Allan-deviation floor; ``*_bias_instability_b_*`` the
+    IEEE-952 flicker coefficient B (floor = 0.664·B). ``*_turn_on_bias_*`` is the 1σ
+    run-to-run bias (repeatability), drawn once per trial by the simulator.
+    """
+
+    rate_hz: float | None
+    gyro_bias_instability_adev_rad_s: float
+    gyro_bias_instability_b_rad_s: float
+    gyro_turn_on_bias_rad_s: float
+    gyro_arw_rad_s_rt_hz: float
+    gyro_rrw_rad_s_rt_s: float
+    gyro_scale_factor: float
+    gyro_misalignment_rad: float
+    accel_bias_instability_adev_m_s2: float
+    accel_bias_instability_b_m_s2: float
+    accel_turn_on_bias_m_s2: float
+    accel_vrw_m_s2_rt_hz: float
+    accel_scale_factor: float
+    accel_misalignment_rad: float
+    missing: tuple[str, ...] = ()
+
+
+class GradeSpec(BaseModel):
+    """Typical error ranges of one IMU grade, seed 004 Tables 3–4 (a row of ``catalog/grades.csv``)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    grade: Literal["strategic", "navigation", "stabilization", "tactical", "industrial", "consumer"]
+    rank: int = Field(..., ge=1, le=6)
+    accel_scale_factor_ppm_min: float = Field(..., **_num)
+    accel_scale_factor_ppm_max: float = Field(..., **_num)
+    accel_misalignment_mrad: float = Field(..., **_num)
+    accel_bias_ug_min: float = Field(..., **_num)
+    accel_bias_ug_max: float = Field(..., **_num)
+    accel_noise_ug_rt_hz_min: float = Field(..., **_num)
+    accel_noise_ug_rt_hz_max: float = Field(..., **_num)
+    gyro_scale_factor_ppm_min: float = Field(..., **_num)
+    gyro_scale_factor_ppm_max: float = Field(..., **_num)
+    gyro_misalignment_mrad: float = Field(..., **_num)
+    gyro_bias_deg_h_min: float = Field(..., **_num)
+    gyro_bias_deg_h_max: float = Field(..., **_num)
+    gyro_arw_deg_rt_h_min: float = Field(..., **_num)
+    gyro_arw_deg_rt_h_max: float = Field(..., **_num)
+    source: str = Field(..., min_length=1)
+    notes: str = ""

@@ -1,0 +1,1 @@
+"""The ``sar-budget`` command line: a thin layer over the library."""

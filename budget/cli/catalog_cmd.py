@@ -1,0 +1,51 @@
+"""``sar-budget catalog validate|list|show``."""
+
+from __future__ import annotations
+
+from ..catalog.io import get_part, load_catalog, read_parts, shipped_catalog_dir
+from .common import add_catalog_option
+from .output import add_json_option, write_json
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("catalog", help="validate, list or show catalog parts")
+    csub = p.add_subparsers(dest="catalog_command", metavar="ACTION", required=True)
+    v = csub.add_parser("validate", help="validate a catalog CSV (default: the shipped one)")
+    v.add_argument("csv", nargs="?", help="CSV to validate")
+    v.set_defaults(func=run_validate)
+    lst = csub.add_parser("list", help="list parts (shipped merged with the user catalog)")
+    add_catalog_option(lst)
+    add_json_option(lst)
+    lst.set_defaults(func=run_list)
+    sh = csub.add_parser("show", help="show one part")
+    sh.add_argument("part_id")
+    add_catalog_option(sh)
+    add_json_option(sh)
+    sh.set_defaults(func=run_show)
+
+
+def run_validate(args) -> int:
+    path = args.csv or shipped_catalog_dir() / "parts.csv"
+    parts = read_parts(path)
+    print(f"{path}: {len(parts)} parts valid")
+    return 0
+
+
+def run_list(args) -> int:
+    cat = load_catalog(args.catalog)
+    if args.json:
+        write_json([p.model_dump() for p in cat.values()], args.json)
+        return 0
+    for p in cat.values():
+        print(f"{p.part_id:<22}{p.grade:<14}{p.vendor} {p.model}")
+    return 0
+
+
+def run_show(args) -> int:
+    p = get_part(args.part_id, load_catalog(args.catalog))
+    if args.json:
+        write_json(p.model_dump(), args.json)
+        return 0
+    for k, v in p.model_dump().items():
+        print(f"{k:<32}{'' if v is None else v}")
+    return 0

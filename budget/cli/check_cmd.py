@@ -1,0 +1,39 @@
+"""``sar-budget check``: every catalog part against a scenario's bounds."""
+
+from __future__ import annotations
+
+from ..catalog.io import load_catalog, load_grades
+from ..check import check_parts, recommend_grade
+from .common import add_catalog_option, add_scenario_options, scenario_from_args
+from .output import add_json_option, write_json
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("check", help="check catalog parts against a scenario",
+                       description="Margins (bound/spec) of every catalog part for one scenario.")
+    add_scenario_options(p, required=True)
+    add_catalog_option(p)
+    p.add_argument("--mode", choices=("paper", "derived", "no-autofocus"), default="paper")
+    p.add_argument("--part", nargs="+", metavar="ID", help="only these parts")
+    add_json_option(p)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    scen = scenario_from_args(args)
+    catalog = load_catalog(args.catalog)
+    if args.part:
+        from ..catalog.io import get_part
+        parts = [get_part(pid, catalog) for pid in args.part]
+    else:
+        parts = list(catalog.values())
+    res = check_parts(parts, scen, mode=args.mode)
+    if args.json:
+        write_json(res.records(0), args.json)
+        return 0
+    print(f"scenario {scen.name}: Tc = {scen.tc_s:.3g} s, δr = {scen.range_resolution_m:g} m, "
+          f"λ = {scen.wavelength_m:.4g} m ({args.mode} bounds)")
+    print(res.summary())
+    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, list(load_grades().values()))
+    print(f"lowest sufficient grade (typical, bias + noise): {rec.grade[0] or 'none'}")
+    return 0

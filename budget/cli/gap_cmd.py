@@ -1,0 +1,87 @@
+"""``sar-budget gap``: where a measured log and its noise model disagree, and what is missing.
+
+Contract (scripts rely on it)::
+
+    sar-budget gap MEASURED.csv (--part ID | --model MODEL.json) --report REPORT.json
+                   [--out-model UPDATED.json] [--seed K]
+
+MEASURED.csv is an IMU log or a measured Allan-deviation table (``channel,tau_s,adev[,lci,uci]``
+with ``--rate-hz`` and ``--samples``). REPORT.json: ``gap_before``, ``gap_after``, ``effects``
+(name, channel, params in SI channel units, gap_before, gap_after; in the order added, ``[]``
+when nothing is missing), ``channels`` (gap_before, gap_after per channel), plus thresholds,
+localisation and notes. The summary goes to stdout; bad input exits 2 with one line.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import InputError
+from ..gap import run_gap
+from ..gap.workflow import DEFAULT_MAX_STEPS, DEFAULT_REALIZATIONS
+from ..noise import LogMapping
+from ..units import CHANNELS
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("gap", help="model gap: compare a log with its noise model, name missing effects")
+    p.add_argument("measured", metavar="MEASURED.csv",
+                   help="static IMU log CSV (.csv/.csv.gz) or Allan table (channel, tau_s, adev[, lci, uci])")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--part", metavar="ID", help="catalog part the log should follow")
+    src.add_argument("--model", metavar="MODEL.json",
+                     help="noise model: catalog-row fields (datasheet units, absent = 0) + optional effects")
+    p.add_argument("--report", metavar="REPORT.json", required=True, help="write the JSON report here")
+    p.add_argument("--out-model", metavar="UPDATED.json", help="write the updated model (base + effects)")
+    p.add_argument("--seed", type=int, default=0, help="random seed of the simulations (default 0)")
+    p.add_argument("--realizations", type=int, default=DEFAULT_REALIZATIONS,
+                   help=f"simulated logs per channel (default {DEFAULT_REALIZATIONS}, ≥ 4)")
+    p.add_argument("--max-steps", type=int, default=DEFAULT_MAX_STEPS,
+                   help=f"most effects to add (default {DEFAULT_MAX_STEPS})")
+    p.add_argument("--alpha", type=float, default=0.01, help="false-alarm level (default 0.01)")
+    p.add_argument("--min-gain", type=float, default=0.05,
+                   help="share of its channel's excess gap an effect must remove (default 0.05)")
+    p.add_argument("--channels", help=f"comma-separated subset of {','.join(CHANNELS)}")
+    p.add_argument("--rate-hz", type=float, help="sampling rate (Allan tables; logs without time)")
+    p.add_argument("--samples", type=int, help="record length behind an Allan table")
+    p.add_argument("--ci-level", type=float, default=0.95, help="confidence level of lci/uci (0.95)")
+    p.add_argument("--mapping", metavar="MAP.json", help="column/unit mapping for other log layouts")
+    p.add_argument("--repair", action="store_true", help="repair the log (listed in the report notes)")
+    p.add_argument("--max-rows", type=int, metavar="N", help="read only the first N rows of the log")
+    p.add_argument("--catalog", metavar="CSV", help="user catalog merged over the shipped one")
+    p.add_argument("--no-tau-check", action="store_true",
+                   help="accept a log shorter than the model's bias-instability floor needs")
+    p.add_argument("--plots", metavar="DIR", help="write measured-vs-model figures (HTML) to DIR")
+    p.set_defaults(func=run)
+
+
+def _channels(text: str | None):
+    if not text:
+        return None
+    chans = [c.strip() for c in text.split(",") if c.strip()]
+    bad = [c for c in chans if c not in CHANNELS]
+    if bad or not chans:
+        raise InputError(f"unknown channel(s) {', '.join(bad) or '(none)'}", field="--channels",
+                         expected=f"comma-separated names from {', '.join(CHANNELS)}")
+    return chans
+
+
+def run(args) -> int:
+    if args.max_steps < 0:
+        raise InputError("--max-steps must be ≥ 0", field="--max-steps", value=args.max_steps)
+    mapping = LogMapping.load(args.mapping) if args.mapping else None
+    model = args.part if args.part else Path(args.model)
+    report = run_gap(args.measured, model, seed=args.seed,
+                     realizations=args.realizations, channels=_channels(args.channels),
+                     rate_hz=args.rate_hz, samples=args.samples, max_steps=args.max_steps,
+                     alpha=args.alpha, min_gain=args.min_gain, check_tau_range=not args.no_tau_check,
+                     catalog_csv=args.catalog, mapping=mapping, repair=args.repair,
+                     max_rows=args.max_rows, ci_level=args.ci_level)
+    report.save(args.report)
+    if args.out_model:
+        report.updated_model.save(args.out_model)
+    if args.plots:
+        from ..gap.plots import write_figures
+        write_figures(report, Path(args.plots))
+    print(report.summary())
+    return 0

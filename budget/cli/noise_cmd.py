@@ -1,0 +1,161 @@
+"""``sar-budget noise characterize|arma``: Allan characterisation and ARMA/Kalman modelling."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..errors import InputError
+from ..noise import (ArmaKalman, LogMapping, characterize, check_series, frequency_response,
+                     preprocess, read_adev_table, read_log, select_arma)
+from ..noise.adev_table import looks_like_adev_table
+from ..noise.arma import DEFAULT_ORDERS
+from .output import add_json_option, write_json
+
+AIC_DEFINITION = "AIC = ln(sigma2) + 2k/n, FPE = sigma2 (n+k)/(n-k), k = p+q, n = residuals"
+
+
+def _log_options(p) -> None:
+    p.add_argument("--mapping", metavar="MAP.json", help="column/unit mapping for other log layouts")
+    p.add_argument("--repair", action="store_true",
+                   help="repair duplicate/out-of-order rows, missing values and gaps (listed)")
+    p.add_argument("--max-rows", type=int, metavar="N", help="read only the first N rows")
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("noise", help="noise lab: Allan characterisation, ARMA + Kalman filter")
+    nsub = p.add_subparsers(dest="noise_command", metavar="ACTION", required=True)
+
+    c = nsub.add_parser("characterize", help="IMU log or Allan table → IEEE-952 terms → catalog row")
+    c.add_argument("input", help="static IMU log CSV (.csv/.csv.gz) or Allan table "
+                                 "(channel, tau_s, adev[, lci, uci])")
+    c.add_argument("--rate-hz", type=float, help="sampling rate (required for Allan tables)")
+    c.add_argument("--samples", type=int, help="record length behind an Allan table (required there)")
+    c.add_argument("--ci-level", type=float, default=0.95, help="confidence level of lci/uci (0.95)")
+    c.add_argument("--taus", default="octave", choices=("octave", "decade", "dense"),
+                   help="τ list for logs (default octave)")
+    c.add_argument("--grade", help="grade of the row (default: inferred from the grades table)")
+    c.add_argument("--vendor", default="")
+    c.add_argument("--model", default="")
+    c.add_argument("--as-part", metavar="ID", help="part_id of the catalog row")
+    c.add_argument("--append", metavar="CSV", help="append the row to this user catalog CSV")
+    c.add_argument("--replace", action="store_true", help="with --append: replace an existing id")
+    _log_options(c)
+    add_json_option(c)
+    c.set_defaults(func=run_characterize)
+
+    a = nsub.add_parser("arma", help="preprocess, check, select an ARMA model, Kalman-filter a channel")
+    a.add_argument("log", help="static IMU log CSV")
+    a.add_argument("--channel", default="gyro_z", help="channel, e.g. gyro_z (default)")
+    a.add_argument("--orders", nargs="+", metavar="P,Q",
+                   help="candidate orders (default 1,0 2,0 3,0 1,1 2,1; p, q ≤ 3)")
+    a.add_argument("--method", choices=("ls", "mle"), default="ls",
+                   help="least squares (paper) or exact maximum likelihood (statsmodels)")
+    a.add_argument("--pauta-k", type=float, default=4.0, help="outlier factor k (3–5, default 4)")
+    a.add_argument("--no-outliers", action="store_true", help="skip the Pauta outlier step")
+    a.add_argument("--replace-with", choices=("mean", "neighbour"), default="mean")
+    a.add_argument("--detrend", type=int, choices=(0, 1, 2), default=1, help="polynomial order")
+    a.add_argument("--process-noise", choices=("paper", "model"), default="paper",
+                   help="Q = δ1·I (paper) or δ1·G·Gᵀ (model)")
+    a.add_argument("--rate-hz", type=float, help="sampling rate (if the log has no time column)")
+    _log_options(a)
+    add_json_option(a)
+    a.set_defaults(func=run_arma)
+
+
+def _mapping(args) -> LogMapping | None:
+    return LogMapping.load(args.mapping) if getattr(args, "mapping", None) else None
+
+
+def run_characterize(args) -> int:
+    path = Path(args.input)
+    if not path.is_file():
+        raise InputError("file not found", file=path)
+    if args.append and not args.as_part:
+        raise InputError("--append needs --as-part ID (the part_id of the new row)", field="--as-part")
+    if looks_like_adev_table(path):
+        if args.rate_hz is None or args.samples is None:
+            raise InputError("an Allan table needs the record's rate and length", file=path,
+                             expected="--rate-hz F --samples N")
+        data = read_adev_table(path, args.rate_hz, args.samples, ci_level=args.ci_level)
+    else:
+        if args.samples is not None:
+            raise InputError("--samples is for Allan tables; a log has its own length",
+                             field="--samples")
+        data = read_log(path, _mapping(args), args.repair, rate_hz=args.rate_hz,
+                        max_rows=args.max_rows, min_samples=16)
+        for issue in data.issues.issues:
+            if issue.severity != "info":
+                print(f"note: {issue.text()}", file=sys.stderr)
+    result = characterize(data, part_id=args.as_part or "measured", grade=args.grade,
+                          vendor=args.vendor, model=args.model, taus=args.taus)
+    if args.append:
+        from ..catalog.io import append_part
+        append_part(args.append, result.part, replace=args.replace)
+    if args.json:
+        write_json(result.to_json(), args.json)
+    else:
+        print(result.summary())
+    if args.append:
+        print(f"appended {result.part.part_id} to {args.append}", file=sys.stderr)
+    return 0
+
+
+def _orders(text: list[str] | None):
+    if not text:
+        return DEFAULT_ORDERS
+    out = []
+    for t in text:
+        try:
+            p, q = (int(v) for v in t.split(","))
+        except ValueError:
+            raise InputError("order must be P,Q", field="--orders", value=t, expected="e.g. 2,1") from None
+        out.append((p, q))
+    return tuple(out)
+
+
+def run_arma(args) -> int:
+    log = read_log(args.log, _mapping(args), args.repair, rate_hz=args.rate_hz,
+                   channels=[args.channel], max_rows=args.max_rows, min_samples=100)
+    x = log.channels[args.channel]
+    pre = preprocess(x, pauta_k=None if args.no_outliers else args.pauta_k,
+                     replace=args.replace_with, detrend_order=args.detrend)
+    checks = check_series(pre.x)
+    for flag in checks.flags():
+        print(f"warning: {args.channel}: {flag} — modelled anyway, see 'checks'", file=sys.stderr)
+    sel = select_arma(pre.x, _orders(args.orders), args.method, demean=False)
+    kf = ArmaKalman(sel.selected, process_noise=args.process_noise)
+    filt, smooth = kf.filter(pre.x), kf.smooth(pre.x)
+    resp = frequency_response(kf, log.rate_hz, [0.0, 0.1, 1.0, 10.0, log.rate_hz / 4])
+    unit = "(rad/s)^2" if args.channel.startswith("gyro") else "(m/s^2)^2"
+    out = {
+        "channel": args.channel, "rate_hz": log.rate_hz, "samples": int(x.size),
+        "preprocessing": list(pre.steps), "outliers": int(pre.outliers.size),
+        "checks": checks.to_dict(), "method": args.method, "criteria": AIC_DEFINITION,
+        "candidates": [{"order": c.name, "aic": c.aic, "fpe": c.fpe, "params": c.params(),
+                        "stationary": c.stationary, "invertible": c.invertible,
+                        "ar_root_max": c.ar_root_max, "ma_root_max": c.ma_root_max}
+                       for c in sel.candidates],
+        "selected": sel.selected.name, "selected_by_fpe": sel.by_fpe.name,
+        "variance_unit": unit,
+        "variance_before": filt.variance_before, "variance_after": filt.variance_after,
+        "variance_after_smoother": smooth.variance_after,
+        "filter": {"process_noise": args.process_noise, "R": kf.R, "Q_scale": sel.selected.sigma2,
+                   "steady_gain": kf.K_ss.tolist(), "transient_samples": kf.T,
+                   "response_freq_hz": resp.freq_hz.tolist(), "response_gain": resp.magnitude.tolist(),
+                   "warning": "the filter also attenuates real motion: see response_gain "
+                              "(1 = passed unchanged)"},
+        "notes": list(sel.notes),
+    }
+    if args.json:
+        write_json(out, args.json)
+        return 0
+    print(f"{args.channel}: {x.size} samples at {log.rate_hz:g} Hz; " + pre.summary())
+    print("checks: " + checks.summary())
+    print(sel.summary())
+    print(kf.summary())
+    print(filt.summary() + f"; smoother → {smooth.variance_after:.4g} {unit}")
+    print("response to motion: " + ", ".join(f"{f:g} Hz ×{g:.3f}" for f, g in
+                                            zip(resp.freq_hz, resp.magnitude)))
+    return 0
+

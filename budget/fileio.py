@@ -1,0 +1,64 @@
+"""File helpers shared by every reader and writer: bounded text reads and atomic writes."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+from .errors import InputError
+
+
+def read_text(path: Path, max_bytes: int = 10_000_000) -> str:
+    """Read a small UTF-8 text file; empty, huge or non-UTF-8 files raise :class:`InputError`."""
+    size = path.stat().st_size
+    if size == 0:
+        raise InputError("file is empty", file=path)
+    if size > max_bytes:
+        raise InputError(f"file is {size} bytes", file=path, expected=f"at most {max_bytes} bytes")
+    try:
+        return path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as err:
+        raise InputError(f"not UTF-8 text (byte {err.start})", file=path, expected="UTF-8 encoding") from None
+
+
+def atomic_write_text(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file and ``os.replace``: never half-written."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def read_structured(path: str | Path, what: str, max_bytes: int = 10_000_000) -> dict:
+    """Read a JSON or YAML mapping (by suffix; YAML also reads JSON) for ``what`` (e.g.
+    "a scenario"); a missing, empty, malformed or non-mapping file raises :class:`InputError`."""
+    import json
+
+    import yaml
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found", file=path, expected=f"{what} JSON/YAML file")
+    text = read_text(path, max_bytes=max_bytes)
+    is_yaml = path.suffix.lower() in (".yaml", ".yml")
+    try:
+        data = yaml.safe_load(text) if is_yaml else json.loads(text)
+    except (json.JSONDecodeError, yaml.YAMLError) as err:
+        raise InputError(f"not valid {'YAML' if is_yaml else 'JSON'}: {str(err).splitlines()[0]}",
+                         file=path) from None
+    if not isinstance(data, dict):
+        raise InputError(f"{what} must be a mapping of keys to values", file=path,
+                         expected="a JSON object / YAML mapping")
+    return data

@@ -1,0 +1,20 @@
+"""Model-gap workflow: where a measured IMU log and its noise model disagree, which effect of
+the shared vocabulary is missing, and the gap after adding it.
+
+Public API (SI inside: rad/s, m/s²):
+
+* :func:`run_gap` (measurement, model) → :class:`GapReport` (``.to_json()``, ``.save()``,
+  ``.summary()``, ``.to_frame()``, ``.updated_model``)
+* :func:`log_from_arrays` — an :class:`~budget.noise.ImuLog` from SI arrays
+* :mod:`budget.gap.signatures`, :mod:`budget.gap.metric` (gap definition and null),
+  :mod:`budget.gap.candidates` (effect library), :mod:`budget.gap.plots` (figures)
+"""
+
+from .candidates import LIBRARY, VOCABULARY
+from .inputs import log_from_arrays
+from .metric import GapTerms, ModelSummary, NullModel, gap_terms
+from .report import GAP_DEFINITION, GapReport, GapStep
+from .workflow import run_gap
+
+__all__ = ["GAP_DEFINITION", "GapReport", "GapStep", "GapTerms", "LIBRARY", "ModelSummary",
+           "NullModel", "VOCABULARY", "gap_terms", "log_from_arrays", "run_gap"]

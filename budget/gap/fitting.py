@@ -1,0 +1,181 @@
+"""Fitting machinery shared by the candidate effects of :mod:`budget.gap.candidates`.
+
+:class:`FitContext` holds one channel's measured signature and model summary and evaluates the
+predicted Σz² of the channel with an effect added (:meth:`FitContext.sumsq`);
+:class:`Candidate` is the base class of an effect (closed-form starts, increments, parameters)
+with the bounded search that minimises that Σz²; :class:`LinearVariance` covers the effects
+whose increments are amplitude² × a fixed shape. θ is the search space (logarithms of positive
+parameters, or the signed parameter itself).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize
+
+from ..imu import Effect
+from . import theory as th
+from .metric import ModelSummary, adev_variance, gap_terms
+from .signatures import Signature, SignatureGrid, band_means
+
+
+@dataclass
+class FitContext:
+    """Everything a candidate needs to fit one channel."""
+
+    channel: str
+    grid: SignatureGrid
+    meas: Signature
+    model: ModelSummary
+    existing: tuple[Effect, ...] = ()
+    cache: dict = field(default_factory=dict)
+
+    @property
+    def dt(self) -> float:
+        return self.grid.dt_s
+
+    def sumsq(self, inc: th.Increment) -> float:
+        """Predicted Σz² of the channel with the effect added. A candidate that widens the
+        scatter of the slope or temperature coefficient (random walk) also pays ln(var'/var),
+        the Gaussian log-likelihood term that Σz² alone would leave out."""
+        pred = self.model.predict(inc, self.grid)
+        total = gap_terms(self.meas, pred, self.grid).sum_sq
+        if inc.slope_var > 0 and self.model.slope_var > 0:
+            total += math.log(pred.slope_var / self.model.slope_var)
+        if inc.temp_var > 0 and self.model.temp_var > 0 and self.meas.temp_coef is not None:
+            total += math.log(pred.temp_var / self.model.temp_var)
+        return total
+
+    def freq(self) -> np.ndarray:
+        if "freq" not in self.cache:
+            self.cache["freq"] = self.grid.freq_hz
+        return self.cache["freq"]
+
+    def adev_residual(self) -> tuple[np.ndarray, np.ndarray]:
+        """Allan-variance residual (measured − model) and its least-squares weights."""
+        y = 2.0 * self.model.avar * (0.5 * np.log(self.meas.avar) - self.model.ln_adev)
+        v = adev_variance(self.model, self.grid)
+        v_meas = 0.5 / self.meas.edf if self.meas.edf is not None else v
+        w = 1.0 / ((2.0 * self.model.avar) ** 2 * (v_meas + v / self.model.n_real))
+        return y, w
+
+
+@dataclass
+class CandidateFit:
+    """A fitted candidate: the effect, its predicted channel Σz² and its parameter count."""
+
+    effect: Effect
+    sum_sq: float
+    n_params: int
+    theta: np.ndarray
+
+
+def amp2_start(ctx: FitContext, shape: np.ndarray) -> float:
+    y, w = ctx.adev_residual()
+    den = float(np.sum(w * shape ** 2))
+    return float(np.sum(w * shape * y) / den) if den > 0 else 0.0
+
+
+class Candidate(ABC):
+    """Base class: subclasses set ``name``, ``n_params`` and implement the three hooks."""
+
+    name = ""
+    n_params = 1
+    #: θ of a one-parameter candidate is ln(parameter) (else the signed parameter itself).
+    log_param = True
+    needs_psd = False
+    needs_temp = False
+
+    def applicable(self, ctx: FitContext) -> bool:
+        if self.needs_psd and ctx.meas.psd is None:
+            return False
+        return not (self.needs_temp and ctx.meas.temp_coef is None)
+
+    @abstractmethod
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        """Closed-form starting points θ0 (empty: nothing to fit)."""
+
+    @abstractmethod
+    def increment(self, theta: np.ndarray, ctx: FitContext) -> th.Increment:
+        """Expected signature increments for parameters θ."""
+
+    @abstractmethod
+    def params(self, theta: np.ndarray, ctx: FitContext) -> dict[str, float]:
+        """Effect parameters (SI channel units) for θ."""
+
+    def search(self, theta0: np.ndarray, ctx: FitContext) -> tuple[np.ndarray, float]:
+        """Minimise the predicted Σz² from ``theta0`` (1-D bounded, else Nelder–Mead)."""
+        f = lambda th_: ctx.sumsq(self.increment(np.atleast_1d(th_), ctx))
+        if theta0.size == 1:
+            lo, hi = self.bracket(theta0[0])
+            grid = np.sort(np.append(np.linspace(lo, hi, 13), theta0[0]))
+            vals = [f(g) for g in grid]
+            i = int(np.argmin(vals))
+            a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+            res = optimize.minimize_scalar(f, bounds=(a, b), method="bounded",
+                                           options={"xatol": 1e-4 * abs(b - a)})
+            best = (np.array([res.x]), float(res.fun))
+            return best if best[1] <= vals[i] else (np.array([grid[i]]), float(vals[i]))
+        res = optimize.minimize(f, theta0, method="Nelder-Mead",
+                                options={"maxiter": 200, "xatol": 1e-3, "fatol": 1e-3})
+        return res.x, float(res.fun)
+
+    def bracket(self, t0: float) -> tuple[float, float]:
+        return t0 - 4.0, t0 + 2.5  # log-amplitude: from e⁻⁴ to e²·⁵ times the start
+
+    def fit(self, ctx: FitContext) -> CandidateFit | None:
+        if not self.applicable(ctx):
+            return None
+        best = None
+        for t0 in self.starts(ctx):
+            theta, val = self.search(np.asarray(t0, float), ctx)
+            if best is None or val < best[1]:
+                best = (theta, val)
+        if best is None:
+            return None
+        params = self.params(best[0], ctx)
+        return CandidateFit(Effect(name=self.name, channel=ctx.channel, params=params), best[1],
+                            self.n_params, best[0])
+
+
+class LinearVariance(Candidate):
+    """Effects whose increments are amplitude² × a fixed shape (θ = ln amplitude)."""
+
+    param = ""
+
+    @abstractmethod
+    def shapes(self, ctx: FitContext) -> th.Increment:
+        """Increments for amplitude 1."""
+
+    def _unit(self, ctx: FitContext) -> th.Increment:
+        key = ("unit", self.name)
+        if key not in ctx.cache:
+            ctx.cache[key] = self.shapes(ctx)
+        return ctx.cache[key]
+
+    def starts(self, ctx):
+        unit = self._unit(ctx)
+        a2 = amp2_start(ctx, unit.avar)
+        if a2 <= 0 and unit.psd is not None:
+            a2 = psd_amp2_start(ctx, unit.psd)
+        return [np.array([0.5 * math.log(a2)])] if a2 > 0 else []
+
+    def increment(self, theta, ctx):
+        u, a2 = self._unit(ctx), math.exp(2.0 * theta[0])
+        return th.Increment(u.avar * a2, None if u.psd is None else u.psd * a2, u.diff_var * a2,
+                            u.diff_cum4 * a2 * a2, slope_var=u.slope_var * a2, temp_var=u.temp_var * a2)
+
+    def params(self, theta, ctx):
+        return {self.param: math.exp(theta[0])}
+
+
+def psd_amp2_start(ctx: FitContext, unit_psd: np.ndarray) -> float:
+    g = ctx.grid
+    resid = band_means(ctx.meas.psd, g) - band_means(ctx.model.psd, g)
+    shape = band_means(unit_psd, g)
+    w = 1.0 / band_means(ctx.model.psd, g) ** 2
+    return float(np.sum(w * shape * resid) / np.sum(w * shape ** 2))

@@ -1,0 +1,216 @@
+"""The two inputs of the workflow — a measurement and a model — checked against each other.
+
+Measurement: an IMU log (CSV path or :class:`~budget.noise.ImuLog`, channels in SI) or a
+measured Allan-deviation table (CSV ``channel, tau_s, adev[, lci, uci]`` with the record's
+``rate_hz`` and ``samples``, or ``{channel: AllanResult}``). Model: a
+:class:`~budget.imu.NoiseModel`, a catalog :class:`~budget.catalog.schema.PartSpec`, a catalog
+``part_id`` or a MODEL.json/.yaml path.
+
+Rules (each violation is an :class:`~budget.errors.InputError`):
+
+* every compared channel must be in the measurement (default: all six);
+* the rates must agree within 0.1 %: a model's ``rate_hz`` is the rate it describes. A catalog
+  part's ``rate_hz`` is the sensor's output rate, so a log recorded at a *lower* rate (output
+  decimated by the logger) is accepted with a note — the noise densities do not depend on the
+  rate — and a higher one is an error;
+* the log must be long enough: ≥ 4096 samples, and its Allan deviation must reach the τ where
+  the model's white noise meets its bias-instability floor, (N/(0.664·B))², on every compared
+  channel (else the model's floor cannot be tested); ``check_tau_range=False`` skips the latter;
+* a model with a temperature effect needs a log with a temperature channel.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..catalog.schema import FLICKER_FLOOR, PartSpec
+from ..errors import InputError
+from ..imu import NoiseModel
+from ..noise import ImuLog, read_adev_table, read_log
+from ..noise.adev_table import looks_like_adev_table
+from ..noise.allan import AllanResult
+from ..noise.log_checks import LogReport
+from ..units import CHANNELS
+from .signatures import MIN_SAMPLES
+
+RATE_TOLERANCE = 1e-3
+
+
+@dataclass
+class Measured:
+    """A measurement ready for comparison (SI, channel → series or Allan table)."""
+
+    kind: str                      # "log" or "adev_table"
+    source: str
+    rate_hz: float
+    n_samples: int
+    series: dict[str, np.ndarray] = field(default_factory=dict)
+    tables: dict[str, AllanResult] = field(default_factory=dict)
+    temp_c: np.ndarray | None = None
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def channels(self) -> tuple[str, ...]:
+        src = self.series if self.kind == "log" else self.tables
+        return tuple(c for c in CHANNELS if c in src)
+
+
+def log_from_arrays(channels: dict[str, np.ndarray], rate_hz: float, temp_c=None,
+                    source: str = "arrays") -> ImuLog:
+    """An :class:`ImuLog` from SI arrays (channel → (N,) series), e.g. a simulated log."""
+    chans = {c: np.asarray(v, float) for c, v in channels.items()}
+    bad = [c for c in chans if c not in CHANNELS]
+    if bad:
+        raise InputError(f"unknown channel(s) {', '.join(bad)}", field="channels",
+                         expected=", ".join(CHANNELS))
+    sizes = {v.shape for v in chans.values()}
+    if not chans or len(sizes) != 1 or len(next(iter(sizes))) != 1:
+        raise InputError("channels must be 1-D series of one common length", field="channels",
+                         value=sorted(sizes) or None)
+    for c, v in chans.items():
+        if not np.all(np.isfinite(v)):
+            raise InputError("series contains NaN or infinite values", field=c, expected="finite numbers")
+    units = {c: "rad/s" if c.startswith("gyro") else "m/s^2" for c in chans}
+    temp = None if temp_c is None else np.asarray(temp_c, float)
+    if temp is not None and temp.shape != next(iter(sizes)):
+        raise InputError(f"temp_c has shape {temp.shape}", field="temp_c",
+                         expected=f"{next(iter(sizes))} like the channels")
+    return ImuLog(source, chans, float(rate_hz), None, temp, LogReport(), units)
+
+
+def load_measured(measured, *, rate_hz: float | None = None, samples: int | None = None,
+                  mapping=None, repair: bool = False, max_rows: int | None = None,
+                  ci_level: float = 0.95) -> Measured:
+    """Resolve the measurement argument of :func:`budget.gap.run_gap`."""
+    if isinstance(measured, ImuLog):
+        return _from_log(measured)
+    if isinstance(measured, dict) and measured and all(isinstance(v, AllanResult) for v in measured.values()):
+        return _from_tables(measured, str(next(iter(measured.values())).source))
+    if isinstance(measured, (str, Path)):
+        path = Path(measured)
+        if not path.is_file():
+            raise InputError("file not found", file=path, expected="an IMU log CSV or an Allan table")
+        if looks_like_adev_table(path):
+            if rate_hz is None or samples is None:
+                raise InputError("an Allan table needs the record's rate and length", file=path,
+                                 expected="--rate-hz F --samples N")
+            return _from_tables(read_adev_table(path, rate_hz, samples, ci_level=ci_level), str(path))
+        if samples is not None:
+            raise InputError("--samples is for Allan tables; a log has its own length", field="samples")
+        return _from_log(read_log(path, mapping, repair, rate_hz=rate_hz, max_rows=max_rows,
+                                  min_samples=MIN_SAMPLES))
+    raise InputError(f"not a measurement: {type(measured).__name__}", field="measured",
+                     expected="a log path, an ImuLog or {channel: AllanResult}")
+
+
+def _from_log(log: ImuLog) -> Measured:
+    series = {c: np.asarray(v, float) for c, v in log.channels.items()}
+    n = log.n_samples
+    if n < MIN_SAMPLES:
+        raise InputError(f"log too short: {n} samples", file=log.source, field="samples",
+                         expected=f"at least {MIN_SAMPLES} samples")
+    notes = ["each channel's mean was removed before comparing (turn-on bias, gravity and "
+             "Earth rate are not noise statistics)"]
+    notes += [f"log: {i.text()}" for i in log.issues.issues if i.severity != "info"]
+    notes += [f"log repair: {r}" for r in log.issues.repairs]
+    temp = None
+    if log.temp_c is not None:
+        temp = np.asarray(log.temp_c, float)
+        if not np.all(np.isfinite(temp)):
+            raise InputError("temperature channel has non-finite values", file=log.source, field="temp_c")
+        if np.ptp(temp) == 0:
+            notes.append("temperature channel is constant: no temperature statistic")
+            temp = None
+    return Measured("log", log.source, float(log.rate_hz), n, series, temp_c=temp, notes=notes)
+
+
+def _from_tables(tables: dict[str, AllanResult], source: str) -> Measured:
+    first = next(iter(tables.values()))
+    rates = {t.rate_hz for t in tables.values()}
+    lens = {t.samples for t in tables.values()}
+    if len(rates) > 1 or len(lens) > 1:
+        raise InputError("Allan tables of one comparison must share rate and record length",
+                         field="measured", value=sorted(rates))
+    notes = ["measured Allan-deviation table: only the ADEV signature is available (no PSD, "
+             "distribution, trend or temperature statistics; outliers and temperature effects "
+             "cannot be named)"]
+    return Measured("adev_table", source, float(first.rate_hz), int(first.samples),
+                    tables=dict(tables), notes=notes)
+
+
+def load_model(model, *, catalog_csv=None) -> tuple[NoiseModel, bool, str]:
+    """→ (noise model, came from the catalog?, label)."""
+    if isinstance(model, NoiseModel):
+        return model, False, model.part_id or "model"
+    if isinstance(model, PartSpec):
+        return NoiseModel.from_part(model), True, model.part_id
+    if isinstance(model, Path) or (isinstance(model, str) and (
+            Path(model).suffix.lower() in (".json", ".yaml", ".yml") or Path(model).is_file())):
+        return NoiseModel.load(model), False, Path(model).name
+    if isinstance(model, str):
+        from ..catalog.io import get_part
+        part = get_part(model, user_csv=catalog_csv)
+        return NoiseModel.from_part(part), True, part.part_id
+    raise InputError(f"not a noise model: {type(model).__name__}", field="model",
+                     expected="a NoiseModel, a PartSpec, a part_id or a MODEL.json path")
+
+
+def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,
+                     channels, check_tau_range: bool) -> tuple[tuple[str, ...], list[str]]:
+    """Apply the module's rules; → (channels to compare, notes)."""
+    notes: list[str] = []
+    wanted = tuple(CHANNELS if channels is None else channels)
+    unknown = [c for c in wanted if c not in CHANNELS]
+    if unknown:
+        raise InputError(f"unknown channel(s) {', '.join(unknown)}", field="channels",
+                         expected=", ".join(CHANNELS))
+    missing = [c for c in wanted if c not in meas.channels]
+    if missing:
+        raise InputError(f"channel(s) {', '.join(missing)} missing from the measurement",
+                         file=meas.source, field="channels",
+                         expected=f"every compared channel present (the model describes all six; "
+                                  f"compare a subset with channels=/--channels "
+                                  f"{','.join(meas.channels) or '…'})")
+    if model.rate_hz is not None and abs(model.rate_hz - meas.rate_hz) > RATE_TOLERANCE * model.rate_hz:
+        if from_catalog and meas.rate_hz < model.rate_hz:
+            notes.append(f"catalog rate {model.rate_hz:g} Hz is the part's output rate; the log was "
+                         f"recorded at {meas.rate_hz:g} Hz and the model is simulated at that rate "
+                         "(densities do not depend on the rate)")
+        else:
+            raise InputError(f"different rates: the measurement is sampled at {meas.rate_hz:g} Hz "
+                             f"but the model describes {model.rate_hz:g} Hz", field="rate_hz",
+                             expected="a model for the log's rate (set rate_hz in MODEL.json, or "
+                                      "resample the log)")
+    temp_fx = [f.channel for f in model.effects if f.name == "temperature_sensitivity" and f.channel in wanted]
+    if temp_fx and meas.temp_c is None:
+        raise InputError(f"the model has a temperature effect on {', '.join(temp_fx)} but the "
+                         "measurement has no temperature channel", field="temp_c",
+                         expected="a log with a temp_c column")
+    if check_tau_range:
+        _check_tau(meas, model, wanted)
+    return wanted, notes
+
+
+def _check_tau(meas: Measured, model: NoiseModel, wanted) -> None:
+    si = model.to_si()
+    tau_max = (meas.n_samples // 4) / meas.rate_hz
+    if meas.kind == "adev_table":
+        tau_max = max(float(meas.tables[c].tau_s[-1]) for c in wanted)
+    for ch in wanted:
+        effs = si.channel_effects(ch)
+        n = math.sqrt(sum(f.param("density") ** 2 for f in effs if f.name == "white_noise"))
+        b = math.sqrt(sum(f.param("B") ** 2 for f in effs if f.name == "bias_instability"))
+        if n > 0 and b > 0:
+            need = (n / (FLICKER_FLOOR * b)) ** 2
+            if tau_max < need:
+                samples = int(math.ceil(4 * need * meas.rate_hz))
+                raise InputError(f"log too short for the τ range needed: its Allan deviation reaches "
+                                 f"τ = {tau_max:.4g} s but the model's bias-instability floor on {ch} "
+                                 f"starts at τ ≈ {need:.4g} s", file=meas.source, field="samples",
+                                 value=meas.n_samples,
+                                 expected=f"at least {samples} samples at {meas.rate_hz:g} Hz "
+                                          "(or check_tau_range=False / --no-tau-check)")

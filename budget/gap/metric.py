@@ -1,0 +1,333 @@
+"""The gap metric: standardized differences between measured and simulated signatures.
+
+For one channel, the model is simulated S times at the log's rate and length
+(:mod:`budget.gap.simulate`) and every signature of :mod:`budget.gap.signatures` is compared
+with the mean over the realizations through a standardized difference z:
+
+* ADEV at each octave τ_k: z = (ln σ̂_meas − mean ln σ̂_model) / s_k,
+  s_k² = v_meas,k + v_k/S, v = 1/(2·EDF) (var of ln σ̂ for a χ² estimate with EDF degrees of
+  freedom; EDF from NIST SP 1065 Table 5 with the noise type of the *model* curve, or, for a
+  measured table, from its published interval);
+* PSD in octave bands: z = (ln P̄_meas − ln P̄_model)/√(v_b(1 + 1/S)),
+  v_b = 1.056·c(n)/(K·n) for n bins and K Welch segments (1.056: 50 %-overlapped Hann
+  segments; c(n) = 1 + (8/9)(n−1)/n + (1/18)(n−2)/n: correlation of adjacent Hann bins);
+* PSD line: the largest ratio P_meas/P_model over the bins, p-value from F(ν, S·ν) with
+  ν = 2K/1.056, made global over the n bins (1 − (1 − p)ⁿ) and mapped to z = Φ⁻¹(1 − P/2);
+* kurtosis of the first differences: z = Δκ / √(v_κ(1 + 1/S)), v_κ = max(27/N, scatter);
+* tail count: Freeman–Tukey z = (√c + √(c+1) − √(4μ+1)) / √(D(1 + 1/S)) for a Poisson count c
+  of mean μ (dispersion D ≥ 1 from the realizations);
+* time slope and temperature coefficient: Student t with S − 1 degrees of freedom from the
+  realizations' scatter, mapped to a normal score.
+
+**Gap** of a channel = mean of z² over its K terms (≈ 1 when the log follows the model);
+overall gap = mean of the channel gaps. **Null distribution**: each realization in turn is
+treated as the measurement and compared with the other S − 1 (leave one out); the covariance C
+of those z vectors (pooled over channels, eigenvalues de-biased) makes the gap a weighted
+sum of χ²_1 variables, Σλ_i χ²_1/K, whose quantiles come from a four-cumulant noncentral-χ²
+match (Liu, Tang & Zhang 2009). A channel is *within noise* below its 1 − α/n_channels
+quantile, the overall gap below the 1 − α quantile of the mean of the channels (default
+α = 0.01).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy import special, stats
+
+from ..noise.allan import edf_simple, noise_type_from_slope
+from .signatures import Signature, SignatureGrid, band_counts, band_means
+from .theory import Increment
+
+#: Relative variance of one Welch bin (50 % overlap, Hann) per segment.
+WELCH_VAR = 1.056
+KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "slope", "temperature")
+
+
+@dataclass(frozen=True)
+class ModelSummary:
+    """Mean signatures of S simulated realizations (what the model predicts for the log)."""
+
+    n_real: int
+    avar: np.ndarray
+    ln_adev: np.ndarray
+    psd: np.ndarray | None = None
+    kurtosis: float | None = None
+    kurt_var: float = 0.0
+    diff_var: float | None = None
+    sigma_r: float | None = None
+    tails: float | None = None
+    tails_disp: float = 1.0
+    slope: float | None = None
+    slope_var: float = 0.0
+    temp_coef: float | None = None
+    temp_var: float = 0.0
+
+    @classmethod
+    def from_signatures(cls, sigs: list[Signature]) -> "ModelSummary":
+        S = len(sigs)
+        avar = np.array([s.avar for s in sigs])
+        kw = dict(n_real=S, avar=avar.mean(0), ln_adev=0.5 * np.log(avar).mean(0))
+        if sigs[0].psd is not None:
+            kw["psd"] = np.mean([s.psd for s in sigs], axis=0)
+            k = np.array([s.kurtosis for s in sigs])
+            c = np.array([s.tail_count for s in sigs], float)
+            sl = np.array([s.slope for s in sigs])
+            mu = c.mean()
+            kw.update(kurtosis=float(k.mean()), kurt_var=float(k.var(ddof=1)) if S > 1 else 0.0,
+                      diff_var=float(np.mean([s.diff_var for s in sigs])),
+                      sigma_r=float(np.mean([s.sigma_r for s in sigs])), tails=float(mu),
+                      tails_disp=float(max(1.0, c.var(ddof=1) / mu)) if S > 1 and mu > 0 else 1.0,
+                      slope=float(sl.mean()), slope_var=float(sl.var(ddof=1)) if S > 1 else 0.0)
+            if sigs[0].temp_coef is not None:
+                t = np.array([s.temp_coef for s in sigs])
+                kw.update(temp_coef=float(t.mean()), temp_var=float(t.var(ddof=1)) if S > 1 else 0.0)
+        return cls(**kw)
+
+    def predict(self, inc: Increment, grid: SignatureGrid) -> "ModelSummary":
+        """The summary after adding an effect with expected increments ``inc``."""
+        avar = self.avar + inc.avar
+        ln_adev = self.ln_adev + 0.5 * np.log(np.clip(avar, 1e-300, None) / self.avar)
+        kw = dict(avar=avar, ln_adev=ln_adev)
+        if self.psd is not None:
+            kw["psd"] = self.psd + inc.psd if inc.psd is not None else self.psd
+            v0, v1 = self.diff_var, inc.diff_var
+            cum4 = self.kurtosis * v0 ** 2 + inc.diff_cum4
+            kw["kurtosis"] = cum4 / (v0 + v1) ** 2
+            kw["diff_var"] = v0 + v1
+            kw["slope"] = self.slope + inc.slope
+            kw["slope_var"] = self.slope_var + inc.slope_var
+            if self.temp_coef is not None:
+                kw["temp_coef"] = self.temp_coef + inc.temp
+                kw["temp_var"] = self.temp_var + inc.temp_var
+            if inc.outliers is not None:
+                kw["tails"] = _tails_with_outliers(self, inc.outliers, grid)
+        return replace(self, **kw)
+
+
+def _tails_with_outliers(model: ModelSummary, outl: tuple[float, float], grid: SignatureGrid) -> float:
+    """Expected exceedances when spikes of ±M hit a fraction p of samples (2 differences each)."""
+    p, mag = outl
+    p = min(p, 0.5)
+    sd = math.sqrt(model.diff_var)
+    lim = grid.tail_k * model.sigma_r
+    hit = stats.norm.sf((lim - mag) / sd) + stats.norm.sf((lim + mag) / sd)
+    return model.tails * (1.0 - 2.0 * p) + 2.0 * p * (grid.n_samples - 1) * hit
+
+
+@dataclass
+class GapTerms:
+    """The z of every statistic of one channel, with what and where each one is."""
+
+    z: np.ndarray
+    kind: np.ndarray           # one of KINDS per term
+    where: list[str]           # "τ = 0.64 s", "1.56–3.12 Hz", "19.9 Hz", ""
+    locus: np.ndarray          # τ (s) for adev, band centre / line frequency (Hz), nan otherwise
+    line_hz: float | None = None
+
+    @property
+    def sum_sq(self) -> float:
+        return float(np.sum(self.z ** 2))
+
+    @property
+    def n_terms(self) -> int:
+        return int(self.z.size)
+
+    @property
+    def gap(self) -> float:
+        return self.sum_sq / self.n_terms
+
+    def share(self) -> dict[str, float]:
+        """Contribution of each statistic kind to the gap (sums to the gap)."""
+        return {k: float(np.sum(self.z[self.kind == k] ** 2) / self.n_terms)
+                for k in KINDS if np.any(self.kind == k)}
+
+
+def _t_to_z(t: float, dof: int) -> float:
+    """Normal score with the same two-sided tail probability as Student t."""
+    if dof <= 0 or not math.isfinite(t):
+        return 0.0
+    logp = stats.t.logsf(abs(t), dof)
+    return float(math.copysign(-special.ndtri_exp(logp), t))
+
+
+def adev_variance(model: ModelSummary, grid: SignatureGrid) -> np.ndarray:
+    """var(ln σ̂) of one record at each τ: 1/(2·EDF), noise type from the model curve."""
+    adev = np.sqrt(model.avar)
+    alpha = noise_type_from_slope(grid.tau_s, adev)
+    edf = edf_simple(grid.n_samples + 1, grid.m, alpha)
+    return 0.5 / edf
+
+
+def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapTerms:
+    """Standardized differences of every statistic (module docstring)."""
+    S = model.n_real
+    v_mod = adev_variance(model, grid)
+    v_meas = 0.5 / meas.edf if meas.edf is not None else v_mod
+    z = [(0.5 * np.log(meas.avar) - model.ln_adev) / np.sqrt(v_meas + v_mod / S)]
+    tau = grid.tau_s
+    kinds = ["adev"] * tau.size
+    where = [f"τ = {t:.4g} s" for t in tau]
+    locus = [tau]
+    line_hz = None
+    if meas.psd is not None and model.psd is not None:
+        counts = band_counts(grid)
+        K = grid.n_segments
+        v_b = WELCH_VAR * (1 + (8 / 9) * (counts - 1) / counts
+                           + (1 / 18) * np.clip(counts - 2, 0, None) / counts) / (K * counts)
+        zb = (np.log(band_means(meas.psd, grid)) - np.log(band_means(model.psd, grid))) / np.sqrt(v_b * (1 + 1 / S))
+        edges = grid.band_edges_hz
+        z.append(zb)
+        kinds += ["psd_band"] * zb.size
+        where += [f"{a:.4g}–{b:.4g} Hz" for a, b in zip(edges[:-1], edges[1:])]
+        locus.append(np.sqrt(edges[:-1] * edges[1:]))
+        zl, line_hz = _line_z(meas.psd, model.psd, grid, S)
+        z.append(np.array([zl]))
+        kinds.append("psd_line")
+        where.append(f"{line_hz:.4g} Hz")
+        locus.append(np.array([line_hz]))
+        n = grid.n_samples
+        v_k = max(27.0 / n, model.kurt_var)
+        zk = (meas.kurtosis - model.kurtosis) / math.sqrt(v_k * (1 + 1 / S))
+        c, mu = meas.tail_count, max(model.tails, 0.0)
+        zt = (math.sqrt(c) + math.sqrt(c + 1) - math.sqrt(4 * mu + 1)) / math.sqrt(model.tails_disp * (1 + 1 / S))
+        zs = _t_to_z((meas.slope - model.slope) / math.sqrt(model.slope_var * (1 + 1 / S)), S - 1) \
+            if model.slope_var > 0 else 0.0
+        z.append(np.array([zk, zt, zs]))
+        kinds += ["kurtosis", "tails", "slope"]
+        where += ["first differences", f"|Δx| > {grid.tail_k:.2f} σ", "trend over the record"]
+        locus.append(np.full(3, np.nan))
+        if meas.temp_coef is not None and model.temp_coef is not None:
+            zc = _t_to_z((meas.temp_coef - model.temp_coef) / math.sqrt(model.temp_var * (1 + 1 / S)), S - 1) \
+                if model.temp_var > 0 else 0.0
+            z.append(np.array([zc]))
+            kinds.append("temperature")
+            where.append("regression on temp_c")
+            locus.append(np.array([np.nan]))
+    return GapTerms(np.concatenate(z), np.array(kinds), where, np.concatenate(locus), line_hz)
+
+
+def _line_z(p_meas: np.ndarray, p_model: np.ndarray, grid: SignatureGrid, S: int) -> tuple[float, float]:
+    lo, hi = grid.band_start[0], grid.bin_stop
+    ratio = p_meas[lo:hi] / p_model[lo:hi]
+    nu = 2.0 * grid.n_segments / WELCH_VAR
+    j = int(np.argmax(ratio))
+    logp = float(stats.f.logsf(ratio[j], nu, S * nu))
+    if not math.isfinite(logp):  # beyond double range: the F tail falls as ratio^(−Sν/2)
+        logp = -0.5 * S * nu * math.log(max(ratio[j], 1.0))
+    n = hi - lo
+    if logp < -20:
+        log_global = math.log(n) + logp
+    elif logp > -1e-12:
+        log_global = 0.0
+    else:
+        log_global = math.log(-math.expm1(n * math.log1p(-math.exp(logp))))
+    log_global = min(log_global, 0.0)
+    z = float(-special.ndtri_exp(log_global - math.log(2.0)))
+    freq = (lo + j) * grid.rate_hz / grid.nperseg
+    return max(z, 0.0), freq
+
+
+def quadratic_form_quantile(eigenvalues: np.ndarray, alpha: float) -> float:
+    """Upper-α quantile of Q = Σ λ_i χ²_1,i (independent) by the Liu, Tang & Zhang (2009)
+    approximation (Comput. Stat. Data Anal. 53, 853–856): a noncentral χ² matched to the first
+    four cumulants of Q, exact for equal λ."""
+    lam = np.asarray(eigenvalues, float)
+    lam = lam[lam > 1e-12 * lam.max()]
+    c1, c2, c3, c4 = (float(np.sum(lam ** k)) for k in (1, 2, 3, 4))
+    s1, s2 = c3 / c2 ** 1.5, c4 / c2 ** 2
+    if s1 * s1 > s2:
+        a = 1.0 / (s1 - math.sqrt(s1 * s1 - s2))
+        delta = s1 * a ** 3 - a * a
+        dof = a * a - 2.0 * delta
+    else:
+        a, delta, dof = 1.0 / s1, 0.0, c2 ** 3 / c3 ** 2
+    q = stats.ncx2.isf(alpha, dof, delta) if delta > 0 else stats.chi2.isf(alpha, dof)
+    return float((q - (dof + delta)) / (math.sqrt(2.0) * a) * math.sqrt(2.0 * c2) + c1)
+
+
+def _eigenvalues(z: np.ndarray) -> np.ndarray:
+    """Eigenvalues of the covariance of M null z vectors (M, K), shrunk toward their mean so
+    that Σλ² equals its unbiased estimate (Wishart: E tr Ĉ² = (1 + 1/M) tr C² + (tr C)²/M);
+    the raw sample eigenvalues are too spread, which would make the threshold too high."""
+    m, k = z.shape
+    lam = np.clip(np.linalg.eigvalsh(z.T @ z / m), 0.0, None)
+    t1, t2 = float(lam.sum()), float(np.sum(lam ** 2))
+    floor = t1 * t1 / k  # Σλ² of equal eigenvalues: the least it can be
+    target = max((t2 - t1 * t1 / m) / (1.0 + 1.0 / m), floor)
+    if t2 - floor <= 0:
+        return lam
+    keep = math.sqrt((target - floor) / (t2 - floor))
+    return keep * lam + (1.0 - keep) * t1 / k
+
+
+@dataclass(frozen=True)
+class NullModel:
+    """Null distribution of the gaps (the log follows the model).
+
+    A channel's gap is zᵀz/K with z ≈ N(0, C): a weighted sum Σλ_i χ²_1 of the eigenvalues λ
+    of C, so its quantiles follow from :func:`quadratic_form_quantile`. C is estimated from the
+    leave-one-out z vectors of the realizations, pooled over channels with the same statistics,
+    its eigenvalues shrunk as in :func:`_eigenvalues` — the correlation between terms
+    (neighbouring τ, ADEV vs PSD) is what makes the gap's tail heavier than χ²_K/K.
+    ``eigen``: channel → λ; ``samples``: channel → leave-one-out gaps.
+    """
+
+    eigen: dict[str, np.ndarray]
+    alpha: float
+    samples: dict[str, np.ndarray] = field(repr=False, default_factory=dict)
+
+    @classmethod
+    def fit(cls, loo: dict[str, tuple[np.ndarray, tuple]], alpha: float = 0.01) -> "NullModel":
+        """``loo``: channel → (z vectors (S, K), layout key); channels sharing a key are pooled."""
+        groups: dict[tuple, list[str]] = {}
+        for ch, (_, key) in loo.items():
+            groups.setdefault(key, []).append(ch)
+        eigen, samples = {}, {}
+        for chans in groups.values():
+            z = np.concatenate([loo[ch][0] for ch in chans])
+            lam = _eigenvalues(z)
+            for ch in chans:
+                eigen[ch] = lam
+                samples[ch] = np.mean(loo[ch][0] ** 2, axis=1)
+        return cls(eigen, alpha, samples)
+
+    @property
+    def n_channels(self) -> int:
+        return len(self.eigen)
+
+    def mean(self, channel: str) -> float:
+        lam = self.eigen[channel]
+        return float(lam.sum() / lam.size)
+
+    def channel_threshold(self, channel: str) -> float:
+        lam = self.eigen[channel]
+        return quadratic_form_quantile(lam, self.alpha / self.n_channels) / lam.size
+
+    @property
+    def overall_threshold(self) -> float:
+        n = self.n_channels
+        lam = np.concatenate([v / (n * v.size) for v in self.eigen.values()])
+        return quadratic_form_quantile(lam, self.alpha)
+
+    def inflation(self, channel: str) -> float:
+        """var(Σz²)/(2K) = Σλ²/K: how much the correlated terms inflate a χ² difference."""
+        lam = self.eigen[channel]
+        return max(1.0, float(np.sum(lam ** 2) / lam.size))
+
+    def to_dict(self) -> dict:
+        return {"alpha": self.alpha,
+                "overall_threshold": self.overall_threshold,
+                "channel_threshold": {ch: self.channel_threshold(ch) for ch in self.eigen},
+                "channel_mean": {ch: self.mean(ch) for ch in self.eigen},
+                "inflation": {ch: self.inflation(ch) for ch in self.eigen},
+                "loo_gap_mean": float(np.mean(np.concatenate(list(self.samples.values())))),
+                "n_loo": int(sum(v.size for v in self.samples.values()))}
+
+
+def loo_z(sigs: list[Signature], grid: SignatureGrid) -> np.ndarray:
+    """Leave-one-out z vectors (S, K): each realization against the summary of the others."""
+    return np.array([gap_terms(s, ModelSummary.from_signatures(sigs[:i] + sigs[i + 1:]), grid).z
+                     for i, s in enumerate(sigs)])

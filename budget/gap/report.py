@@ -1,0 +1,229 @@
+"""The result of the model-gap workflow: steps, per-channel gaps, localisation, JSON.
+
+JSON contract (REPORT.json, scripts rely on it)::
+
+    {"gap_before": float, "gap_after": float,
+     "effects": [{"name", "channel", "params": {...}, "gap_before", "gap_after"}, ...],
+     "channels": {channel: {"gap_before", "gap_after"}, ...}}
+
+``effects`` in the order they were added (``[]`` when nothing is missing); an effect's
+``gap_before``/``gap_after`` are the gap *of its channel* before and after the step; the top
+level ``gap_before``/``gap_after`` are the overall gaps (mean over channels) of the base and of
+the updated model. Parameters in SI channel units. Further keys (thresholds, localisation,
+null distribution, notes) are additions.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..fileio import atomic_write_text
+from ..imu import NoiseModel
+from .metric import GapTerms, ModelSummary, NullModel
+from .signatures import Signature, SignatureGrid
+
+#: |z| above which a term is reported as a localised disagreement.
+LOCAL_Z = 3.0
+
+GAP_DEFINITION = (
+    "per channel: gap = mean of z^2 over its statistics (ADEV at octave tau, PSD octave bands, "
+    "largest PSD line, kurtosis and tail count of first differences, time slope, temperature "
+    "coefficient), z = standardized difference between the measured value and the mean of S "
+    "simulated realizations of the model (≈ N(0,1) when the log follows the model); overall gap "
+    "= mean of the channel gaps. Null: leave-one-out gaps of the realizations fitted by a·chi2_nu; "
+    "within noise = below the 1 - alpha/n_channels quantile (channel) or the 1 - alpha quantile "
+    "of the mean (overall).")
+
+
+@dataclass(frozen=True)
+class GapStep:
+    """One named effect: where, which parameters, and the gap of its channel before/after."""
+
+    name: str
+    channel: str
+    params: dict[str, float]
+    gap_before: float
+    gap_after: float
+    overall_before: float
+    overall_after: float
+    predicted_gap: float
+    improvement: float     # ΔΣz²/φ from the re-simulated model
+    penalty: float         # χ²_p quantile it had to exceed
+    n_params: int
+
+    def to_json(self) -> dict:
+        return {"name": self.name, "channel": self.channel, "params": dict(self.params),
+                "gap_before": self.gap_before, "gap_after": self.gap_after,
+                "overall_gap_before": self.overall_before, "overall_gap_after": self.overall_after,
+                "predicted_gap": self.predicted_gap, "improvement": self.improvement,
+                "penalty": self.penalty, "n_params": self.n_params}
+
+
+def localize(terms: GapTerms) -> dict:
+    """Where a channel disagrees: strongest terms, τ ranges and bands with |z| > 3, shares."""
+    order = np.argsort(-np.abs(terms.z))[:5]
+    top = [{"statistic": str(terms.kind[i]), "where": terms.where[i], "z": float(terms.z[i])}
+           for i in order if abs(terms.z[i]) > LOCAL_Z]
+    return {"top": top, "tau_ranges_s": _runs(terms, "adev"), "bands_hz": _runs(terms, "psd_band"),
+            "share": terms.share()}
+
+
+def _runs(terms: GapTerms, kind: str) -> list[dict]:
+    sel = np.flatnonzero(terms.kind == kind)
+    out, run = [], []
+    for i in list(sel) + [None]:
+        if i is not None and abs(terms.z[i]) > LOCAL_Z and (not run or np.sign(terms.z[i]) == np.sign(terms.z[run[-1]])):
+            run.append(i)
+            continue
+        if run:
+            out.append({"from": float(terms.locus[run[0]]), "to": float(terms.locus[run[-1]]),
+                        "direction": "measured above model" if terms.z[run[0]] > 0 else "measured below model",
+                        "max_abs_z": float(np.max(np.abs(terms.z[run])))})
+            run = []
+        if i is not None and abs(terms.z[i]) > LOCAL_Z:
+            run = [i]
+    return out
+
+
+@dataclass
+class ChannelResult:
+    """One channel: measured signature, model summaries and gap terms before and after."""
+
+    channel: str
+    grid: SignatureGrid
+    measured: Signature
+    terms_before: GapTerms
+    terms_after: GapTerms
+    model_before: ModelSummary
+    model_after: ModelSummary
+
+    @property
+    def gap_before(self) -> float:
+        return self.terms_before.gap
+
+    @property
+    def gap_after(self) -> float:
+        return self.terms_after.gap
+
+
+@dataclass
+class GapReport:
+    """Result of :func:`budget.gap.run_gap` (see module docstring for the JSON form)."""
+
+    source: str
+    kind: str
+    model_label: str
+    rate_hz: float
+    n_samples: int
+    seed: int
+    realizations: int
+    alpha: float
+    gap_before: float
+    gap_after: float
+    null_before: NullModel
+    null_after: NullModel
+    steps: list[GapStep]
+    channels: dict[str, ChannelResult]
+    rejected: list[dict] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    stop_reason: str = ""
+    base_model: NoiseModel | None = None
+    updated_model: NoiseModel | None = None
+
+    @property
+    def effects(self) -> list[GapStep]:
+        return list(self.steps)
+
+    @property
+    def threshold(self) -> float:
+        """Overall within-noise threshold of the final model."""
+        return self.null_after.overall_threshold
+
+    @property
+    def within_noise(self) -> bool:
+        return all(c.gap_after <= self.null_after.channel_threshold(ch) for ch, c in self.channels.items())
+
+    def to_json(self) -> dict:
+        chans = {}
+        for ch, c in self.channels.items():
+            chans[ch] = {"gap_before": c.gap_before, "gap_after": c.gap_after,
+                         "threshold_before": self.null_before.channel_threshold(ch),
+                         "threshold_after": self.null_after.channel_threshold(ch),
+                         "within_noise_after": c.gap_after <= self.null_after.channel_threshold(ch),
+                         "n_terms": c.terms_after.n_terms,
+                         "localization_before": localize(c.terms_before),
+                         "localization_after": localize(c.terms_after)}
+        return {
+            "gap_before": self.gap_before, "gap_after": self.gap_after,
+            "effects": [s.to_json() for s in self.steps],
+            "channels": chans,
+            "threshold_before": self.null_before.overall_threshold,
+            "threshold_after": self.null_after.overall_threshold,
+            "within_noise_after": self.within_noise,
+            "input": {"source": self.source, "kind": self.kind, "rate_hz": self.rate_hz,
+                      "samples": self.n_samples,
+                      "signatures": "adev" if self.kind == "adev_table" else
+                      "adev, psd_band, psd_line, kurtosis, tails, slope"
+                      + (", temperature" if any(c.measured.temp_coef is not None for c in self.channels.values()) else "")},
+            "model": self.model_label, "seed": self.seed, "realizations": self.realizations,
+            "alpha": self.alpha, "gap_definition": GAP_DEFINITION,
+            "null_before": self.null_before.to_dict(), "null_after": self.null_after.to_dict(),
+            "rejected": self.rejected, "stop_reason": self.stop_reason, "notes": list(self.notes),
+            "units": "parameters in SI channel units: rad/s-based (gyro), m/s^2-based (accel); s; Hz",
+        }
+
+    def save(self, path: str | Path) -> None:
+        """Write the JSON report atomically (non-finite numbers become null)."""
+        atomic_write_text(Path(path), json.dumps(_clean(self.to_json()), indent=2, ensure_ascii=False) + "\n")
+
+    def to_frame(self) -> pd.DataFrame:
+        """Every gap term of every channel, before and after (one row per term)."""
+        rows = []
+        for ch, c in self.channels.items():
+            for i in range(c.terms_before.n_terms):
+                rows.append({"channel": ch, "statistic": c.terms_before.kind[i],
+                             "where": c.terms_before.where[i], "z_before": c.terms_before.z[i],
+                             "z_after": c.terms_after.z[i] if i < c.terms_after.n_terms else np.nan})
+        return pd.DataFrame(rows)
+
+    def summary(self) -> str:
+        thr = {ch: self.null_after.channel_threshold(ch) for ch in self.channels}
+        lines = [f"model gap: {self.source} ({self.kind}, {self.n_samples} samples at {self.rate_hz:g} Hz) "
+                 f"vs {self.model_label}; {self.realizations} realizations/channel, seed {self.seed}",
+                 f"overall gap {self.gap_before:.3g} → {self.gap_after:.3g} "
+                 f"(within noise below {self.null_after.overall_threshold:.3g}; channel thresholds "
+                 f"{min(thr.values()):.3g}–{max(thr.values()):.3g})"]
+        if not self.steps:
+            lines.append("effects named: none")
+        for i, s in enumerate(self.steps, 1):
+            par = ", ".join(f"{k}={v:.4g}" for k, v in s.params.items())
+            lines.append(f"  {i}. {s.name} on {s.channel} ({par}): channel gap {s.gap_before:.3g} → "
+                         f"{s.gap_after:.3g}")
+        for ch, c in self.channels.items():
+            loc = localize(c.terms_after)["top"][:2]
+            where = "; ".join(f"{t['statistic']} {t['where']} z={t['z']:+.1f}" for t in loc)
+            flag = "ok" if c.gap_after <= thr[ch] else "GAP"
+            lines.append(f"  {ch:8s} {c.gap_before:9.3g} → {c.gap_after:9.3g}  {flag}" + (f"  [{where}]" if where else ""))
+        lines.append(f"stop: {self.stop_reason}")
+        lines += [f"note: {n}" for n in self.notes]
+        return "\n".join(lines)
+
+
+def _clean(obj):
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj

@@ -1,0 +1,223 @@
+"""Signatures of one channel, computed identically on the measured and the simulated series.
+
+A static log holds gravity on one accelerometer axis, Earth rate and the turn-on bias on the
+gyros: none of them is a noise statistic, so **each channel's mean is removed first** (the
+time-slope and temperature statistics below have an intercept anyway). Then, on rate samples
+x_k (rad/s or m/s²) at ``rate_hz``:
+
+* ``avar``: overlapping Allan variance at octave averaging factors m = 1, 2, 4, … ≤ N/4, by
+  the noise lab's estimator (NIST SP 1065 eq. (11) on the cumulative sum, as
+  :func:`budget.noise.allan_deviation`; :func:`overlapping_avar` repeats its few lines with
+  the final dot product done by ``einsum`` — OpenBLAS's threaded dot stalls for milliseconds
+  per call on a loaded two-core machine — and is tested equal to it);
+* ``psd``: Welch PSD (:func:`budget.noise.welch_psd`), Hann segments of L = 2^⌊log2(N/16)⌋
+  samples (≥ 16 segments, ≤ 2¹⁶ samples), one-sided, unit²/Hz;
+* distribution of the first differences d_k = x_k − x_{k−1} (differences remove the slow
+  terms that make the raw series non-Gaussian): excess kurtosis; robust scale
+  σ_r = 1.4826·MAD; ``tail_count`` = #{|d − median| > k_N·σ_r} with k_N = Φ⁻¹(1 − 2.5/N),
+  i.e. 5 expected exceedances for Gaussian data of any length; isolated spikes (an exceedance
+  followed by one of opposite sign, Pauta-like) give ``spike_count`` and ``spike_magnitude``;
+  ``diff_max`` is the largest |d − median|;
+* ``slope``: least-squares slope of x on time (unit/s);
+* ``temp_coef``: least-squares coefficient of x on the temperature channel in a regression
+  with intercept and linear time trend (unit/°C), when the log has one (a temperature that
+  only rises linearly cannot be told from a rate ramp, and is not used).
+
+A measured Allan-deviation table gives only ``avar`` (with its own EDF): the other fields are
+``None`` and the comparison uses the ADEV signature alone.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import stats
+
+from ..errors import InputError
+from ..noise import welch_psd
+from ..noise.allan import AllanResult
+
+#: Fewest samples the workflow accepts (≥ 10 octave τ and a 256-point Welch segment).
+MIN_SAMPLES = 4096
+#: Fewest τ an Allan table must have to be compared.
+MIN_TABLE_TAUS = 6
+#: Expected number of Gaussian exceedances that sets the tail threshold k_N.
+TAIL_EXPECTED = 5.0
+#: Lowest Welch bin used (the first bins carry the segment-mean removal and window leakage).
+FIRST_BIN = 4
+MAX_NPERSEG = 1 << 16
+
+
+@dataclass(frozen=True)
+class SignatureGrid:
+    """Where the signatures of one channel are evaluated (shared by measured and simulated).
+
+    ``m``: averaging factors (τ = m/rate); ``nperseg``/``n_segments``: Welch layout (``None``/0
+    for an Allan table); ``band_start``: first Welch bin of each octave band, the last band
+    ending at ``bin_stop`` (Nyquist excluded); ``tail_k``: k_N; ``time_w``/``temp_w``:
+    regression weights so that slope = time_w·x and coefficient = temp_w·x.
+    """
+
+    rate_hz: float
+    n_samples: int
+    m: np.ndarray
+    nperseg: int | None = None
+    n_segments: int = 0
+    band_start: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    bin_stop: int = 0
+    tail_k: float = 0.0
+    time_w: np.ndarray | None = None
+    temp_w: np.ndarray | None = None
+    temp_c: np.ndarray | None = None
+
+    @property
+    def dt_s(self) -> float:
+        return 1.0 / self.rate_hz
+
+    @property
+    def tau_s(self) -> np.ndarray:
+        return self.m / self.rate_hz
+
+    @property
+    def has_psd(self) -> bool:
+        return self.nperseg is not None
+
+    @property
+    def freq_hz(self) -> np.ndarray:
+        return np.fft.rfftfreq(self.nperseg, self.dt_s) if self.nperseg else np.zeros(0)
+
+    @property
+    def band_edges_hz(self) -> np.ndarray:
+        """Lower edges of the bands and the upper edge of the last one, Hz."""
+        if not self.nperseg:
+            return np.zeros(0)
+        return np.append(self.band_start, self.bin_stop) * self.rate_hz / self.nperseg
+
+    @classmethod
+    def for_log(cls, n_samples: int, rate_hz: float, temp_c: np.ndarray | None = None) -> "SignatureGrid":
+        if n_samples < MIN_SAMPLES:
+            raise InputError(f"log too short: {n_samples} samples", field="samples",
+                             expected=f"at least {MIN_SAMPLES} samples (≥ 10 octave τ and a Welch "
+                                      "PSD with 16 segments)")
+        m = 2 ** np.arange(int(math.floor(math.log2(n_samples // 4))) + 1)
+        nperseg = int(min(MAX_NPERSEG, 2 ** int(math.floor(math.log2(n_samples / 16)))))
+        n_seg = 1 + (n_samples - nperseg) // (nperseg // 2)
+        stop = nperseg // 2  # exclude the Nyquist bin (real-valued: twice the variance)
+        starts = []
+        b = FIRST_BIN
+        while b < stop:
+            starts.append(b)
+            b *= 2
+        tail_k = float(stats.norm.isf(TAIL_EXPECTED / (2.0 * n_samples)))
+        t = np.arange(n_samples) / rate_hz
+        tc = t - t.mean()
+        time_w = tc / _dot(tc, tc)
+        temp_w = None
+        if temp_c is not None:
+            # partial regression on T given a linear trend: a rate ramp is left to the slope
+            # statistic and a slow warm-up does not mask faster temperature changes
+            temp = np.asarray(temp_c, float)
+            dT = temp - temp.mean()
+            dT = dT - _dot(time_w, dT) * tc
+            ss = _dot(dT, dT)
+            temp_w = dT / ss if ss > 1e-12 * temp.size else None
+        return cls(float(rate_hz), int(n_samples), m.astype(np.int64), nperseg, n_seg,
+                   np.array(starts, dtype=np.int64), stop, tail_k, time_w, temp_w,
+                   None if temp_c is None else np.asarray(temp_c, float))
+
+    @classmethod
+    def for_table(cls, allan: AllanResult) -> "SignatureGrid":
+        if allan.tau_s.size < MIN_TABLE_TAUS:
+            raise InputError(f"Allan table for {allan.channel} has {allan.tau_s.size} τ",
+                             field=allan.channel, expected=f"at least {MIN_TABLE_TAUS} τ values")
+        return cls(float(allan.rate_hz), int(allan.samples), allan.m.astype(np.int64))
+
+
+@dataclass(frozen=True)
+class Signature:
+    """The statistics of one channel series (see module docstring); ``None`` = not available."""
+
+    avar: np.ndarray
+    psd: np.ndarray | None = None
+    kurtosis: float | None = None
+    diff_var: float | None = None
+    sigma_r: float | None = None
+    tail_count: int | None = None
+    spike_count: int | None = None
+    spike_magnitude: float | None = None
+    diff_max: float | None = None
+    slope: float | None = None
+    temp_coef: float | None = None
+    edf: np.ndarray | None = None  # measured tables only: EDF behind the published interval
+
+
+def series_signature(x: np.ndarray, grid: SignatureGrid) -> Signature:
+    """All signatures of one rate series ``x`` (its mean is removed here)."""
+    x = np.asarray(x, dtype=np.float64)
+    if x.shape != (grid.n_samples,):
+        raise InputError(f"series has shape {x.shape}", expected=f"({grid.n_samples},)")
+    x = x - x.mean()
+    avar = overlapping_avar(x, grid.m)
+    psd = welch_psd(x, grid.rate_hz, nperseg=grid.nperseg).psd
+    d = np.diff(x)
+    med = float(np.median(d))
+    dev = np.abs(d - med)
+    sigma_r = 1.4826 * float(np.median(dev))
+    c = d - d.mean()
+    m2 = _dot(c, c) / c.size
+    kurt = float(np.mean(c ** 4) / m2 ** 2 - 3.0) if m2 > 0 else 0.0
+    if sigma_r <= 0:  # heavily quantized data: more than half the differences are zero
+        sigma_r = math.sqrt(m2)
+    limit = grid.tail_k * sigma_r
+    hit = dev > limit
+    tails = int(hit.sum())
+    spikes = hit[:-1] & hit[1:] & (np.sign(d[:-1] - med) != np.sign(d[1:] - med))
+    n_sp = int(spikes.sum())
+    mag = float(np.median(0.5 * np.abs(d[:-1][spikes] - d[1:][spikes]))) if n_sp else 0.0
+    slope = _dot(grid.time_w, x)
+    temp = _dot(grid.temp_w, x) if grid.temp_w is not None else None
+    return Signature(avar, psd, kurt, m2, sigma_r, tails, n_sp, mag, float(dev.max()), slope, temp)
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.einsum("i,i->", a, b))
+
+
+def overlapping_avar(x: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """Overlapping Allan variance of rate samples at averaging factors ``m`` (NIST SP 1065
+    eq. (11)): Σ_k (S_{k+2m} − 2S_{k+m} + S_k)² / (2m²(N+1−2m)), S = cumsum with S_0 = 0."""
+    y = np.asarray(x, dtype=np.float64)
+    s = np.empty(y.size + 1)
+    s[0] = 0.0
+    np.cumsum(y - y.mean(), out=s[1:])
+    buf = np.empty(s.size)
+    out = np.empty(len(m))
+    for i, mj in enumerate(np.asarray(m, dtype=np.int64)):
+        k = s.size - 2 * mj
+        if k < 1:
+            raise InputError(f"averaging factor {mj} exceeds half the record", field="taus")
+        d = buf[:k]
+        np.subtract(s[2 * mj:], s[mj:mj + k], out=d)
+        d -= s[mj:mj + k]
+        d += s[:k]
+        out[i] = _dot(d, d) / (2.0 * mj * mj * k)
+    return out
+
+
+def table_signature(allan: AllanResult) -> Signature:
+    """The ADEV signature of a measured Allan-deviation table (its EDF kept for the metric)."""
+    return Signature(np.asarray(allan.adev, float) ** 2, edf=np.asarray(allan.edf, float))
+
+
+def band_means(psd: np.ndarray, grid: SignatureGrid) -> np.ndarray:
+    """Mean PSD over each octave band of ``grid`` (works on (..., bins) arrays)."""
+    seg = psd[..., grid.band_start[0]:grid.bin_stop]
+    sums = np.add.reduceat(seg, grid.band_start - grid.band_start[0], axis=-1)
+    counts = np.diff(np.append(grid.band_start, grid.bin_stop))
+    return sums / counts
+
+
+def band_counts(grid: SignatureGrid) -> np.ndarray:
+    return np.diff(np.append(grid.band_start, grid.bin_stop))

@@ -1,0 +1,200 @@
+"""Expected signature increments of each vocabulary effect, in closed form (SI channel units).
+
+Every effect of the shared vocabulary is an independent additive term (quantization only
+approximately), so its *expected* contribution adds to the model's signatures:
+
+* Allan variance at τ = m·dt (overlapping estimator, point-sampled rate data):
+
+  - white noise N: N²/τ (IEEE Std 952 Annex C);
+  - quantization Q of the integrated output (white angle/velocity noise of variance Q²):
+    3Q²/τ²;
+  - Gauss–Markov (σ, τc), φ = e^(−dt/τc), exact for the sampled process:
+    σ²/m²·[m + (2φ(m(1−φ) − (1−φᵐ)) − φ(1−φᵐ)²)/(1−φ)²]  (from AVAR = Var(ȳ) − Cov(ȳ₁, ȳ₂)
+    with the geometric sums of the AR(1) autocovariance σ²φ^|k|);
+  - bias instability B: the same sum over the generator's Gauss–Markov bank
+    (:func:`budget.imu.flicker.flicker_bank`), ≈ (2 ln2/π)·B² in the band;
+  - rate random walk K (b_n = b_{n−1} + K√dt·w_n): K²·dt·(2m² + 1)/(6m) → K²τ/3;
+  - rate ramp R: R²τ²/2;
+  - sinusoid (A, f), random phase: A²·sin⁴(πfτ)/(m·sin(πf·dt))² → A² sin⁴(πfτ)/(πfτ)²;
+  - outliers (rate p, magnitude M): white with per-sample variance pM²: pM²·dt/τ;
+  - temperature sensitivity c: c²·AVAR(T) of the temperature series (deterministic).
+
+* Welch PSD (one-sided, Hann window, 50 % overlap, segment mean removed; ``scipy.signal.welch``
+  density scaling P = 2|X|²/(fs·Σw²)): white 2N²; quantization 8Q²·sin²(πf·dt)/dt; AR(1)
+  2σ²(1−φ²)·dt/|1 − φe^(−2πif·dt)|²; random walk 2K²dt²/(4 sin²(πf·dt)); sinusoid
+  (A²/2)(|Ŵ(f−f0)|² + |Ŵ(f+f0)|²)/(fs·Σw²) with Ŵ the window's transform; the ramp and the
+  temperature series through the estimator itself (they are deterministic).
+
+* First differences d_k = x_k − x_{k−1} (for the kurtosis and tail statistics): added variance
+  and fourth cumulant — white 2N²/dt, 0; quantization 6Q²/dt², −0.6·var²; AR(1) 2σ²(1−φ), 0;
+  random walk K²dt, 0; sinusoid 2A² sin²(πf·dt), −1.5·var²; outliers 2pM², 2pM⁴ − 6p²M⁴.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy import signal
+
+from ..imu.flicker import flicker_bank
+
+
+@dataclass(frozen=True)
+class Increment:
+    """Expected change of a channel's signatures caused by one added effect.
+
+    ``avar``: Δσ² at the grid's τ; ``psd``: ΔS at the Welch bins (``None`` without a PSD);
+    ``diff_var``/``diff_cum4``: variance and fourth cumulant added to first differences;
+    ``slope``/``temp``: shift of the time / temperature regression coefficients and
+    ``slope_var``/``temp_var`` the variance they add (random walk only; 0 otherwise);
+    ``outliers``: (rate, magnitude) for the tail-count prediction, else ``None``.
+    """
+
+    avar: np.ndarray
+    psd: np.ndarray | None = None
+    diff_var: float = 0.0
+    diff_cum4: float = 0.0
+    slope: float = 0.0
+    temp: float = 0.0
+    slope_var: float = 0.0
+    temp_var: float = 0.0
+    outliers: tuple[float, float] | None = None
+
+
+# --- Allan variance shapes (amplitude 1) --------------------------------------------------
+
+def avar_gm(m: np.ndarray, dt_s: float, tau_c_s) -> np.ndarray:
+    """Exact AVAR of point-sampled unit-variance Gauss–Markov processes, shape (len(tau_c), len(m)).
+
+    Closed form in the module docstring; for m·dt/τc < 1e-5 the first-order series
+    σ²·(dt/τc)·(2m² + 1)/(3m) replaces it (the closed form loses digits there).
+    """
+    m = np.asarray(m, dtype=float)[None, :]
+    a = dt_s / np.atleast_1d(np.asarray(tau_c_s, dtype=float))[:, None]
+    eps = -np.expm1(-a)                 # 1 − φ
+    phi = 1.0 - eps
+    e_m = -np.expm1(-a * m)             # 1 − φᵐ
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        closed = (m + (2.0 * phi * (m * eps - e_m) - phi * e_m ** 2) / eps ** 2) / m ** 2
+    series = a * (2.0 * m ** 2 + 1.0) / (3.0 * m)
+    out = np.where(a * m < 1e-5, series, closed)
+    return np.clip(out, 0.0, None)
+
+
+@lru_cache(maxsize=32)
+def _flicker_shapes(m_key: tuple, dt_s: float, n_samples: int, nperseg: int | None):
+    m = np.asarray(m_key, dtype=float)
+    tau, var = flicker_bank(1.0, dt_s, dt_s * (n_samples - 1))
+    avar = (var[:, None] * avar_gm(m, dt_s, tau)).sum(axis=0)
+    psd = None
+    if nperseg:
+        f = np.fft.rfftfreq(nperseg, dt_s)
+        psd = sum(v * psd_gm(f, dt_s, t) for t, v in zip(tau, var))
+    return avar, psd
+
+
+def avar_flicker(m, dt_s: float, n_samples: int) -> np.ndarray:
+    """AVAR of the generator's bias-instability bank for B = 1 (≈ 2 ln2/π in the band)."""
+    return _flicker_shapes(tuple(int(v) for v in m), dt_s, int(n_samples), None)[0]
+
+
+def psd_flicker(nperseg: int, dt_s: float, n_samples: int, m) -> np.ndarray:
+    """One-sided PSD of the bias-instability bank for B = 1 at the Welch bins."""
+    return _flicker_shapes(tuple(int(v) for v in m), dt_s, int(n_samples), int(nperseg))[1]
+
+
+def avar_rrw(m, dt_s: float) -> np.ndarray:
+    """AVAR of a discrete rate random walk with K = 1: dt·(2m² + 1)/(6m)."""
+    m = np.asarray(m, dtype=float)
+    return dt_s * (2.0 * m ** 2 + 1.0) / (6.0 * m)
+
+
+def avar_sinusoid(m, dt_s: float, frequency_hz: float) -> np.ndarray:
+    """AVAR of A·sin(2πft + φ), φ uniform, for A = 1: sin⁴(πfτ)/(m·sin(πf·dt))²."""
+    m = np.asarray(m, dtype=float)
+    x = math.pi * frequency_hz * dt_s
+    return np.sin(x * m) ** 4 / (m * math.sin(x)) ** 2
+
+
+# --- PSD shapes (one-sided, Welch density scaling) ------------------------------------------
+
+def welch_freqs(nperseg: int, dt_s: float) -> np.ndarray:
+    return np.fft.rfftfreq(nperseg, dt_s)
+
+
+def psd_gm(freq_hz: np.ndarray, dt_s: float, tau_c_s: float) -> np.ndarray:
+    """One-sided PSD of a unit-variance sampled AR(1) with φ = e^(−dt/τc)."""
+    phi = math.exp(-dt_s / tau_c_s)
+    w = 2.0 * math.pi * np.asarray(freq_hz) * dt_s
+    den = 1.0 - 2.0 * phi * np.cos(w) + phi ** 2
+    return 2.0 * (1.0 - phi ** 2) * dt_s / den
+
+
+def psd_quantization(freq_hz: np.ndarray, dt_s: float) -> np.ndarray:
+    """One-sided PSD of the rate error of white angle quantization with Q = 1."""
+    return 8.0 * np.sin(math.pi * np.asarray(freq_hz) * dt_s) ** 2 / dt_s
+
+
+def psd_rrw(freq_hz: np.ndarray, dt_s: float) -> np.ndarray:
+    """One-sided PSD of a discrete random walk with K = 1 (0 at f = 0)."""
+    s = np.sin(math.pi * np.asarray(freq_hz) * dt_s) ** 2
+    with np.errstate(divide="ignore"):
+        out = np.where(s > 0, 2.0 * dt_s ** 2 / (4.0 * s), 0.0)
+    return out
+
+
+@lru_cache(maxsize=8)
+def _hann(nperseg: int) -> np.ndarray:
+    w = signal.get_window("hann", nperseg)
+    w.setflags(write=False)
+    return w
+
+
+def _window_transform(nu_hz: np.ndarray, nperseg: int, dt_s: float) -> np.ndarray:
+    """|Ŵ(ν)|² of the periodic Hann window of length L (closed form via geometric sums)."""
+    L = nperseg
+    w0 = 2.0 * math.pi * np.asarray(nu_hz) * dt_s
+
+    def dirichlet(w):
+        num = -np.expm1(-1j * w * L)
+        den = -np.expm1(-1j * w)
+        small = np.abs(den) < 1e-12
+        return np.where(small, L + 0j, num / np.where(small, 1.0, den))
+
+    step = 2.0 * math.pi / L
+    win = 0.5 * dirichlet(w0) - 0.25 * dirichlet(w0 - step) - 0.25 * dirichlet(w0 + step)
+    return np.abs(win) ** 2
+
+
+def psd_sinusoid(freq_hz: np.ndarray, nperseg: int, dt_s: float, f0_hz: float) -> np.ndarray:
+    """Expected Welch PSD of a random-phase sinusoid of amplitude 1 at ``f0_hz``."""
+    w = _hann(nperseg)
+    norm = (1.0 / dt_s) * float(np.sum(w ** 2))
+    k = (_window_transform(freq_hz - f0_hz, nperseg, dt_s)
+         + _window_transform(freq_hz + f0_hz, nperseg, dt_s))
+    out = 2.0 * 0.25 * k / norm
+    out[0] *= 0.5  # scipy does not double the DC bin
+    if nperseg % 2 == 0:
+        out[-1] *= 0.5  # nor the Nyquist bin
+    return out
+
+
+def psd_of_series(y: np.ndarray, dt_s: float, nperseg: int) -> np.ndarray:
+    """Welch PSD of a deterministic series through the same estimator as the signatures."""
+    return signal.welch(np.asarray(y, float), fs=1.0 / dt_s, nperseg=nperseg, detrend="constant")[1]
+
+
+def psd_ramp(nperseg: int, dt_s: float, n_samples: int) -> np.ndarray:
+    """Welch PSD of a unit ramp t (every segment holds the same mean-removed ramp)."""
+    n_seg = 1 + (n_samples - nperseg) // (nperseg // 2)
+    y = np.arange(nperseg // 2 * (n_seg - 1) + nperseg) * dt_s
+    return psd_of_series(y, dt_s, nperseg)
+
+
+def random_walk_weight(weights: np.ndarray, dt_s: float) -> float:
+    """var(Σ w_k b_k) of a random walk with K = 1: dt·Σ_k (Σ_{j≥k} w_j)² (regression weights w)."""
+    tail = np.cumsum(weights[::-1])[::-1]
+    return float(dt_s * np.einsum("i,i->", tail, tail))

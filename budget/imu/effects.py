@@ -1,0 +1,89 @@
+"""Sample generators for the individual error effects (vectorised over trials, SI channel units).
+
+Each function draws only from the ``numpy.random.Generator`` it is given. Conventions (IEEE Std
+952, two-sided PSDs; ``dt`` = 1/rate):
+
+* white noise of density N: independent samples of σ = N/√dt → ADEV N/√τ;
+* rate random walk K: b_n = b_{n−1} + K·√dt·w_n, b_{−1} = 0 → ADEV K·√(τ/3);
+* rate ramp R: R·t → ADEV R·τ/√2;
+* sinusoid: A·sin(2πft + φ), φ uniform per trial → ADEV A·sin²(πfτ)/(πfτ);
+* quantization Q: the *integrated* output (angle / velocity) is truncated to a quantum
+  q = √12·Q, so the integrated error stays within one quantum and the ADEV is √3·Q/τ once the
+  signal moves by more than q per sample;
+* temperature sensitivity c: c·(T(t) − T(0)) (the offset at switch-on belongs to the turn-on bias);
+* outliers: each sample is hit with probability ``rate`` by a spike of ±``magnitude``
+  (random sign).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Default temperature series when none is given: 25 °C at switch-on, warming 0.5 °C/min.
+DEFAULT_TEMP_START_C = 25.0
+DEFAULT_TEMP_RAMP_C_PER_S = 0.5 / 60.0
+
+
+def default_temperature(time_s: np.ndarray) -> np.ndarray:
+    """Linear warm-up T(t) = 25 °C + 0.5 °C/min · t (documented default), shape (N,)."""
+    return DEFAULT_TEMP_START_C + DEFAULT_TEMP_RAMP_C_PER_S * time_s
+
+
+def add_white(out: np.ndarray, density: np.ndarray, dt_s: float, rng: np.random.Generator,
+              axes: list[int] | None = None) -> None:
+    """Add white noise of per-axis density (unit/√Hz, one per entry of ``axes``, default all
+    three) to ``out`` (T, N, 3)."""
+    axes = [0, 1, 2] if axes is None else list(axes)
+    buf = rng.standard_normal((*out.shape[:2], len(axes)))
+    buf *= np.asarray(density) / math.sqrt(dt_s)
+    if len(axes) == out.shape[2]:
+        out += buf
+    else:
+        out[:, :, axes] += buf
+
+
+def add_random_walk(out: np.ndarray, k_coeff: np.ndarray, dt_s: float, rng: np.random.Generator) -> None:
+    """Add a rate random walk of per-axis coefficient K (shape (3,), unit/√s) to ``out`` (T, N, 3)."""
+    buf = rng.standard_normal(out.shape)
+    buf *= k_coeff * math.sqrt(dt_s)
+    np.cumsum(buf, axis=1, out=buf)
+    out += buf
+
+
+def sinusoid(n_trials: int, time_s: np.ndarray, frequency_hz: float, amplitude: float,
+             rng: np.random.Generator) -> np.ndarray:
+    """A·sin(2πft + φ) with φ ~ U[0, 2π) per trial, shape (T, N)."""
+    phase = rng.uniform(0.0, 2.0 * math.pi, n_trials)
+    arg = 2.0 * math.pi * frequency_hz * time_s
+    # sin(a + φ) = sin a·cos φ + cos a·sin φ: two outer products instead of T·N sines.
+    return amplitude * (np.outer(np.cos(phase), np.sin(arg)) + np.outer(np.sin(phase), np.cos(arg)))
+
+
+def quantization_error(measured: np.ndarray, q_coeff: float, dt_s: float,
+                       rng: np.random.Generator) -> np.ndarray:
+    """Error added by quantizing the integrated output of ``measured`` (T, N) rates.
+
+    The accumulator starts at an unknown fraction U·q of a quantum (U ~ U[0, 1) per trial);
+    output increment k = q·⌊S_k/q⌋ − q·⌊S_{k−1}/q⌋ with S_k = U·q + dt·Σ_{j≤k} measured_j.
+    Returns (increment/dt − measured), shape (T, N).
+    """
+    quantum = math.sqrt(12.0) * q_coeff
+    offset = rng.random((measured.shape[0], 1)) * quantum
+    integ = np.cumsum(measured, axis=1)
+    integ *= dt_s
+    integ += offset
+    counts = np.floor(integ / quantum)
+    inc = np.diff(counts, axis=1, prepend=np.zeros((measured.shape[0], 1)))  # ⌊offset/q⌋ = 0
+    return inc * (quantum / dt_s) - measured
+
+
+def outlier_spikes(shape: tuple[int, int], rate: float, magnitude: float,
+                   rng: np.random.Generator) -> np.ndarray:
+    """Spikes of ±magnitude on a random fraction ``rate`` of the samples, shape (T, N)."""
+    hit = rng.random(shape) < rate
+    spikes = np.zeros(shape)
+    n_hit = int(hit.sum())
+    spikes[hit] = magnitude * (2.0 * rng.integers(0, 2, n_hit) - 1.0)
+    return spikes

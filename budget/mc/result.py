@@ -1,0 +1,93 @@
+"""Monte Carlo verdict of one part (or noise model) on one scenario."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from .aggregate import Aggregate
+from .chain import TRIAL_METRICS
+from .stats import wilson_interval
+
+#: Per-trial metrics in the CLI JSON (``metrics_after``).
+JSON_METRICS = ("azimuth_broadening", "range_broadening", "pslr_db", "islr_db", "residual_phase_rms_deg",
+                "peak_loss_db", "pga_error_rms_deg")
+
+
+@dataclass
+class McResult:
+    """P(pass) before/after PGA with 95 % Wilson intervals, failure reasons, metric percentiles.
+
+    ``worst`` holds the worst trials (:class:`~budget.mc.chain.TrialOutcome`, with images when
+    the run kept details); ``cancelled`` is True when the run was stopped early (the numbers then
+    cover the ``trials`` completed).
+    """
+
+    scenario_name: str
+    model_label: str
+    seed: int
+    tc_s: float
+    agg: Aggregate
+    cancelled: bool = False
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def trials(self) -> int:
+        return self.agg.n
+
+    @property
+    def p_pass_before(self) -> float:
+        return self.agg.pass_before / self.agg.n if self.agg.n else float("nan")
+
+    @property
+    def p_pass_after(self) -> float:
+        return self.agg.pass_after / self.agg.n if self.agg.n else float("nan")
+
+    @property
+    def ci_before(self) -> tuple[float, float]:
+        return wilson_interval(self.agg.pass_before, self.agg.n)
+
+    @property
+    def ci_after(self) -> tuple[float, float]:
+        return wilson_interval(self.agg.pass_after, self.agg.n)
+
+    def percentiles(self, when: str = "after") -> dict[str, dict[str, float]]:
+        q = self.agg.q_after if when == "after" else self.agg.q_before
+        return {m: {"p50": q[m].quantile(0.5), "p95": q[m].quantile(0.95)} for m in TRIAL_METRICS}
+
+    def worst_trials(self) -> list:
+        return [o for _, _, o in self.agg.worst.items()]
+
+    def to_json_dict(self) -> dict:
+        out = {"trials": self.trials, "seed": self.seed, "tc_s": self.tc_s,
+               "scenario": self.scenario_name, "model": self.model_label,
+               "p_pass_before": self.p_pass_before, "p_pass_after": self.p_pass_after,
+               "ci_before": list(self.ci_before), "ci_after": list(self.ci_after),
+               "failure_reasons": self.agg.failure_reasons(),
+               "percentiles_before": self.percentiles("before"),
+               "percentiles_after": self.percentiles("after"),
+               "pga_converged_fraction": self.agg.pga_converged / self.agg.n if self.agg.n else None,
+               "worst_trials": [{"trial": o.trial, "reasons": o.reasons, "metrics_after": o.after,
+                                 "peak_range_cells": o.peak_range_cells} for o in self.worst_trials()],
+               "cancelled": self.cancelled}
+        if self.agg.keep_trial_metrics:
+            out["metrics_after"] = {m: list(self.agg.trial_metrics.get(m, [])) for m in JSON_METRICS}
+        out.update(self.extra)
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per metric: p50/p95 before and after PGA."""
+        b, a = self.percentiles("before"), self.percentiles("after")
+        return pd.DataFrame([{"metric": m, "p50_before": b[m]["p50"], "p95_before": b[m]["p95"],
+                              "p50_after": a[m]["p50"], "p95_after": a[m]["p95"]} for m in TRIAL_METRICS])
+
+    def summary(self) -> str:
+        lo, hi = self.ci_after
+        lb, hb = self.ci_before
+        reasons = ", ".join(f"{k} {v}" for k, v in self.agg.failure_reasons().items() if v) or "none"
+        return (f"{self.model_label} on {self.scenario_name} (Tc = {self.tc_s:.3g} s), {self.trials} trials, "
+                f"seed {self.seed}{' (cancelled)' if self.cancelled else ''}\n"
+                f"P(pass) before PGA {self.p_pass_before:.3f} [{lb:.3f}, {hb:.3f}], "
+                f"after PGA {self.p_pass_after:.3f} [{lo:.3f}, {hi:.3f}] (95 % Wilson)\n"
+                f"failure reasons: {reasons}\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}"))

@@ -1,0 +1,65 @@
+"""Trade studies: parts × scenarios → a tidy DataFrame, and the cheapest part that passes.
+
+Each cell runs :func:`~budget.mc.runner.run_mc` with per-trial lists off (streaming aggregation:
+memory does not grow with the number of trials). Same seed for every cell: common random
+numbers make the comparison between parts sharper.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import pandas as pd
+
+from ..catalog.schema import GRADE_RANK
+from ..scenario import Scenario
+from .options import McOptions
+from .runner import model_label, run_mc
+
+
+def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int, *,
+          options: McOptions | None = None, workers: int = 1, backend: str = "auto", client=None,
+          progress=None, cancel=None) -> pd.DataFrame:
+    """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95."""
+    options = (options or McOptions()).model_copy(update={"keep_trial_metrics": False})
+    rows = []
+    total = len(parts) * len(scenarios)
+    done = 0
+    for scen in scenarios:
+        for part in parts:
+            if cancel is not None and cancel.is_set():
+                return pd.DataFrame(rows)
+            r = run_mc(scen, part, trials, seed, options=options, workers=workers, backend=backend,
+                       client=client, cancel=cancel)
+            pct = r.percentiles("after")
+            row = {"scenario": scen.name, "tc_s": scen.tc_s, "range_resolution_m": scen.range_resolution_m,
+                   "part_id": model_label(part), "grade": getattr(part, "grade", None),
+                   "price_usd": getattr(part, "price_usd", None), "trials": r.trials,
+                   "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
+                   "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1]}
+            row.update({f"fail_{k}": v for k, v in r.agg.failure_reasons().items()})
+            for m, q in pct.items():
+                row[f"{m}_p50"], row[f"{m}_p95"] = q["p50"], q["p95"]
+            rows.append(row)
+            done += 1
+            if progress:
+                progress(done, total)
+    return pd.DataFrame(rows)
+
+
+def cheapest_passing(table: pd.DataFrame, target: float = 0.9, *, use_lower_ci: bool = False) -> pd.DataFrame:
+    """Per scenario, the cheapest part with P(pass after PGA) ≥ ``target`` (by price, then by
+    grade rank — lower grades are cheaper — when prices are missing); ``None`` where none passes."""
+    col = "ci_after_lo" if use_lower_ci else "p_pass_after"
+    out = []
+    for scen, g in table.groupby("scenario", sort=False):
+        ok = g[g[col] >= target].copy()
+        if ok.empty:
+            out.append({"scenario": scen, "part_id": None, "grade": None, "p_pass_after": None})
+            continue
+        ok["_rank"] = [-GRADE_RANK.get(x, 0) for x in ok["grade"]]
+        ok["_price"] = ok["price_usd"].fillna(float("inf"))
+        best = ok.sort_values(["_price", "_rank"]).iloc[0]
+        out.append({"scenario": scen, "part_id": best["part_id"], "grade": best["grade"],
+                    "p_pass_after": best["p_pass_after"]})
+    return pd.DataFrame(out)

@@ -1,0 +1,167 @@
+"""Measured Allan-deviation tables (published curves) as a second input form.
+
+CSV columns ``channel, tau_s, adev[, lci, uci]``; the unit rides on the channel name like a log
+column (``gyro_x_dps``, ``gyro_x_rps``, ``accel_x_mps2``, ``accel_x_g`` …). The record's
+sampling rate and length are not in the table and must be given (``rate_hz``, ``samples``):
+they fix the averaging factor m = τ·rate of each row and, with no ``lci/uci``, the EDF.
+
+With ``lci``/``uci`` the EDF of each row is recovered by inverting the χ² interval at
+``ci_level`` (default 0.95, the level of the curves in ``shared/data/adev``), see
+:func:`edf_from_interval` (a non-positive ``lci`` is accepted: symmetric Gaussian intervals
+from some tools go below zero at long τ). Without them it comes from
+:func:`~budget.noise.allan.edf_simple` with the noise type taken from the slope, and the
+interval is computed at ``ci_level``. Values are converted to SI (rad/s, m/s²).
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy import optimize, stats
+
+from .. import units as u
+from ..errors import InputError
+from ..fileio import read_text
+from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
+
+REQUIRED = ("channel", "tau_s", "adev")
+OPTIONAL = ("lci", "uci")
+
+
+def looks_like_adev_table(path: str | Path) -> bool:
+    """True when the first line of ``path`` has the ``channel, tau_s, adev`` columns."""
+    import gzip
+    path = Path(path)
+    opener = gzip.open if path.suffix == ".gz" else open
+    try:
+        with opener(path, "rt", encoding="utf-8-sig", errors="replace") as fh:
+            head = fh.readline()
+    except (OSError, EOFError):
+        return False
+    cols = {c.strip() for c in head.split(",")}
+    return set(REQUIRED) <= cols
+
+
+def edf_from_interval(adev: np.ndarray, lo: np.ndarray, hi: np.ndarray, ci_level: float) -> np.ndarray:
+    """Degrees of freedom ν behind an interval at ``ci_level``.
+
+    ``lo > 0``: the ν whose χ² interval has the ratio hi/lo. ``lo ≤ 0`` (a symmetric Gaussian
+    interval adev ± z·s, as some published curves give at long τ): ν = z²/(2h²) with
+    h = (hi − lo)/(2·adev), since the relative standard deviation of σ̂ is ≈ 1/√(2ν).
+    """
+    qa, qb = 0.5 + ci_level / 2, 0.5 - ci_level / 2
+    z = stats.norm.ppf(qa)
+    out = np.empty(lo.size)
+    for i, (a, b) in enumerate(zip(lo, hi)):
+        if a <= 0:
+            out[i] = max(0.2, z ** 2 / (2 * ((b - a) / (2 * adev[i])) ** 2))
+            continue
+        target = math.log((b / a) ** 2)
+        f = lambda nu: math.log(stats.chi2.ppf(qa, nu) / stats.chi2.ppf(qb, nu)) - target
+        if f(1e9) >= 0:
+            out[i] = 1e9
+        elif f(0.2) <= 0:
+            out[i] = 0.2
+        else:
+            out[i] = optimize.brentq(f, 0.2, 1e9, rtol=1e-10)
+    return out
+
+
+def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
+                    ci_level: float = 0.95) -> dict[str, AllanResult]:
+    """Read a measured Allan-deviation table → ``{'gyro_x': AllanResult, …}`` in SI units."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found", file=path)
+    if not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
+        raise InputError("sampling rate of the record is required", field="rate_hz", value=rate_hz,
+                         expected="--rate-hz F > 0 (the rate of the data the curve came from)")
+    if not (isinstance(samples, (int, np.integer)) and samples >= 3):
+        raise InputError("record length is required", field="samples", value=samples,
+                         expected="--samples N ≥ 3 (number of samples behind the curve)")
+    if not 0 < ci_level < 1:
+        raise InputError("confidence level must be in (0, 1)", field="ci_level", value=ci_level)
+    try:
+        df = pd.read_csv(io.StringIO(read_text(path)), skipinitialspace=True, dtype={"channel": str})
+    except pd.errors.ParserError as err:
+        raise InputError(f"malformed CSV: {str(err).split('C error: ')[-1]}", file=path) from None
+    df.columns = [str(c).strip() for c in df.columns]
+    missing = [c for c in REQUIRED if c not in df.columns]
+    extra = [c for c in df.columns if c not in REQUIRED + OPTIONAL]
+    if missing or extra:
+        raise InputError(f"columns {missing and 'missing ' + str(missing) or ''}"
+                         f"{extra and ' unknown ' + str(extra) or ''}".strip(), file=path, row=1,
+                         expected="channel, tau_s, adev[, lci, uci]")
+    has_ci = "lci" in df.columns or "uci" in df.columns
+    if has_ci and not ("lci" in df.columns and "uci" in df.columns):
+        raise InputError("lci and uci must be given together", file=path, row=1)
+    num_cols = ["tau_s", "adev"] + (["lci", "uci"] if has_ci else [])
+    for col in num_cols:
+        vals = pd.to_numeric(df[col], errors="coerce")
+        v = vals.to_numpy(float)
+        bad = np.flatnonzero(~np.isfinite(v) | ((v <= 0) if col != "lci" else False))
+        if bad.size:
+            i = int(bad[0])
+            raise InputError("not a positive finite number" if col != "lci" else "not a number",
+                             file=path, row=i + 2, field=col, value=df[col].iloc[i])
+        df[col] = vals.astype(float)
+    if df.empty:
+        raise InputError("no rows after the header", file=path)
+    out: dict[str, AllanResult] = {}
+    for name in dict.fromkeys(df["channel"]):
+        rows = np.flatnonzero((df["channel"] == name).to_numpy())
+        try:
+            ch, unit = u.split_channel_column(str(name).strip())
+        except ValueError as err:
+            raise InputError(str(err), file=path, row=int(rows[0]) + 2, field="channel") from None
+        if ch in out:
+            raise InputError(f"channel {ch} appears under two unit tags", file=path,
+                             row=int(rows[0]) + 2, field="channel", value=name)
+        out[ch] = _channel(df.iloc[rows], rows, ch, unit, rate_hz, samples, has_ci, ci_level, path)
+    return out
+
+
+def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: float,
+             samples: int, has_ci: bool, ci_level: float, path: Path) -> AllanResult:
+    tau = df["tau_s"].to_numpy(float)
+    adev = df["adev"].to_numpy(float)
+    if np.any(np.diff(tau) <= 0):
+        i = int(np.flatnonzero(np.diff(tau) <= 0)[0]) + 1
+        raise InputError("τ must increase within a channel", file=path, row=int(rows[i]) + 2,
+                         field="tau_s", value=tau[i])
+    m = tau * rate_hz
+    off = np.flatnonzero(np.abs(m - np.rint(m)) > 1e-6 * np.maximum(m, 1.0))
+    if off.size:
+        i = int(off[0])
+        raise InputError(f"τ·rate = {m[i]:.6g} is not a whole number of samples", file=path,
+                         row=int(rows[i]) + 2, field="tau_s", value=tau[i],
+                         expected=f"τ a multiple of 1/rate = {1 / rate_hz:.6g} s (check --rate-hz)")
+    m = np.rint(m).astype(np.int64)
+    n_phase = samples + 1
+    too_long = np.flatnonzero(n_phase - 2 * m < 2)
+    if too_long.size:
+        i = int(too_long[0])
+        raise InputError("τ longer than half the record", file=path, row=int(rows[i]) + 2,
+                         field="tau_s", value=tau[i],
+                         expected=f"τ ≤ {(n_phase - 2) // 2 / rate_hz:.6g} s for --samples {samples}")
+    factor = u.CHANNEL_UNIT_TO_SI[unit]
+    si_unit = "rad/s" if ch.startswith("gyro") else "m/s^2"
+    alpha = noise_type_from_slope(tau, adev)
+    if has_ci:
+        lo, hi = df["lci"].to_numpy(float), df["uci"].to_numpy(float)
+        bad = np.flatnonzero((lo > adev) | (hi < adev) | (lo >= hi))  # lo ≤ 0 allowed
+        if bad.size:
+            i = int(bad[0])
+            raise InputError("need lci ≤ adev ≤ uci and lci < uci", file=path, row=int(rows[i]) + 2,
+                             field="lci", value=(lo[i], adev[i], hi[i]))
+        edf = edf_from_interval(adev, lo, hi, ci_level)
+    else:
+        edf = edf_simple(n_phase, m, alpha)
+        lo, hi = confidence_interval(adev, edf, ci_level)
+    return AllanResult(tau, adev * factor, lo * factor, hi * factor, edf,
+                       (n_phase - 2 * m).astype(np.int64), float(rate_hz), int(samples), ch,
+                       si_unit, ci_level, alpha, f"table {path.name}")

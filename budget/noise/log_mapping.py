@@ -1,0 +1,130 @@
+"""Column/unit mapping of an IMU log CSV onto the canonical layout (DESIGN.md §7).
+
+Canonical columns: ``time_s, gyro_x_dps … accel_z_mps2[, temp_c]``. Any channel column may
+carry another unit tag (``gyro_x_rps``, ``accel_y_g`` …, see :data:`budget.units.CHANNEL_UNIT_TO_SI`),
+the time column may be ``time_ms``, ``time_us`` or ``time_ns``. Other layouts are read through an
+explicit :class:`LogMapping` (source column → canonical name); nothing is guessed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from .. import units as u
+from ..errors import InputError, from_validation_error
+from ..fileio import read_structured
+
+#: Time column name → factor to seconds.
+TIME_COLUMNS = {"time_s": 1.0, "time_ms": 1e-3, "time_us": 1e-6, "time_ns": 1e-9}
+TEMP_COLUMN = "temp_c"
+
+
+def _check_target(name: str) -> str:
+    if name in TIME_COLUMNS or name == TEMP_COLUMN:
+        return name
+    u.split_channel_column(name)  # raises ValueError naming what is expected
+    return name
+
+
+class LogMapping(BaseModel):
+    """How to read a non-canonical IMU log (a user-written JSON/YAML file).
+
+    ``columns`` maps a source column to a canonical name, e.g.
+    ``{"GyrX": "gyro_x_rps", "t": "time_ms", "AccZ": "accel_z_g"}``. Columns not listed keep
+    their names (used if canonical, otherwise ignored and reported). ``rate_hz`` is needed
+    when the log has no time column.
+    """
+
+    model_config = ConfigDict(extra="forbid")
+
+    columns: dict[str, str] = Field(default_factory=dict)
+    rate_hz: float | None = Field(None, gt=0.0, le=1e7, allow_inf_nan=False)
+    delimiter: str = Field(",", min_length=1, max_length=1)
+    comment: str | None = Field(None, min_length=1, max_length=1)
+
+    @field_validator("columns")
+    @classmethod
+    def _targets_known(cls, v: dict[str, str]) -> dict[str, str]:
+        for src, dst in v.items():
+            try:
+                _check_target(dst)
+            except ValueError as err:
+                raise ValueError(f"mapping for column {src!r}: {err}; or time_s|time_ms|time_us|"
+                                 f"time_ns|temp_c") from None
+        return v
+
+    @classmethod
+    def load(cls, path: str | Path) -> "LogMapping":
+        """Read a mapping from a JSON or YAML file."""
+        data = read_structured(path, "a column mapping", max_bytes=1_000_000)
+        try:
+            return cls.model_validate(data)
+        except ValidationError as err:
+            raise from_validation_error(err, file=path) from None
+
+
+@dataclass(frozen=True)
+class ColumnPlan:
+    """Which source columns are read, and into what (canonical name, factor to SI)."""
+
+    sources: tuple[str, ...]          # source column names, in read order
+    targets: tuple[str, ...]          # canonical names (same order)
+    factors: tuple[float, ...]        # multiply the source value by this to get SI / seconds / °C
+    time_index: int | None            # position of the time column in ``sources``
+    temp_index: int | None
+    channel_index: dict[str, int]     # 'gyro_x' → position
+    source_units: dict[str, str]      # 'gyro_x' → 'dps'
+    ignored: tuple[str, ...]          # source columns not read
+
+
+def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> ColumnPlan:
+    """Resolve the header against the mapping; raise :class:`InputError` on any ambiguity."""
+    rename = dict(mapping.columns) if mapping else {}
+    missing = [src for src in rename if src not in header]
+    if missing:
+        raise InputError(f"mapped column(s) not in the file: {', '.join(map(repr, missing))}",
+                         file=path, expected=f"one of the header columns {header}")
+    dup = sorted({h for h in header if header.count(h) > 1})
+    if dup:
+        raise InputError(f"duplicate column name(s) {dup}", file=path, row=1)
+    sources, targets, factors, ignored = [], [], [], []
+    channel_index: dict[str, int] = {}
+    source_units: dict[str, str] = {}
+    time_index = temp_index = None
+    for col in header:
+        name = rename.get(col, col)
+        if name in TIME_COLUMNS:
+            if time_index is not None:
+                raise InputError("more than one time column", file=path, row=1, field=col)
+            time_index = len(sources)
+            factor = TIME_COLUMNS[name]
+        elif name == TEMP_COLUMN:
+            if temp_index is not None:
+                raise InputError("more than one temperature column", file=path, row=1, field=col)
+            temp_index = len(sources)
+            factor = 1.0
+        elif name.startswith(("gyro_", "accel_")):
+            try:
+                ch, unit = u.split_channel_column(name)
+            except ValueError as err:
+                raise InputError(str(err), file=path, row=1, field=col) from None
+            if ch in channel_index:
+                raise InputError(f"channel {ch} given twice", file=path, row=1, field=col)
+            channel_index[ch] = len(sources)
+            source_units[ch] = unit
+            factor = u.CHANNEL_UNIT_TO_SI[unit]
+        else:
+            ignored.append(col)
+            continue
+        sources.append(col)
+        targets.append(name)
+        factors.append(factor)
+    if not channel_index:
+        raise InputError("no sensor channel column found", file=path, row=1,
+                         expected="columns like gyro_x_dps … accel_z_mps2, or a --mapping that "
+                                  "names them (source column → canonical name)")
+    return ColumnPlan(tuple(sources), tuple(targets), tuple(factors), time_index, temp_index,
+                      channel_index, source_units, tuple(ignored))

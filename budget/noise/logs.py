@@ -1,0 +1,256 @@
+"""Read an IMU log CSV (canonical or mapped layout) into SI arrays, in bounded memory.
+
+The file is parsed by pandas in chunks straight into one preallocated column-major float64
+array (size estimated from the file, grown by 1.5× if the estimate was short), so a 10⁷-row
+log at 1 kHz needs about 8 bytes × rows × columns plus one chunk — never a full DataFrame of
+text. Each chunk is validated as it arrives (non-numeric cells are reported with their row).
+Then :func:`~budget.noise.log_checks.check_log` looks for missing values, duplicated rows,
+time stamps that go back, gaps, jitter and stuck channels. Problems that would make an analysis
+wrong raise :class:`LogError` (an :class:`~budget.errors.InputError` carrying the full report)
+unless ``repair=True``, in which case the documented repairs are applied and listed.
+The file itself is only ever read.
+"""
+
+from __future__ import annotations
+
+import gzip
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+from ..units import CHANNELS
+from . import log_checks as lc
+from .log_mapping import ColumnPlan, LogMapping, plan_columns
+
+CHUNK_ROWS = 250_000
+
+
+class LogError(InputError):
+    """A log with error-level issues; ``.report`` holds every finding."""
+
+    def __init__(self, message: str, report: lc.LogReport, **kw):
+        self.report = report
+        super().__init__(message, **kw)
+
+
+@dataclass
+class ImuLog:
+    """An IMU log in SI: ``channels['gyro_x']`` in rad/s, ``channels['accel_x']`` in m/s²."""
+
+    source: str
+    channels: dict[str, np.ndarray]
+    rate_hz: float
+    time_s: np.ndarray | None
+    temp_c: np.ndarray | None
+    issues: lc.LogReport
+    source_units: dict[str, str]
+
+    @property
+    def n_samples(self) -> int:
+        return int(next(iter(self.channels.values())).size)
+
+    @property
+    def duration_s(self) -> float:
+        return self.n_samples / self.rate_hz
+
+    def summary(self) -> str:
+        head = (f"{self.source}: {self.n_samples} samples at {self.rate_hz:.6g} Hz "
+                f"({self.duration_s:.6g} s); channels "
+                + ", ".join(f"{c} [{self.source_units[c]}]" for c in self.channels)
+                + ("; temperature" if self.temp_c is not None else ""))
+        return head + "\n" + self.issues.summary()
+
+    def to_frame(self) -> pd.DataFrame:
+        """Channels in SI (rad/s, m/s²), indexed by time in seconds."""
+        t = self.time_s if self.time_s is not None else np.arange(self.n_samples) / self.rate_hz
+        cols = {f"{c}_{'rps' if c.startswith('gyro') else 'mps2'}": v for c, v in self.channels.items()}
+        if self.temp_c is not None:
+            cols["temp_c"] = self.temp_c
+        return pd.DataFrame(cols, index=pd.Index(t, name="time_s"))
+
+
+def _header(path: Path, mapping: LogMapping | None) -> list[str]:
+    try:
+        head = pd.read_csv(path, sep=mapping.delimiter if mapping else ",", nrows=0,
+                           comment=mapping.comment if mapping else None, skipinitialspace=True)
+    except pd.errors.EmptyDataError:
+        raise InputError("file is empty (no header)", file=path,
+                         expected="a CSV with a header row: time_s, gyro_x_dps, …") from None
+    except (UnicodeDecodeError, OSError, pd.errors.ParserError) as err:
+        raise InputError(f"not a readable CSV ({err.__class__.__name__})", file=path) from None
+    return [str(c).strip() for c in head.columns]
+
+
+def _estimate_rows(path: Path) -> int | None:
+    """Rough row count from the (uncompressed) size and the first lines; None if unknown."""
+    try:
+        size = path.stat().st_size
+        if path.suffix == ".gz":
+            with open(path, "rb") as fh:  # gzip trailer: uncompressed size mod 2**32
+                fh.seek(-4, 2)
+                isize = int.from_bytes(fh.read(4), "little")
+            if isize < size:  # wrapped (> 4 GiB): unknown
+                return None
+            size = isize
+            opener = gzip.open
+        elif path.suffix in (".csv", ".txt", ""):
+            opener = open
+        else:
+            return None
+        with opener(path, "rb") as fh:
+            sample = fh.read(1 << 20)
+        lines = sample.count(b"\n")
+        return int(size / (len(sample) / lines)) if lines > 1 else None
+    except (OSError, EOFError, gzip.BadGzipFile):
+        return None
+
+
+def _bad_cell(series: pd.Series, base_row: int, path: Path, col: str) -> None:
+    conv = pd.to_numeric(series, errors="coerce")
+    text = series.astype(str).str.strip()
+    bad = conv.isna() & series.notna() & (text != "") & (text.str.lower() != "nan")
+    if bad.any():
+        i = int(np.flatnonzero(bad.to_numpy())[0])
+        raise InputError("not a number", file=path, row=base_row + i + 2, field=col,
+                         value=series.iloc[i], expected="a decimal number")
+
+
+def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
+                 max_rows: int | None, chunk_rows: int) -> np.ndarray:
+    est = _estimate_rows(path)
+    cap = int(est * 1.02) + chunk_rows if est else 4 * chunk_rows
+    if max_rows is not None:
+        cap = min(cap, max_rows)
+    ncol = len(plan.sources)
+    data = np.empty((max(cap, 1), ncol), order="F")
+    n = 0
+    try:
+        reader = pd.read_csv(path, sep=mapping.delimiter if mapping else ",",
+                             comment=mapping.comment if mapping else None, skipinitialspace=True,
+                             chunksize=chunk_rows, nrows=max_rows, index_col=False)
+        for chunk in reader:
+            chunk.columns = [str(c).strip() for c in chunk.columns]
+            m = len(chunk)
+            if n + m > data.shape[0]:
+                grown = np.empty((max(int(data.shape[0] * 1.5), n + m), ncol), order="F")
+                grown[:n] = data[:n]
+                data = grown
+            for j, (col, factor) in enumerate(zip(plan.sources, plan.factors)):
+                s = chunk[col]
+                if not pd.api.types.is_numeric_dtype(s.dtype):
+                    _bad_cell(s, n, path, col)
+                    s = pd.to_numeric(s, errors="coerce")
+                data[n:n + m, j] = s.to_numpy(dtype=np.float64, na_value=np.nan) * factor
+            n += m
+    except pd.errors.ParserError as err:
+        msg = str(err).split("C error: ")[-1].strip()
+        raise InputError(f"malformed CSV: {msg}", file=path,
+                         expected=f"{len(plan.sources)}+ comma-separated fields on every row") from None
+    except (UnicodeDecodeError, EOFError, gzip.BadGzipFile, OSError) as err:
+        raise InputError(f"file could not be read to the end ({err.__class__.__name__}: {err})",
+                         file=path) from None
+    return data[:n] if n * 1.1 >= data.shape[0] else data[:n].copy(order="F")
+
+
+def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool = False, *,
+             rate_hz: float | None = None, channels: Iterable[str] | None = None,
+             max_rows: int | None = None, min_samples: int = 3,
+             chunk_rows: int = CHUNK_ROWS) -> ImuLog:
+    """Read an IMU log CSV (plain or .gz/.bz2/.xz/.zip) into an :class:`ImuLog` (SI units).
+
+    ``mapping`` renames non-canonical columns; ``rate_hz`` (or ``mapping.rate_hz``) is needed
+    when there is no time column and overrides the rate derived from time stamps (with a
+    warning if they disagree by more than 1 %). ``channels`` restricts which sensor channels are
+    kept (e.g. ``["gyro_z"]``); ``max_rows`` reads only the first rows. Error-level issues raise
+    :class:`LogError` unless ``repair`` — then they are repaired and listed in ``issues.repairs``.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found", file=path)
+    if path.stat().st_size == 0:
+        raise InputError("file is empty", file=path)
+    if max_rows is not None and max_rows < 1:
+        raise InputError("max_rows must be ≥ 1", field="max_rows", value=max_rows)
+    plan = plan_columns(_header(path, mapping), mapping, str(path))
+    if channels is not None:
+        plan = _restrict(plan, list(channels), path)
+    rate_given = rate_hz if rate_hz is not None else (mapping.rate_hz if mapping else None)
+    if plan.time_index is None and rate_given is None:
+        raise InputError("no time column and no sampling rate", file=path,
+                         expected="a time_s column, or rate_hz (--rate-hz / mapping rate_hz)")
+    if rate_given is not None and not (math.isfinite(rate_given) and rate_given > 0):
+        raise InputError("sampling rate must be a positive number", field="rate_hz", value=rate_given)
+    data = _read_chunks(path, plan, mapping, max_rows, chunk_rows)
+    if data.shape[0] == 0:
+        raise InputError("no data rows after the header", file=path)
+    report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "not a canonical column "
+                                              "and not mapped; not read", 0, (), c)
+                                  for c in plan.ignored])
+    report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
+    if report.errors:
+        if not repair:
+            first = "; ".join(i.text() for i in report.errors[:3])
+            more = f" (+{len(report.errors) - 3} more)" if len(report.errors) > 3 else ""
+            raise LogError(f"{len(report.errors)} problem(s) in the log: {first}{more}; nothing "
+                           "was changed — read with repair=True (CLI --repair) to drop duplicate "
+                           "and out-of-order rows, interpolate missing values and keep the "
+                           "longest gap-free stretch", report, file=path)
+        try:
+            data, _, report.repairs = lc.repair_log(data, plan.targets, plan.time_index,
+                                                    plan.channel_index)
+        except ValueError as err:
+            raise LogError(f"cannot repair: {err}", report, file=path) from None
+    n = data.shape[0]
+    if n < min_samples:
+        raise InputError(f"only {n} sample(s)", file=path,
+                         expected=f"at least {min_samples} samples for the requested analysis")
+    time_s = data[:, plan.time_index] if plan.time_index is not None else None
+    rate = _rate(time_s, rate_given, report, path)
+    chans = {ch: data[:, plan.channel_index[ch]] for ch in CHANNELS if ch in plan.channel_index}
+    temp = data[:, plan.temp_index] if plan.temp_index is not None else None
+    return ImuLog(str(path), chans, rate, time_s, temp, report,
+                  {c: plan.source_units[c] for c in chans})
+
+
+def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
+    unknown = [c for c in wanted if c not in plan.channel_index]
+    if unknown:
+        raise InputError(f"channel(s) {unknown} not in the log", file=path, field="channel",
+                         expected=f"one of {sorted(plan.channel_index)}")
+    keep = [i for i in range(len(plan.sources))
+            if i in (plan.time_index, plan.temp_index)
+            or any(plan.channel_index[c] == i for c in wanted)]
+    pos = {old: new for new, old in enumerate(keep)}
+    return ColumnPlan(
+        tuple(plan.sources[i] for i in keep), tuple(plan.targets[i] for i in keep),
+        tuple(plan.factors[i] for i in keep),
+        pos.get(plan.time_index) if plan.time_index is not None else None,
+        pos.get(plan.temp_index) if plan.temp_index is not None else None,
+        {c: pos[plan.channel_index[c]] for c in wanted},
+        {c: plan.source_units[c] for c in wanted}, plan.ignored)
+
+
+def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, path: Path) -> float:
+    if time_s is None:
+        return float(given)
+    period = lc.nominal_period(time_s)
+    if period is None:
+        if given is None:
+            raise InputError("cannot derive the sampling rate: time stamps never increase",
+                             file=path, expected="increasing time_s, or rate_hz")
+        return float(given)
+    rate = 1.0 / period
+    if abs(rate - round(rate)) <= 1e-6 * rate:  # time stamps printed with finite decimals
+        rate = float(round(rate))
+    if given is not None:
+        if abs(given - rate) > 0.01 * given:
+            report.issues.append(lc.LogIssue(
+                "rate_mismatch", "warning", f"time stamps give {rate:.6g} Hz but {given:.6g} Hz "
+                "was given; using the given rate", 0, (), "time"))
+        return float(given)
+    return rate

@@ -1,0 +1,79 @@
+"""Pass/fail of measured impulse responses against acceptance levels.
+
+Defaults (each configurable; the "ideal" values are the window's own, see
+:func:`budget.sar.windows.ideal_irf`, so a Taylor-weighted image is judged against Taylor):
+
+* 3 dB broadening ≤ 10 % in azimuth and range;
+* PSLR ≤ ideal + 3 dB (rect: −10.3 dB; Taylor −35: ≈ −32 dB);
+* ISLR ≤ ideal + 3 dB (same extents as the measurement);
+* |peak shift| ≤ 1 resolution cell;
+* peak loss ≤ 1.5 dB (a quadratic phase error of π/2 at the aperture edge costs ≈ 0.97 dB
+  unweighted, one of π ≈ 4.0 dB).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import pandas as pd
+from pydantic import BaseModel, ConfigDict, Field
+
+from ..errors import InputError
+from .metrics import TargetMetricsTable
+
+
+class Acceptance(BaseModel):
+    """Acceptance levels of the impulse response (see module docstring for the defaults)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    max_broadening: float = Field(0.10, ge=0, le=10, allow_inf_nan=False, description="width/ideal − 1")
+    pslr_margin_db: float = Field(3.0, ge=0, le=40, allow_inf_nan=False, description="allowed PSLR above ideal")
+    islr_margin_db: float = Field(3.0, ge=0, le=40, allow_inf_nan=False, description="allowed ISLR above ideal")
+    max_peak_shift_cells: float = Field(1.0, ge=0, le=1000, allow_inf_nan=False)
+    max_peak_loss_db: float = Field(1.5, ge=0, le=60, allow_inf_nan=False)
+    axes: tuple[str, ...] = ("azimuth", "range")
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Outcome of :func:`evaluate`: ``passed`` and one reason per failed check."""
+
+    passed: bool
+    reasons: list[str]
+    checks: pd.DataFrame
+
+    def summary(self) -> dict:
+        return {"passed": self.passed, "n_failed_checks": len(self.reasons), "reasons": self.reasons}
+
+    def to_frame(self) -> pd.DataFrame:
+        return self.checks
+
+
+def evaluate(metrics: TargetMetricsTable, acceptance: Acceptance | None = None) -> Evaluation:
+    """Check every target and axis against ``acceptance`` (defaults when None)."""
+    acc = acceptance or Acceptance()
+    if not isinstance(metrics, TargetMetricsTable) or len(metrics) == 0:
+        raise InputError("no target metrics to evaluate", field="metrics",
+                         expected="the result of measure_targets with ≥ 1 target")
+    for ax in acc.axes:
+        if ax not in ("azimuth", "range"):
+            raise InputError("unknown axis", field="axes", value=ax, expected="'azimuth' and/or 'range'")
+    rows, reasons = [], []
+
+    def check(t, axis: str, name: str, value: float, limit: float) -> None:
+        ok = bool(value <= limit)
+        rows.append({"target": t.index, "axis": axis, "check": name, "value": value, "limit": limit, "passed": ok})
+        if not ok:
+            reasons.append(f"target {t.index} ({t.azimuth_m:g} m, {t.range_m:g} m) {axis} {name} "
+                           f"{value:.4g} > {limit:.4g}")
+
+    for t in metrics:
+        check(t, "peak", "peak_loss_db", t.peak_loss_db, acc.max_peak_loss_db)
+        for ax in acc.axes:
+            m = getattr(t, ax)
+            check(t, ax, "broadening", m.broadening, acc.max_broadening)
+            check(t, ax, "pslr_db", m.pslr_db, m.ideal_pslr_db + acc.pslr_margin_db)
+            check(t, ax, "islr_db", m.islr_db, m.ideal_islr_db + acc.islr_margin_db)
+            check(t, ax, "abs_peak_shift_cells", abs(m.peak_shift_m) / m.cell_m, acc.max_peak_shift_cells)
+    return Evaluation(passed=not reasons, reasons=reasons, checks=pd.DataFrame(rows))

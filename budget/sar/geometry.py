@@ -1,0 +1,295 @@
+"""Sampling geometry of the point-target simulator: pulses, range bins, windows, scene frame.
+
+Frame (local level): x along-track (velocity), y horizontal cross-track toward the imaged side,
+z up. The nominal antenna phase centre (APC) flies p(t) = (V t, 0, h) for t ∈ [−T/2, T/2]; the
+scene lies on the plane z = 0 with its centre at (0, y_c, 0), slant range R_c (the scenario's
+``slant_range_m``) at depression ψ: h = R_c sin ψ, y_c = R_c cos ψ.
+
+Mode: every target is seen over the whole aperture (spotlight, or one strip-map aperture without
+antenna pattern), so all targets share one slow-time phase history — the model of PGA.
+
+Sampling:
+* aperture time T = Tc of seed 004 (5) (``scenario.tc_s``, which holds the window factor a_w);
+  Doppler bandwidth of one target B_a = 2V²T/(λR_c) = a_w V/δℓ;
+* PRF ≥ ``oversample`` · (B_a + 2V X_s/(λR_c)) (X_s: azimuth scene extent, whose targets add
+  Doppler offsets), rounded up so that the pulse count is FFT-friendly; T stays exact;
+* range bandwidth B_r = a_w c/(2δr), sample rate f_s = ``oversample`` · B_r, band = the odd number
+  M of DFT bins closest to B_r, so B_eff = M f_s / N_r;
+* swath = scene extent + range-cell migration + motion margin + pulse tails.
+
+The phase history of every target is exact at every simulated pulse (stop-and-go); nothing is
+decimated. Scenarios that would need more than ``max_pulses`` pulses raise :class:`InputError`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.fft import next_fast_len
+
+from ..errors import InputError
+from ..scenario import Scenario
+from .windows import Window
+
+MIN_PULSES = 16
+
+
+@dataclass(frozen=True)
+class SarGeometry:
+    """Everything the simulator, the image formers and the metrics need (SI units)."""
+
+    scenario_name: str
+    medium: str
+    carrier_frequency_hz: float
+    c_m_s: float
+    speed_m_s: float
+    ref_range_m: float
+    depression_rad: float
+    prf_hz: float
+    pulse_times_s: np.ndarray = field(repr=False)
+    range_sample_rate_hz: float
+    range_axis_m: np.ndarray = field(repr=False)
+    band_bins: int
+    scene_extent_m: tuple[float, float]  # (azimuth, slant range), full widths
+    window_azimuth: Window
+    window_range: Window
+    azimuth_resolution_m: float
+    range_resolution_m: float
+
+    # --- derived -------------------------------------------------------------------------
+    @property
+    def wavelength_m(self) -> float:
+        return self.c_m_s / self.carrier_frequency_hz
+
+    @property
+    def n_pulses(self) -> int:
+        return int(self.pulse_times_s.size)
+
+    @property
+    def n_range(self) -> int:
+        return int(self.range_axis_m.size)
+
+    @property
+    def aperture_time_s(self) -> float:
+        """T = N / PRF (s): the time the N pulses stand for."""
+        return self.n_pulses / self.prf_hz
+
+    @property
+    def aperture_length_m(self) -> float:
+        return self.speed_m_s * self.aperture_time_s
+
+    @property
+    def height_m(self) -> float:
+        return self.ref_range_m * math.sin(self.depression_rad)
+
+    @property
+    def ground_range_m(self) -> float:
+        return self.ref_range_m * math.cos(self.depression_rad)
+
+    @property
+    def range_bin_m(self) -> float:
+        return self.c_m_s / (2.0 * self.range_sample_rate_hz)
+
+    @property
+    def range_bandwidth_hz(self) -> float:
+        """B_eff = M · f_s / N_r: the band actually simulated (Hz)."""
+        return self.band_bins * self.range_sample_rate_hz / self.n_range
+
+    @property
+    def range_cell_m(self) -> float:
+        """One range resolution cell c/(2 B_eff) (m); the 3 dB width is 0.886 cells unweighted."""
+        return self.c_m_s / (2.0 * self.range_bandwidth_hz)
+
+    def azimuth_cell_m(self, slant_range_m: float | None = None) -> float:
+        """One azimuth cell λR/(2 V T) (m) at ``slant_range_m`` (default R_c)."""
+        r = self.ref_range_m if slant_range_m is None else slant_range_m
+        return self.wavelength_m * r / (2.0 * self.speed_m_s * self.aperture_time_s)
+
+    @property
+    def azimuth_fm_rate_hz_s(self) -> float:
+        """K_a = 2V²/(λR_c) (Hz/s)."""
+        return 2.0 * self.speed_m_s ** 2 / (self.wavelength_m * self.ref_range_m)
+
+    @property
+    def doppler_bandwidth_hz(self) -> float:
+        """B_a = K_a T (Hz), Doppler band of one target over the aperture."""
+        return self.azimuth_fm_rate_hz_s * self.aperture_time_s
+
+    @property
+    def azimuth_axis_m(self) -> np.ndarray:
+        """Azimuth positions V t of the pulses (the range-Doppler image's azimuth axis)."""
+        return self.speed_m_s * self.pulse_times_s
+
+    @property
+    def n_azimuth(self) -> int:
+        """Azimuth samples of the range-Doppler image: the pulses, zero-padded when the aperture
+        V·T is shorter than the scene plus 16 cells each side (same parity as n_pulses)."""
+        dx = self.speed_m_s / self.prf_hz
+        need = self.scene_extent_m[0] + 32.0 * self.azimuth_cell_m()
+        if self.n_pulses * dx >= need:
+            return self.n_pulses
+        n = next_fast_len(int(math.ceil(need / dx)))
+        while (n - self.n_pulses) % 2:
+            n = next_fast_len(n + 1)
+        return n
+
+    @property
+    def image_azimuth_axis_m(self) -> np.ndarray:
+        """Azimuth positions of the range-Doppler image samples (pulse positions, extended)."""
+        n = self.n_azimuth
+        return self.speed_m_s * (np.arange(n) - (n - 1) / 2.0) / self.prf_hz
+
+    @property
+    def range_band_freqs_hz(self) -> np.ndarray:
+        """The M in-band range frequencies (baseband, symmetric)."""
+        m = np.arange(self.band_bins) - (self.band_bins - 1) // 2
+        return m * self.range_sample_rate_hz / self.n_range
+
+    @property
+    def range_band_index(self) -> np.ndarray:
+        """DFT indices (numpy order) of the in-band range frequencies."""
+        m = np.arange(self.band_bins) - (self.band_bins - 1) // 2
+        return np.mod(m, self.n_range)
+
+    def nominal_apc_m(self) -> np.ndarray:
+        """Nominal APC positions (n_pulses, 3), m."""
+        p = np.zeros((self.n_pulses, 3))
+        p[:, 0] = self.azimuth_axis_m
+        p[:, 2] = self.height_m
+        return p
+
+    def scene_point_m(self, azimuth_m, slant_range_m) -> np.ndarray:
+        """Ground point(s) (…, 3) at along-track ``azimuth_m`` and closest-approach ``slant_range_m``."""
+        x = np.asarray(azimuth_m, dtype=float)
+        r = np.asarray(slant_range_m, dtype=float)
+        y = np.sqrt(np.maximum(r ** 2 - self.height_m ** 2, 0.0))
+        x, y = np.broadcast_arrays(x, y)
+        return np.stack([x, y, np.zeros_like(x)], axis=-1)
+
+    @property
+    def scene_centre_m(self) -> np.ndarray:
+        return np.array([0.0, self.ground_range_m, 0.0])
+
+    def check_offset(self, offset_m, name: str) -> np.ndarray:
+        """Validate an APC offset array: None → zeros; else finite, shape (n_pulses, 3), metres."""
+        if offset_m is None:
+            return np.zeros((self.n_pulses, 3))
+        a = np.asarray(offset_m, dtype=float)
+        if a.shape != (self.n_pulses, 3):
+            raise InputError(f"APC offset has shape {a.shape}", field=name,
+                             expected=f"an array of shape ({self.n_pulses}, 3) in metres (x, y, z per pulse)")
+        if not np.all(np.isfinite(a)):
+            raise InputError("APC offset holds NaN or infinite values", field=name,
+                             expected="finite metres")
+        return a
+
+    def summary(self) -> dict:
+        return {
+            "scenario": self.scenario_name, "medium": self.medium,
+            "wavelength_m": self.wavelength_m, "speed_m_s": self.speed_m_s,
+            "ref_range_m": self.ref_range_m, "height_m": self.height_m,
+            "aperture_time_s": self.aperture_time_s, "aperture_length_m": self.aperture_length_m,
+            "prf_hz": self.prf_hz, "doppler_bandwidth_hz": self.doppler_bandwidth_hz,
+            "n_pulses": self.n_pulses, "n_range": self.n_range,
+            "range_bandwidth_hz": self.range_bandwidth_hz, "range_bin_m": self.range_bin_m,
+            "azimuth_cell_m": self.azimuth_cell_m(), "range_cell_m": self.range_cell_m,
+            "scene_extent_m": self.scene_extent_m,
+            "window_azimuth": self.window_azimuth.label, "window_range": self.window_range.label,
+        }
+
+    # --- construction --------------------------------------------------------------------
+    @classmethod
+    def from_scenario(cls, scenario: Scenario, *, scene_extent_cells: float = 48.0,
+                      oversample: float = 1.25, window: Window | str | None = None,
+                      motion_margin_cells: float = 8.0, max_pulses: int = 16384,
+                      max_range_bins: int = 4096) -> "SarGeometry":
+        """Sampling for ``scenario``; raises :class:`InputError` naming the field and the limit.
+
+        ``scene_extent_cells``: width of the square target area in resolution cells (δℓ × δr).
+        ``oversample``: PRF over the total Doppler band and f_s over B_r (> 1).
+        ``window``: azimuth and range window; default rect when ``window_broadening`` < 1.1,
+        else Taylor −35 dB, n̄ = 4. ``motion_margin_cells``: extra swath each side for APC offsets.
+        """
+        if not isinstance(scenario, Scenario):
+            raise InputError("expected a Scenario", field="scenario", value=type(scenario).__name__)
+        if not (1.0 < oversample <= 8.0):
+            raise InputError("oversampling out of range", field="oversample", value=oversample,
+                             expected="1 < oversample ≤ 8")
+        if not (4.0 <= scene_extent_cells <= 512.0):
+            raise InputError("scene extent out of range", field="scene_extent_cells",
+                             value=scene_extent_cells, expected="4 … 512 resolution cells")
+        if not (0.0 <= motion_margin_cells <= 256.0):
+            raise InputError("motion margin out of range", field="motion_margin_cells",
+                             value=motion_margin_cells, expected="0 … 256 range cells")
+        if scenario.squint_deg != 0.0:
+            raise InputError("only broadside geometry is simulated", field="squint_deg",
+                             value=scenario.squint_deg, expected="0")
+        if not scenario.platform_speed_m_s > 0:
+            raise InputError("platform speed must be positive", field="platform_speed_m_s",
+                             value=scenario.platform_speed_m_s, expected="> 0 m/s")
+        if window is None:
+            window = Window() if scenario.window_broadening < 1.1 else Window(kind="taylor")
+        window = Window.parse(window)
+        c, f0, v = scenario.c_m_s, scenario.carrier_frequency_hz, scenario.platform_speed_m_s
+        lam, r_c = scenario.wavelength_m, scenario.slant_range_m
+        a_w = scenario.window_broadening
+        # --- range ---
+        b_r = a_w * c / (2.0 * scenario.range_resolution_m)
+        if b_r > 0.5 * f0:
+            raise InputError(f"range resolution needs a bandwidth of {b_r:.4g} Hz, more than half the "
+                             f"carrier {f0:.4g} Hz", field="range_resolution_m",
+                             value=scenario.range_resolution_m,
+                             expected=f"≥ {a_w * c / f0:.4g} m (fractional bandwidth ≤ 0.5)")
+        fs = oversample * b_r
+        dr = c / (2.0 * fs)
+        x_s = scene_extent_cells * scenario.azimuth_resolution_m
+        y_s = scene_extent_cells * scenario.range_resolution_m
+        if y_s > 0.2 * r_c:
+            raise InputError("scene range extent exceeds 20 % of the slant range", field="scene_extent_cells",
+                             value=scene_extent_cells, expected=f"≤ {0.2 * r_c / scenario.range_resolution_m:.0f}")
+        tc = scenario.tc_s
+        half_len = 0.5 * (v * tc + x_s)
+        if half_len / r_c > 0.35:
+            raise InputError(f"aperture half-angle {math.degrees(math.atan(half_len / r_c)):.1f}° exceeds 20°",
+                             field="azimuth_resolution_m", value=scenario.azimuth_resolution_m,
+                             expected="a coarser azimuth resolution (small-angle deramp used by PGA)")
+        rcm = math.hypot(r_c, half_len) - r_c
+        margin = math.ceil((rcm + motion_margin_cells * scenario.range_resolution_m) / dr) + 24
+        n_r = next_fast_len(int(math.ceil(y_s / dr)) + 2 * margin)
+        if n_r > max_range_bins:
+            raise InputError(f"swath needs {n_r} range bins", field="range_resolution_m",
+                             value=scenario.range_resolution_m, expected=f"≤ {max_range_bins} bins "
+                             "(coarser range resolution or smaller scene_extent_cells)")
+        m = int(round(b_r / fs * n_r))
+        m = m if m % 2 == 1 else m + 1
+        range_axis = r_c + (np.arange(n_r) - n_r // 2) * dr
+        # --- azimuth ---
+        k_a = 2.0 * v ** 2 / (lam * r_c)
+        b_a = k_a * tc
+        span = 2.0 * v * x_s / (lam * r_c)
+        n_min = int(math.ceil(tc * oversample * (b_a + span)))
+        if n_min > max_pulses:
+            raise InputError(f"the aperture needs {n_min} pulses (Tc = {tc:.3g} s × PRF "
+                             f"{oversample * (b_a + span):.4g} Hz)", field="azimuth_resolution_m",
+                             value=scenario.azimuth_resolution_m,
+                             expected=f"at most {max_pulses} pulses (coarser azimuth resolution, "
+                             "shorter range or raise max_pulses)")
+        n_own = int(math.ceil(tc * oversample * b_a))  # pulses of one target's own Doppler band
+        if n_own < MIN_PULSES:
+            raise InputError(f"the aperture holds only {n_own} pulses at the Doppler bandwidth "
+                             f"(time-bandwidth product {tc * b_a:.3g})", field="azimuth_resolution_m",
+                             value=scenario.azimuth_resolution_m,
+                             expected=f"at least {MIN_PULSES} pulses (finer azimuth resolution or longer range)")
+        n_p = next_fast_len(n_min)
+        prf = n_p / tc
+        times = (np.arange(n_p) - (n_p - 1) / 2.0) / prf
+        for arr in (times, range_axis):
+            arr.setflags(write=False)
+        return cls(scenario_name=scenario.name, medium=scenario.medium, carrier_frequency_hz=f0,
+                   c_m_s=c, speed_m_s=v, ref_range_m=r_c, depression_rad=math.radians(scenario.depression_deg),
+                   prf_hz=prf, pulse_times_s=times, range_sample_rate_hz=fs, range_axis_m=range_axis,
+                   band_bins=m, scene_extent_m=(x_s, y_s), window_azimuth=window, window_range=window,
+                   azimuth_resolution_m=scenario.azimuth_resolution_m,
+                   range_resolution_m=scenario.range_resolution_m)

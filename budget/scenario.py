@@ -1,0 +1,132 @@
+"""Imaging scenario: what the radar or sonar must achieve, in SI units.
+
+A :class:`Scenario` is what a user writes (JSON or YAML). Derived quantities (wavelength,
+synthetic-aperture time Tc, aperture length) are properties, never stored, so they cannot
+disagree with the inputs.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from .errors import InputError, from_validation_error
+from .fileio import atomic_write_text, read_structured
+from .units import C_LIGHT, C_SOUND_WATER, G0
+
+
+class Scenario(BaseModel):
+    """A synthetic-aperture imaging geometry and its resolution requirement.
+
+    All fields SI; the unit is in the name. ``squint_deg`` 0 is broadside; the angle θ between
+    velocity and line of sight of seed 004 (5) is 90° − squint.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    name: str = Field("custom", min_length=1, max_length=200)
+    medium: Literal["radar", "sonar"] = "radar"
+    carrier_frequency_hz: float = Field(..., gt=0, allow_inf_nan=False)
+    propagation_speed_m_s: float | None = Field(
+        None, gt=0, allow_inf_nan=False,
+        description="c; defaults to 299792458 m/s (radar) or 1500 m/s (sonar)")
+    slant_range_m: float = Field(..., gt=0, allow_inf_nan=False)
+    azimuth_resolution_m: float = Field(..., gt=0, allow_inf_nan=False, description="δℓ")
+    range_resolution_m: float = Field(..., gt=0, allow_inf_nan=False, description="δr")
+    platform_speed_m_s: float = Field(..., gt=0, allow_inf_nan=False)
+    squint_deg: float = Field(0.0, gt=-80, lt=80, allow_inf_nan=False)
+    depression_deg: float = Field(30.0, ge=0, lt=90, allow_inf_nan=False)
+    window_broadening: float = Field(1.0, ge=1.0, le=2.0, allow_inf_nan=False,
+                                     description="a_w: main-lobe broadening of the azimuth window")
+    lever_arm_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    platform_accel_m_s2: float = Field(G0, ge=0, allow_inf_nan=False,
+                                       description="acceleration level seen by scale factor/misalignment")
+    platform_rate_deg_s: float = Field(0.0, ge=0, allow_inf_nan=False,
+                                       description="angular-rate level seen by gyro scale factor")
+    imu_rate_hz: float = Field(200.0, gt=0, le=100_000, allow_inf_nan=False)
+    aiding: tuple[dict, ...] = Field(
+        (), description="aiding sensors [{type: gnss|dvl|master_ins|star_tracker, ...}] "
+                        "(budget.aiding.config); empty = unaided IMU, as seed 004 assumes")
+    aiding_smoother: Literal["none", "rts"] = Field(
+        "none", description="real-time Kalman filter or fixed-interval RTS smoothing (post-processing)")
+    aiding_warmup_s: float = Field(60.0, ge=0, le=3600, allow_inf_nan=False,
+                                   description="aided navigation runs this long before the aperture")
+
+    @model_validator(mode="after")
+    def _check(self) -> "Scenario":
+        if not all(math.isfinite(v) for v in self.lever_arm_m):
+            raise ValueError("lever_arm_m must hold three finite numbers (m)")
+        if self.medium == "sonar" and self.carrier_frequency_hz > 5e6:
+            raise ValueError("sonar carrier_frequency_hz above 5 MHz: did you mean medium 'radar'?")
+        if self.medium == "radar" and self.carrier_frequency_hz < 1e6:
+            raise ValueError("radar carrier_frequency_hz below 1 MHz: did you mean medium 'sonar'?")
+        if self.aiding:
+            from .aiding.config import parse_aiding  # aiding is optional: import only when used
+            parse_aiding([dict(a) for a in self.aiding], imu_rate_hz=self.imu_rate_hz)
+        return self
+
+    # --- derived -----------------------------------------------------------------
+    @property
+    def c_m_s(self) -> float:
+        """Propagation speed c (m/s)."""
+        if self.propagation_speed_m_s is not None:
+            return self.propagation_speed_m_s
+        return C_LIGHT if self.medium == "radar" else C_SOUND_WATER
+
+    @property
+    def wavelength_m(self) -> float:
+        """λ = c / f0 (m)."""
+        return self.c_m_s / self.carrier_frequency_hz
+
+    @property
+    def theta_rad(self) -> float:
+        """Angle between velocity and line of sight, θ = 90° − squint (rad)."""
+        return math.radians(90.0 - self.squint_deg)
+
+    @property
+    def tc_s(self) -> float:
+        """Synthetic-aperture time Tc = a_w λ R / (2 δℓ V sin θ), seed 004 (5), in s."""
+        return (self.window_broadening * self.wavelength_m * self.slant_range_m
+                / (2.0 * self.azimuth_resolution_m * self.platform_speed_m_s * math.sin(self.theta_rad)))
+
+    @property
+    def aperture_length_m(self) -> float:
+        """Synthetic-aperture length L = V·Tc (m)."""
+        return self.platform_speed_m_s * self.tc_s
+
+    def derived(self) -> dict[str, float]:
+        """The derived quantities as a dict (for tables and JSON)."""
+        return {"wavelength_m": self.wavelength_m, "tc_s": self.tc_s,
+                "aperture_length_m": self.aperture_length_m, "propagation_speed_m_s": self.c_m_s}
+
+    # --- I/O ---------------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data: dict, *, source: str | Path | None = None) -> "Scenario":
+        if not isinstance(data, dict):
+            raise InputError("a scenario must be a mapping of keys to values", file=source,
+                             expected="a JSON object / YAML mapping")
+        try:
+            return cls.model_validate(data)
+        except ValidationError as err:
+            raise from_validation_error(err, file=source) from None
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Scenario":
+        """Read a scenario from ``.json``, ``.yaml`` or ``.yml``; errors name the file and field."""
+        data = read_structured(path, "a scenario")
+        return cls.from_dict(data, source=path)
+
+    def save(self, path: str | Path) -> None:
+        """Write as JSON or YAML (by suffix), atomically."""
+        path = Path(path)
+        data = self.model_dump(mode="json")
+        if path.suffix.lower() in (".yaml", ".yml"):
+            text = yaml.safe_dump(data, sort_keys=False)
+        else:
+            text = json.dumps(data, indent=2) + "\n"
+        atomic_write_text(path, text)

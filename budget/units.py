@@ -1,0 +1,199 @@
+"""Unit conversions: the one place where datasheet units meet SI.
+
+Everything inside the library is SI (m, s, rad, m/s², rad/s). Datasheet units appear
+only at the edges (catalog CSV, CLI, dashboard) and are converted here, nowhere else.
+
+Identities (DESIGN.md §1, tested in ``tests/test_units.py``):
+
+* 1 deg/√h  = 1/60 deg/s/√Hz
+* 1 m/s/√h  = 1/60 m/s²/√Hz = 1699.7 µg/√Hz (g = 9.80665 m/s²)
+* 1 deg/h   = 4.848e-6 rad/s
+* 1 ppm     = 1e-6
+
+Channel conventions (IEEE Std 952 coefficients, SI):
+
+=====================  =====================  ===================
+term                   gyro (SI)              accelerometer (SI)
+=====================  =====================  ===================
+quantization Q         rad                    m/s
+white noise N (ARW)    rad/s/√Hz = rad/√s     m/s²/√Hz = m/s/√s
+bias instability B     rad/s                  m/s²
+rate random walk K     rad/s/√s               m/s²/√s
+rate ramp R            rad/s²                 m/s³
+=====================  =====================  ===================
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Standard gravity, m/s² (CGPM 1901).
+G0 = 9.80665
+#: Speed of light in vacuum, m/s.
+C_LIGHT = 299_792_458.0
+#: Nominal speed of sound in sea water, m/s (seed 003 (12)).
+C_SOUND_WATER = 1500.0
+
+DEG = math.pi / 180.0
+HOUR = 3600.0
+SQRT_HOUR = 60.0
+
+# --- angles ---------------------------------------------------------------
+
+
+def deg_to_rad(x):
+    return x * DEG
+
+
+def rad_to_deg(x):
+    return x / DEG
+
+
+def mrad_to_rad(x):
+    return x * 1e-3
+
+
+def rad_to_mrad(x):
+    return x * 1e3
+
+
+def ppm_to_ratio(x):
+    return x * 1e-6
+
+
+def ratio_to_ppm(x):
+    return x * 1e6
+
+
+# --- gyro -------------------------------------------------------------------
+
+
+def deg_h_to_rad_s(x):
+    """Rate in deg/h → rad/s (1 deg/h = 4.848e-6 rad/s)."""
+    return x * DEG / HOUR
+
+
+def rad_s_to_deg_h(x):
+    return x * HOUR / DEG
+
+
+def dps_to_rad_s(x):
+    return x * DEG
+
+
+def rad_s_to_dps(x):
+    return x / DEG
+
+
+def deg_rt_h_to_rad_s_rt_hz(x):
+    """Angle random walk deg/√h → rad/s/√Hz (= rad/√s): divide by 60 then to rad."""
+    return x * DEG / SQRT_HOUR
+
+
+def rad_s_rt_hz_to_deg_rt_h(x):
+    return x * SQRT_HOUR / DEG
+
+
+def deg_h_rt_h_to_rad_s_rt_s(x):
+    """Rate random walk deg/h/√h → rad/s/√s (IEEE-952 K)."""
+    return x * DEG / HOUR / SQRT_HOUR
+
+
+def rad_s_rt_s_to_deg_h_rt_h(x):
+    return x * HOUR * SQRT_HOUR / DEG
+
+
+# --- accelerometer ----------------------------------------------------------
+
+
+def ug_to_m_s2(x):
+    """Micro-g → m/s² with g = 9.80665 m/s²."""
+    return x * 1e-6 * G0
+
+
+def m_s2_to_ug(x):
+    return x / (1e-6 * G0)
+
+
+def mg_to_m_s2(x):
+    return x * 1e-3 * G0
+
+
+def g_to_m_s2(x):
+    return x * G0
+
+
+def m_s_rt_h_to_m_s2_rt_hz(x):
+    """Velocity random walk m/s/√h → m/s²/√Hz (= m/s/√s): divide by 60."""
+    return x / SQRT_HOUR
+
+
+def m_s2_rt_hz_to_m_s_rt_h(x):
+    return x * SQRT_HOUR
+
+
+def ug_rt_hz_to_m_s2_rt_hz(x):
+    return x * 1e-6 * G0
+
+
+def m_s2_rt_hz_to_ug_rt_hz(x):
+    return x / (1e-6 * G0)
+
+
+def m_s_rt_h_to_ug_rt_hz(x):
+    """1 m/s/√h = 1699.7 µg/√Hz."""
+    return m_s2_rt_hz_to_ug_rt_hz(m_s_rt_h_to_m_s2_rt_hz(x))
+
+
+def ug_rt_hz_to_m_s_rt_h(x):
+    return m_s2_rt_hz_to_m_s_rt_h(ug_rt_hz_to_m_s2_rt_hz(x))
+
+
+# --- IMU channel unit tags used in log and Allan-deviation column names -------
+
+#: Suffix of a channel column → factor to SI (rad/s for gyros, m/s² for accelerometers).
+CHANNEL_UNIT_TO_SI: dict[str, float] = {
+    "dps": DEG,
+    "rps": 1.0,
+    "dph": DEG / HOUR,
+    "mps2": 1.0,
+    "g": G0,
+    "mg": 1e-3 * G0,
+}
+
+GYRO_CHANNELS = ("gyro_x", "gyro_y", "gyro_z")
+ACCEL_CHANNELS = ("accel_x", "accel_y", "accel_z")
+CHANNELS = GYRO_CHANNELS + ACCEL_CHANNELS
+
+
+def split_channel_column(name: str) -> tuple[str, str]:
+    """``'gyro_x_dps'`` → ``('gyro_x', 'dps')``; raises ``ValueError`` naming what is expected."""
+    for ch in CHANNELS:
+        if name.startswith(ch + "_"):
+            unit = name[len(ch) + 1 :]
+            if unit in CHANNEL_UNIT_TO_SI:
+                if ch.startswith("gyro") and unit not in ("dps", "rps", "dph"):
+                    break
+                if ch.startswith("accel") and unit not in ("mps2", "g", "mg"):
+                    break
+                return ch, unit
+            break
+    raise ValueError(
+        f"channel column {name!r} not understood: expected <channel>_<unit> with channel in "
+        f"{', '.join(CHANNELS)} and unit dps|rps|dph (gyro) or mps2|g|mg (accel)"
+    )
+
+
+# --- phase ------------------------------------------------------------------
+
+
+def range_to_phase(delta_r_m, wavelength_m):
+    """Two-way phase error φ = 4π Δr / λ (rad), DESIGN.md §1, seed 003 (12)."""
+    return 4.0 * math.pi * np.asarray(delta_r_m) / wavelength_m
+
+
+def phase_to_range(phi_rad, wavelength_m):
+    """Range error Δr = λ φ / (4π) (m)."""
+    return np.asarray(phi_rad) * wavelength_m / (4.0 * math.pi)

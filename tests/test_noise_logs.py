@@ -1,0 +1,211 @@
+"""IMU log reader: canonical and mapped layouts, units, chunked reading, every bad-log case."""
+
+import gzip
+import hashlib
+import math
+
+import numpy as np
+import pytest
+
+from budget.errors import InputError
+from budget.noise import LogError, LogMapping, read_log
+from budget.units import DEG, G0
+
+HEADER = "time_s,gyro_x_dps,gyro_y_dps,gyro_z_dps,accel_x_mps2,accel_y_mps2,accel_z_mps2"
+
+
+def _rows(n, rate=100.0, seed=0):
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / rate
+    data = rng.normal(size=(n, 6))
+    return t, data
+
+
+def _write(path, t, data, header=HEADER, fmt="%.9g"):
+    lines = [header] + [",".join([f"{ti:.6f}"] + [fmt % v for v in row]) for ti, row in zip(t, data)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _digest(path):
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def test_canonical_log_units_and_rate(tmp_path):
+    t, d = _rows(500)
+    p = _write(tmp_path / "log.csv", t, d)
+    log = read_log(p)
+    assert log.rate_hz == 100.0 and log.n_samples == 500 and log.temp_c is None
+    assert list(log.channels) == ["gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"]
+    np.testing.assert_allclose(log.channels["gyro_y"], d[:, 1] * DEG, rtol=1e-8)
+    np.testing.assert_allclose(log.channels["accel_z"], d[:, 5], rtol=1e-8)
+    assert log.issues.issues == [] and log.issues.ok
+    assert log.to_frame().shape == (500, 6)
+
+
+def test_mapping_other_layout_units_and_time(tmp_path):
+    t, d = _rows(300, rate=250.0)
+    header = "ms,gx,gy,gz,ax,ay,az,T,status"
+    lines = [header] + [",".join([f"{ti * 1e3:.4f}"] + [f"{v:.9g}" for v in row] + ["21.5", "0"])
+                        for ti, row in zip(t, d)]
+    p = tmp_path / "other.csv"
+    p.write_text("\n".join(lines) + "\n")
+    m = LogMapping(columns={"ms": "time_ms", "gx": "gyro_x_rps", "gy": "gyro_y_rps", "gz": "gyro_z_dph",
+                            "ax": "accel_x_g", "ay": "accel_y_g", "az": "accel_z_mg", "T": "temp_c"})
+    log = read_log(p, m)
+    assert log.rate_hz == 250.0
+    np.testing.assert_allclose(log.channels["gyro_x"], d[:, 0], rtol=1e-8)
+    np.testing.assert_allclose(log.channels["gyro_z"], d[:, 2] * DEG / 3600, rtol=1e-8)
+    np.testing.assert_allclose(log.channels["accel_y"], d[:, 4] * G0, rtol=1e-8)
+    np.testing.assert_allclose(log.channels["accel_z"], d[:, 5] * G0 * 1e-3, rtol=1e-8)
+    np.testing.assert_allclose(log.temp_c, 21.5)
+    assert [i.kind for i in log.issues.issues] == ["ignored_column"]  # status reported, not read
+
+
+def test_mapping_file_and_bad_target(tmp_path):
+    f = tmp_path / "map.json"
+    f.write_text('{"columns": {"gx": "gyro_x_deg"}}')
+    with pytest.raises(InputError, match="gyro_x_deg"):
+        LogMapping.load(f)
+    f.write_text('{"columns": {"gx": "gyro_x_rps"}, "rate_hz": 50}')
+    assert LogMapping.load(f).rate_hz == 50
+
+
+def test_no_time_column_needs_rate(tmp_path):
+    p = tmp_path / "notime.csv"
+    p.write_text("gyro_z_dps\n" + "\n".join(str(v) for v in range(10)) + "\n")
+    with pytest.raises(InputError, match="no time column"):
+        read_log(p)
+    log = read_log(p, rate_hz=50.0)
+    assert log.rate_hz == 50.0 and log.time_s is None
+
+
+def test_chunked_read_with_growth_equals_single_read(tmp_path):
+    t, d = _rows(2345)
+    p = tmp_path / "log.csv.gz"
+    with gzip.open(p, "wt") as fh:
+        fh.write(HEADER + "\n" + "\n".join(",".join([f"{a:.6f}"] + [f"{v:.9g}" for v in r])
+                                           for a, r in zip(t, d)) + "\n")
+    whole = read_log(p)
+    small = read_log(p, chunk_rows=100)  # many chunks; estimate-then-grow path
+    for ch in whole.channels:
+        np.testing.assert_array_equal(whole.channels[ch], small.channels[ch])
+    assert read_log(p, max_rows=1000).n_samples == 1000
+
+
+@pytest.mark.parametrize("content, match", [
+    ("", "empty"),
+    (HEADER + "\n", "no data rows"),
+    ("a,b,c\n1,2,3\n", "no sensor channel"),
+    ("time_s,gyro_x_deg\n0,1\n", "gyro_x_deg"),
+    ("time_s,gyro_x_dps,gyro_x_rps\n0,1,2\n", "given twice"),
+])
+def test_structural_errors(tmp_path, content, match):
+    p = tmp_path / "bad.csv"
+    p.write_text(content)
+    with pytest.raises(InputError, match=match):
+        read_log(p)
+
+
+def test_missing_file():
+    with pytest.raises(InputError, match="not found"):
+        read_log("/nonexistent/log.csv")
+
+
+def test_non_numeric_cell_reports_row_and_column(tmp_path):
+    t, d = _rows(20)
+    p = _write(tmp_path / "log.csv", t, d)
+    lines = p.read_text().splitlines()
+    lines[8] = lines[8].replace(lines[8].split(",")[3], "abc", 1)  # spreadsheet row 9
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError) as err:
+        read_log(p)
+    assert err.value.row == 9 and err.value.field == "gyro_z_dps" and "abc" in str(err.value)
+
+
+def test_malformed_row(tmp_path):
+    t, d = _rows(20)
+    p = _write(tmp_path / "log.csv", t, d)
+    text = p.read_text().splitlines()
+    text[5] += ",1,2"
+    p.write_text("\n".join(text) + "\n")
+    with pytest.raises(InputError, match="malformed CSV"):
+        read_log(p)
+
+
+def _bad_log(tmp_path):
+    """NaN at row 5, row 10 repeated as row 11, a stray earlier time at row 21, a gap at row 42."""
+    t, d = _rows(100)
+    d[3, 2] = np.nan
+    t[38:] += 0.5  # 50 missing samples before sample 38
+    t, d = np.insert(t, 9, t[8]), np.insert(d, 9, d[8], axis=0)          # duplicate row
+    t, d = np.insert(t, 19, t[17] - 0.005), np.insert(d, 19, d[0], axis=0)  # out of order
+    return _write(tmp_path / "bad.csv", t, d)
+
+
+def test_bad_log_raises_with_every_issue_and_file_untouched(tmp_path):
+    p = _bad_log(tmp_path)
+    before = _digest(p)
+    with pytest.raises(LogError) as err:
+        read_log(p)
+    rep = err.value.report
+    kinds = {i.kind: i for i in rep.issues}
+    assert kinds["missing_value"].rows == (5,) and kinds["missing_value"].column == "gyro_z_dps"
+    assert kinds["duplicate_rows"].rows == (11,)
+    assert kinds["non_monotonic_time"].rows == (21,)
+    assert kinds["gap"].rows == (42,) and "50 samples missing" in kinds["gap"].message
+    assert "repair" in str(err.value) and "nothing was changed" in str(err.value)
+    assert _digest(p) == before
+
+
+def test_repair_lists_what_was_done(tmp_path):
+    p = _bad_log(tmp_path)
+    before = _digest(p)
+    log = read_log(p, repair=True)
+    text = " | ".join(log.issues.repairs)
+    assert "dropped 1 exact duplicate" in text
+    assert "did not increase" in text
+    assert "interpolated 1 missing value(s) in gyro_z_dps" in text
+    assert "longest gap-free stretch" in text
+    assert np.all(np.isfinite(log.channels["gyro_z"])) and np.all(np.diff(log.time_s) > 0)
+    assert np.max(np.diff(log.time_s)) < 1.5 / log.rate_hz
+    assert log.n_samples == 100 - 38  # the 62 samples after the gap
+    assert _digest(p) == before
+
+
+def test_constant_channel_and_jitter_are_warnings(tmp_path):
+    rng = np.random.default_rng(4)
+    t, d = _rows(400)
+    t = t + rng.normal(0, 0.0008, t.size)  # 8 % jitter, still increasing
+    t.sort()
+    d[:, 0] = 0.25
+    log = read_log(_write(tmp_path / "j.csv", t, d))
+    kinds = {i.kind: i.severity for i in log.issues.issues}
+    assert kinds == {"constant_channel": "warning", "jitter": "warning"}
+    assert math.isclose(log.rate_hz, 100.0, rel_tol=0.05)
+
+
+def test_too_short_for_analysis(tmp_path):
+    t, d = _rows(5)
+    with pytest.raises(InputError, match="at least 100 samples"):
+        read_log(_write(tmp_path / "s.csv", t, d), min_samples=100)
+
+
+def test_channel_selection(tmp_path):
+    t, d = _rows(50)
+    p = _write(tmp_path / "log.csv", t, d)
+    assert list(read_log(p, channels=["gyro_z"]).channels) == ["gyro_z"]
+    with pytest.raises(InputError, match="not in the log"):
+        read_log(p, channels=["gyro_w"])
+
+
+@pytest.mark.shared_data
+def test_real_log_partial_read(shared_data):
+    p = shared_data / "logs" / "adis16405_static_1.csv.gz"
+    log = read_log(p, max_rows=20_000)
+    assert log.rate_hz == 100.0 and log.n_samples == 20_000
+    assert not [i for i in log.issues.issues if i.severity != "info"]
+    # accel z carries gravity (−1 g); gyro values are multiples of the 0.05 deg/s LSB
+    assert abs(np.mean(log.channels["accel_z"]) + G0) < 0.3
+    lsb = log.channels["gyro_x"] / DEG / 0.05
+    np.testing.assert_allclose(lsb, np.round(lsb), atol=1e-6)

@@ -1,0 +1,119 @@
+"""Phase gradient autofocus: what it fixes, what it cannot fix, and how it says so."""
+
+import numpy as np
+import pytest
+
+from budget.errors import InputError
+from budget.presets import get_preset
+from budget.sar import (PointTarget, SarGeometry, Scene, evaluate, form_image, los_offset_for_phase,
+                        measure_targets, pga, phase_on_bins, residual_phase_rad, residual_rms_rad,
+                        simulate_echoes, smooth_phase_error)
+from budget.sar.phase import normalised_time
+from budget.sar.plots import phase_error_figure
+
+
+@pytest.fixture(scope="module")
+def defocused():
+    """Default scene, smooth error of several radians (6 u² + 3 u³ + 2 sin(1.5πu)) along the LOS."""
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    scene = Scene.default(g)
+    psi = smooth_phase_error(normalised_time(g), quadratic_rad=6.0, cubic_rad=3.0, sinusoid_rad=2.0,
+                             sinusoid_cycles=1.5)
+    off = los_offset_for_phase(g, psi)
+    img = form_image(g, simulate_echoes(g, scene, off, np.random.default_rng(7)))
+    truth = phase_on_bins(img, g, residual_phase_rad(g, off))
+    return g, scene, img, truth
+
+
+@pytest.mark.parametrize("kernel", ["ml", "lumv"])
+def test_pga_removes_a_smooth_phase_error(defocused, kernel):
+    g, scene, img, truth = defocused
+    before = measure_targets(img, g, scene)
+    assert not evaluate(before).passed and before.to_frame()["azimuth_broadening"].min() > 0.3
+    res = pga(img.data, kernel=kernel)
+    assert res.converged, res.reason
+    assert res.usable_lines >= 5
+    mask = img.aperture_mask() & res.estimated_bins
+    assert mask.sum() > 0.9 * img.aperture_mask().sum()
+    assert residual_rms_rad(res.phase_error_rad, truth, mask) < 0.05
+    after = measure_targets(img.with_data(res.image), g, scene)
+    f = after.to_frame()
+    assert np.all(np.abs(f["azimuth_broadening"]) < 0.02) and np.all(np.abs(f["range_broadening"]) < 0.02)
+    assert np.all(f["peak_loss_db"] < 0.2)
+    assert evaluate(after).passed
+    assert res.summary()["converged"] and len(res.to_frame()) == img.data.shape[0]
+    assert len(phase_error_figure(res, img, truth).data) == 3
+
+
+def test_pga_works_among_moderate_clutter():
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    scene = Scene.default(g).model_copy(update={"clutter_to_target_db": -40.0})
+    psi = smooth_phase_error(normalised_time(g), quadratic_rad=5.0, cubic_rad=2.0)
+    off = los_offset_for_phase(g, psi)
+    img = form_image(g, simulate_echoes(g, scene, off, np.random.default_rng(8)))
+    res = pga(img.data)
+    assert res.converged, res.reason
+    truth = phase_on_bins(img, g, residual_phase_rad(g, off))
+    assert residual_rms_rad(res.phase_error_rad, truth, img.aperture_mask() & res.estimated_bins) < 0.1
+    # clutter fills every line, so judge sidelobes over ±10 cells rather than the whole line
+    f = measure_targets(img.with_data(res.image), g, scene, islr_extent_cells=10).to_frame()
+    assert np.all(np.abs(f["azimuth_broadening"]) < 0.05)
+
+
+def test_pga_does_not_fix_range_migration():
+    """A line-of-sight drift of 3 range cells over the aperture smears targets across range cells:
+    an azimuth phase correction cannot gather them back."""
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"), oversample=2.0)  # keep the drift's Doppler unaliased
+    scene = Scene.default(g)
+    u = normalised_time(g)
+    drift_m = 3.0 * g.range_cell_m * (0.5 * u + 0.5 * u ** 2)  # 3 cells end to end, partly quadratic
+    psi = -4 * np.pi * drift_m / g.wavelength_m
+    img = form_image(g, simulate_echoes(g, scene, los_offset_for_phase(g, psi), np.random.default_rng(9)))
+    res = pga(img.data)
+    after = measure_targets(img.with_data(res.image), g, scene)
+    f = after.to_frame()
+    assert not evaluate(after).passed
+    assert f["range_broadening"].max() > 0.3 or f["peak_loss_db"].min() > 3.0
+
+
+def test_pga_fails_gracefully_on_clutter_only():
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    scene = Scene(clutter_to_target_db=0.0, snr_db=40.0)
+    psi = smooth_phase_error(normalised_time(g), quadratic_rad=6.0)
+    img = form_image(g, simulate_echoes(g, scene, los_offset_for_phase(g, psi), np.random.default_rng(10)))
+    res = pga(img.data)
+    assert not res.converged and res.usable_lines == 0
+    assert res.reason.startswith("no usable scatterers")
+    assert np.array_equal(res.image, img.data)  # the input back, not a wrong image
+    assert np.all(res.phase_error_rad == 0)
+
+
+def test_pga_reports_non_convergence(defocused):
+    _, _, img, _ = defocused
+    res = pga(img.data, max_iter=2)
+    assert not res.converged and res.reason.startswith("did not converge")
+    assert np.array_equal(res.image, img.data) and res.iterations == 2
+
+
+def test_pga_on_a_focused_image_changes_nothing():
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    scene = Scene(targets=[PointTarget(azimuth_m=0.0, range_m=0.0), PointTarget(azimuth_m=5.0, range_m=6.0)])
+    img = form_image(g, simulate_echoes(g, scene, None))
+    res = pga(img.data, kernel="lumv")
+    assert res.converged
+    mask = img.aperture_mask() & res.estimated_bins
+    assert residual_rms_rad(res.phase_error_rad, np.zeros_like(res.phase_error_rad), mask) < 0.03
+
+
+def test_pga_bad_input():
+    good = np.ones((64, 8), complex)
+    bad = good.copy()
+    bad[3, 3] = np.nan
+    with pytest.raises(InputError, match="NaN"):
+        pga(bad)
+    with pytest.raises(InputError, match="kernel"):
+        pga(good, kernel="eigen")
+    with pytest.raises(InputError):
+        pga(np.ones(64))
+    with pytest.raises(InputError):
+        pga(good, max_iter=0)
