@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import json
+import math
 import os
 import tempfile
 from pathlib import Path
+
+import numpy as np
 
 from .errors import InputError
 
@@ -62,3 +66,23 @@ def read_structured(path: str | Path, what: str, max_bytes: int = 10_000_000) ->
         raise InputError(f"{what} must be a mapping of keys to values", file=path,
                          expected="a JSON object / YAML mapping")
     return data
+
+
+def json_safe(obj):
+    """``obj`` made JSON-safe: numpy scalars/arrays to Python, non-finite floats to ``None``."""
+    if isinstance(obj, dict):
+        return {str(k): json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_safe(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return json_safe(obj.tolist())
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def json_text(obj) -> str:
+    """Indented JSON text of ``obj`` (through :func:`json_safe`), newline-terminated."""
+    return json.dumps(json_safe(obj), indent=2, ensure_ascii=False) + "\n"

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import hashlib
 import io
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -15,7 +14,7 @@ from budget import units as u
 from budget.catalog.io import parts_to_csv_text
 from budget.errors import InputError
 from budget.noise import (ArmaKalman, ImuLog, LogError, allan_deviation, characterize, check_series,
-                          fit_noise_terms, frequency_response, preprocess, read_log, select_arma, welch_psd)
+                          fit_noise_terms, frequency_response, preprocess, select_arma, welch_psd)
 from budget.noise.plots import allan_figure, filter_figure, psd_figure, response_figure
 from budget.noise.synth import imu_noise
 from budget.plots.noise import arma_criteria_figure, preprocess_figure

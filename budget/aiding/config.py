@@ -178,7 +178,7 @@ def parse_aiding(data, *, imu_rate_hz: float | None = None,
             raise InputError("each aiding entry needs a 'type'", file=source, field=f"aiding[{i}].type",
                              expected=" | ".join(AIDING_TYPES))
         if item["type"] not in AIDING_TYPES:
-            raise InputError(f"unknown aiding type", file=source, field=f"aiding[{i}].type",
+            raise InputError("unknown aiding type", file=source, field=f"aiding[{i}].type",
                              value=item["type"], expected=" | ".join(AIDING_TYPES))
     try:
         return _LIST.validate_python(data, context={"imu_rate_hz": imu_rate_hz})

@@ -2,34 +2,16 @@
 
 from __future__ import annotations
 
-import json
-import math
 import sys
 from pathlib import Path
 
-import numpy as np
 
-from ..fileio import atomic_write_text
-
-
-def _clean(obj):
-    """Make ``obj`` JSON-safe: numpy scalars/arrays to Python, non-finite floats to None."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
+from ..fileio import atomic_write_text, json_text
 
 
 def write_json(obj, dest: str) -> None:
     """Write ``obj`` as JSON to ``dest`` (a path, or ``-`` for stdout; files written atomically)."""
-    text = json.dumps(_clean(obj), indent=2, ensure_ascii=False) + "\n"
+    text = json_text(obj)
     if dest == "-":
         sys.stdout.write(text)
     else:

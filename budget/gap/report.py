@@ -15,15 +15,13 @@ null distribution, notes) are additions.
 
 from __future__ import annotations
 
-import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ..fileio import atomic_write_text
+from ..fileio import atomic_write_text, json_text
 from ..imu import NoiseModel
 from .metric import GapTerms, ModelSummary, NullModel
 from .signatures import Signature, SignatureGrid
@@ -180,7 +178,7 @@ class GapReport:
 
     def save(self, path: str | Path) -> None:
         """Write the JSON report atomically (non-finite numbers become null)."""
-        atomic_write_text(Path(path), json.dumps(_clean(self.to_json()), indent=2, ensure_ascii=False) + "\n")
+        atomic_write_text(Path(path), json_text(self.to_json()))
 
     def to_frame(self) -> pd.DataFrame:
         """Every gap term of every channel, before and after (one row per term)."""
@@ -197,7 +195,8 @@ class GapReport:
         lines = [f"model gap: {self.source} ({self.kind}, {self.n_samples} samples at {self.rate_hz:g} Hz) "
                  f"vs {self.model_label}; {self.realizations} realizations/channel, seed {self.seed}",
                  f"overall gap {self.gap_before:.3g} → {self.gap_after:.3g} "
-                 f"(within noise below {self.null_after.overall_threshold:.3g}; channel thresholds "
+                 f"({'within' if self.within_noise else 'NOT within'} noise: overall threshold "
+                 f"{self.null_after.overall_threshold:.3g}, channel thresholds "
                  f"{min(thr.values()):.3g}–{max(thr.values()):.3g})"]
         if not self.steps:
             lines.append("effects named: none")
@@ -213,17 +212,3 @@ class GapReport:
         lines.append(f"stop: {self.stop_reason}")
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
-
-
-def _clean(obj):
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj

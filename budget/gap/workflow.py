@@ -17,7 +17,9 @@
    ``min_gain`` (default 5 %) of its channel's excess Σz² − n_terms·(null mean).
 3. Add the best candidate if its score is positive, re-simulate that channel and keep the
    effect only if the *simulated* improvement passes the same test; otherwise discard it and
-   try the next. Stop when every channel is within noise, when nothing passes, or after
+   try the next. Occam's step: on the chosen channel, a candidate with fewer parameters that
+   already brings the channel within its null threshold is preferred to a better-fitting
+   richer one unless the extra parameters pass the same test (:func:`_parsimonious`). Stop when every channel is within noise, when nothing passes, or after
    ``max_steps``.
 
 An effect is never named on a channel whose gap is within its null threshold, so a log that
@@ -103,6 +105,29 @@ def _fits(model: NoiseModel, ch: str, st: _State) -> list[CandidateFit]:
         if fit is not None:
             out.append(fit)
     return out
+
+
+def _parsimonious(ch: str, best: CandidateFit, scored, score, st: _State, null: NullModel,
+                  alpha: float) -> CandidateFit:
+    """Occam's step on the channel of the best-scoring candidate. If a significant candidate
+    with fewer parameters already brings the channel within its null threshold, ``best`` keeps
+    its place only when its extra parameters buy a significant further drop of Σz²:
+
+        (Σz²_simple − Σz²_best)/φ > χ²_Δp⁻¹(1 − α/M),
+
+    the likelihood-ratio test of the main score applied to the extra parameters Δp. Near the
+    detection limit a two-parameter shape (a Gauss–Markov hump) fits one realization of a
+    one-parameter effect (flicker) a little better than the effect itself; a drop that small
+    is not evidence for the richer effect."""
+    limit = null.channel_threshold(ch) * st.terms.n_terms
+    simpler = [item for item in scored if item[0] == ch and item[1].n_params < best.n_params
+               and item[1].sum_sq <= limit and score(item) > 0]
+    if not simpler:
+        return best
+    simple = max(simpler, key=score)[1]
+    extra = (simple.sum_sq - best.sum_sq) / null.inflation(ch)
+    need = stats.chi2.isf(alpha / len(scored), best.n_params - simple.n_params)
+    return best if extra > need else simple
 
 
 def _simulate_candidate(model: NoiseModel, ch: str, old: _State, fit: CandidateFit, n_real: int,
@@ -228,6 +253,7 @@ def run_gap(measured, model, *, seed: int = 0, realizations: int = DEFAULT_REALI
             return drop / null.inflation(ch) - stats.chi2.isf(alpha / n_cand, f.n_params)
 
         ch, best = max(scored, key=score)
+        best = _parsimonious(ch, best, scored, score, states[ch], null, alpha)
         if score((ch, best)) <= 0:
             stop = ("no candidate gives a significant penalised improvement that also removes "
                     f"≥ {min_gain:.0%} of its channel's excess gap")

@@ -34,7 +34,7 @@ from numpy.polynomial import legendre
 from ..motion import simulate_motion
 from ..rng import trial_generator
 from ..sar import (SarGeometry, Scene, evaluate, form_image, measure_targets, pga, phase_on_bins,
-                   residual_phase_rad, residual_rms_rad, simulate_echoes)
+                   residual_phase_rad, simulate_echoes)
 from ..sar.phase import normalised_time, remove_linear
 from ..scenario import Scenario
 from .options import McOptions

@@ -16,7 +16,6 @@ import numpy as np
 import pandas as pd
 
 from ..bounds import paper_bounds
-from ..catalog.schema import PartSpec
 from ..imu.noise_model import NoiseModel
 from ..scenario import Scenario
 from .options import McOptions
