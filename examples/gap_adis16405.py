@@ -37,7 +37,11 @@ def save_png(fig, path: Path) -> None:
         return
     except (ValueError, ImportError, RuntimeError):
         pass
-    import matplotlib
+    try:
+        import matplotlib
+    except ImportError:
+        print(f"no PNG for {path.name}: neither kaleido nor matplotlib is installed (the HTML is written)")
+        return
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     lay = fig.layout
@@ -91,7 +95,8 @@ def run_one(name: str, measured, out: Path, seed: int, **kw):
 def markdown(name: str, rep, again, dt: float) -> str:
     lines = [f"### {name}: {rep.n_samples:,} samples at {rep.rate_hz:g} Hz ({rep.kind}), {dt:.0f} s "
              f"(seed {rep.seed}, {rep.realizations} realizations per channel)",
-             "", f"overall gap {rep.gap_before:.4g} → {rep.gap_after:.4g} (within noise below "
+             "", f"overall gap {rep.gap_before:.4g} → {rep.gap_after:.4g} ("
+             f"{'within' if rep.within_noise else 'NOT within'} noise: threshold "
              f"{rep.null_after.overall_threshold:.3g}); stop: {rep.stop_reason}", "",
              "| step | effect | channel | parameters (SI) | channel gap before → after |",
              "|---|---|---|---|---|"]

@@ -78,6 +78,20 @@ def test_mc_page_p_pass_equals_run_mc_with_the_same_seed():
         == ref.p_pass_after
 
 
+def test_mc_page_prefilter_equals_run_mc_with_that_option():
+    at = _app(MC_PAGE)
+    at.selectbox(key="scn_preset").set_value(MC_PRESET).run()
+    at.multiselect(key="mc_parts").set_value([MC_PART]).run()
+    at.number_input(key="mc_trials").set_value(64).run()
+    at.selectbox(key="mc_prefilter").set_value("kalman").run()
+    at.button(key="mc_run").click().run()
+    _no_failure(at)
+    ref = run_mc(get_preset(MC_PRESET), load_catalog()[MC_PART], 64, int(at.number_input(key="mc_seed").value),
+                 options=McOptions(prefilter="kalman"))
+    row = _frame_with(at, "P(pass) after PGA").set_index("part_id").loc[MC_PART]
+    assert row["P(pass) after PGA"] == ref.p_pass_after
+
+
 def test_mc_page_scenario_beyond_simulation_limits_is_a_message():
     at = _app(MC_PAGE)
     at.selectbox(key="scn_preset").set_value("airborne_xband_long_range").run()

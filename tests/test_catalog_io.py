@@ -116,3 +116,20 @@ def test_user_rows_override_shipped(tmp_path):
     merged = load_catalog(user)
     assert merged[pid].source == "mine" and "MINE-1" in merged
     assert len(merged) == len(shipped) + 1
+
+
+def test_atomic_write_gives_ordinary_permissions(tmp_path):
+    """A new file gets 0666 & ~umask (not mkstemp's 0600); an existing file keeps its mode."""
+    import os
+    import stat
+
+    from budget.fileio import _umask, atomic_write_text
+
+    new = tmp_path / "new.csv"
+    atomic_write_text(new, "a\n")
+    assert stat.S_IMODE(new.stat().st_mode) == 0o666 & ~_umask()
+    old = tmp_path / "old.csv"
+    old.write_text("x\n")
+    os.chmod(old, 0o640)
+    atomic_write_text(old, "y\n")
+    assert stat.S_IMODE(old.stat().st_mode) == 0o640 and old.read_text() == "y\n"

@@ -60,6 +60,8 @@ CASES = {
                                 ("near", "gyro_y", {"coefficient": 4e-5}, {"coefficient": 0.6})],
     "outliers": [("obvious", "gyro_z", {"rate": 1e-3, "magnitude": 0.015}, {"rate": 0.4, "magnitude": 0.1}),
                  ("near", "gyro_z", {"rate": 3e-4, "magnitude": 0.012}, {"rate": 0.7, "magnitude": 0.2})],
+    "lowpass": [("obvious", "gyro_x", {"cutoff_hz": 15.0}, {"cutoff_hz": 0.05}),
+                ("near", "gyro_x", {"cutoff_hz": 60.0}, {"cutoff_hz": 0.15})],
 }
 
 

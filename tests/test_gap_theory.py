@@ -104,3 +104,16 @@ def test_signature_of_gaussian_white_noise():
     assert sig.sigma_r == pytest.approx(0.1 * math.sqrt(2), rel=0.03)
     assert abs(sig.slope) < 5 * 0.1 * math.sqrt(12 / (n * (n / RATE) ** 2))  # OLS slope SE
     np.testing.assert_allclose(sig.psd[grid.band_start[0]:grid.bin_stop].mean(), 2 * 0.1 ** 2 / RATE, rtol=0.03)
+
+
+@pytest.mark.parametrize("tau_c", [0.02, 0.3])
+def test_avar_and_diff_var_from_psd_equal_the_exact_ar1_values(tau_c):
+    """The spectral kernels behind ``lowpass`` (Allan variance and first-difference variance of a
+    series from its one-sided PSD) against the exact AR(1) values: avar_gm (checked above by
+    a double sum) and 2σ²(1 − φ). A fine rfft grid (2¹⁶ points): agreement to 0.5 %."""
+    freq = np.fft.rfftfreq(1 << 16, DT)
+    psd = th.psd_gm(freq, DT, tau_c)
+    m = M[:10]
+    np.testing.assert_allclose(th.avar_from_psd(psd, freq, m, DT), th.avar_gm(m, DT, tau_c)[0], rtol=5e-3)
+    phi = math.exp(-DT / tau_c)
+    assert th.diff_var_from_psd(psd, freq, DT) == pytest.approx(2.0 * (1.0 - phi), rel=5e-3)

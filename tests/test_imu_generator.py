@@ -128,6 +128,29 @@ def test_gauss_markov_autocovariance_and_adev():
     np.testing.assert_allclose(mean_adev(x, taus), np.sqrt(closed), rtol=0.08)
 
 
+def test_lowpass_shapes_white_noise_as_a_first_order_filter():
+    """White σ² through y_k = (1 − a)y_{k−1} + a·x_k: variance σ²·a/(2 − a), lag-k correlation
+    (1 − a)^k (AR(1)), Allan deviation from the filtered spectrum (closed-form kernel)."""
+    from budget.gap.theory import avar_from_psd
+    from budget.imu.effects import lowpass_coefficient, lowpass_gain2
+
+    dens, fc = 1e-3, 12.0
+    e = generate_imu_errors(model(fx("white_noise", "gyro_y", density=dens), fx("lowpass", "gyro_y", cutoff_hz=fc)),
+                            40, 20_000, RATE, np.random.default_rng(21))
+    x = e.gyro_rad_s[:, 100:, 1]  # past the ≈ 1/a-sample start-up transient
+    a, s2 = lowpass_coefficient(fc, DT), dens**2 * RATE
+    # 800k samples: SE of the variance ≈ 0.3 %, of the lag-k correlation ≈ 0.2 %
+    assert x.var() == pytest.approx(s2 * a / (2.0 - a), rel=0.02)
+    for lag in (1, 3):
+        r = np.mean(x[:, :-lag] * x[:, lag:]) / x.var()
+        assert r == pytest.approx((1.0 - a) ** lag, abs=0.01)
+    taus = np.array([0.01, 0.02, 0.05, 0.2, 1.0])
+    freq = np.fft.rfftfreq(1 << 14, DT)
+    closed = avar_from_psd(2.0 * s2 * DT * lowpass_gain2(freq, fc, DT), freq, np.rint(taus * RATE), DT)
+    np.testing.assert_allclose(mean_adev(x, taus), np.sqrt(closed), rtol=0.03)
+    assert not e.gyro_rad_s[:, :, [0, 2]].any()
+
+
 def test_white_plus_gauss_markov_on_one_channel():
     """White noise and a coloured term on the same channel are drawn together (one circulant
     pass): variance σ_w² + σ_gm², lag-k autocovariance σ_gm²·e^{−k·dt/τ} (white adds nothing)."""

@@ -21,10 +21,10 @@ def _part() -> PartSpec:
                     accel_misalignment_mrad=0.5)
 
 
-def test_vocabulary_is_the_shared_one():
+def test_vocabulary_is_the_shared_one_plus_lowpass():
     assert set(EFFECT_NAMES) == {"white_noise", "quantization", "bias_instability", "rate_random_walk",
                                  "rate_ramp", "sinusoid", "gauss_markov", "temperature_sensitivity",
-                                 "outliers"}
+                                 "outliers", "lowpass"}
 
 
 def test_from_part_converts_through_partspec_to_si():

@@ -23,10 +23,11 @@ DEFAULT_SEED = 1
 MAX_TRIALS = 100_000
 #: Session-state key of the last run request (scenario JSON, part ids, trials, seed).
 RUN_KEY = "mc_request"
+PREFILTERS = ("none", "kalman", "rts")
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
-def _run(scenario_json: str, part_json: str, trials: int, seed: int) -> McResult:
+def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: str = "none") -> McResult:
     """One part's verdict, cached on scenario, part, trials and seed (worst trials with images)."""
     part = PartSpec.model_validate_json(part_json)
     bar = st.progress(0.0, text=f"{part.part_id}: 0 / {trials} trials")
@@ -35,12 +36,12 @@ def _run(scenario_json: str, part_json: str, trials: int, seed: int) -> McResult
         bar.progress(done / total, text=f"{part.part_id}: {done} / {total} trials")
 
     result = run_mc(Scenario.model_validate_json(scenario_json), part, trials, seed,
-                    options=McOptions(), progress=progress, keep_detail=True)
+                    options=McOptions(prefilter=prefilter), progress=progress, keep_detail=True)
     bar.empty()
     return result
 
 
-def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, bool]:
+def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, bool]:
     ids = list(catalog)
     default = [DEFAULT_PART] if DEFAULT_PART in catalog else ids[:1]
     parts = st.multiselect("parts", ids, default=default, key="mc_parts")
@@ -49,9 +50,11 @@ def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, bool]:
                                key="mc_trials", help="a run of 64 trials takes about 10 s per part")
     seed = mid.number_input("seed", min_value=0, value=DEFAULT_SEED, step=1, key="mc_seed",
                             help="same seed → same trials, same result")
-    right.markdown("&nbsp;")
-    clicked = right.button("Run Monte Carlo", key="mc_run", type="primary", disabled=not parts)
-    return parts, int(trials), int(seed), clicked
+    prefilter = right.selectbox("IMU pre-filter", PREFILTERS, key="mc_prefilter",
+                                help="seed 000's ARMA-Kalman filtering of the IMU output before "
+                                     "navigation: does it change the verdict?")
+    clicked = st.button("Run Monte Carlo", key="mc_run", type="primary", disabled=not parts)
+    return parts, int(trials), int(seed), prefilter, clicked
 
 
 def summary_frame(results: dict[str, McResult]) -> pd.DataFrame:
@@ -133,8 +136,8 @@ def render() -> None:
                 "forms the image with the IMU-measured track and runs PGA autofocus. Does autofocus "
                 "absorb what the IMU leaves? The scenario comes from the sidebar.")
     catalog = c.session_catalog()
-    parts, trials, seed, clicked = _inputs(catalog)
-    request = (s.model_dump_json(), tuple(parts), trials, seed)
+    parts, trials, seed, prefilter, clicked = _inputs(catalog)
+    request = (s.model_dump_json(), tuple(parts), trials, seed, prefilter)
     if clicked:
         st.session_state[RUN_KEY] = request
     last = st.session_state.get(RUN_KEY)
@@ -144,14 +147,15 @@ def render() -> None:
     if last != request:
         st.info("The inputs changed since the last run; press **Run Monte Carlo** to update. "
                 "Showing the last run.")
-    scen_json, run_parts, run_trials, run_seed = last
+    scen_json, run_parts, run_trials, run_seed, run_prefilter = last
     results: dict[str, McResult] = {}
     for pid in run_parts:
         if pid not in catalog:
             st.warning(f"{pid} is no longer in the catalog.")
             continue
         try:
-            results[pid] = _run(scen_json, catalog[pid].model_dump_json(), run_trials, run_seed)
+            results[pid] = _run(scen_json, catalog[pid].model_dump_json(), run_trials, run_seed,
+                                run_prefilter)
         except InputError as err:
             st.error(f"{pid}: {err}", icon=":material/error:")
     if not results:

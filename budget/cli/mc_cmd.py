@@ -36,6 +36,8 @@ def _options(args) -> McOptions:
     upd = {}
     if getattr(args, "no_fast_phase", False):
         upd["max_residual_phase_rms_deg"] = None
+    if getattr(args, "prefilter", "none") != "none":
+        upd["prefilter"] = args.prefilter
     return McOptions(**upd)
 
 
@@ -56,6 +58,9 @@ def add_parser(sub) -> None:
     p.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
     p.add_argument("--no-fast-phase", action="store_true",
                    help="judge by the image alone (drop seed 004's 1° fast-phase criterion)")
+    p.add_argument("--prefilter", choices=("none", "kalman", "rts"), default="none",
+                   help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
+                        "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
     add_json_option(p)
     p.set_defaults(func=run)
 

@@ -24,6 +24,7 @@ import math
 import numpy as np
 from scipy import optimize
 
+from ..imu.effects import lowpass_gain2
 from ..imu.flicker import flicker_bank
 from . import theory as th
 from .fitting import Candidate, LinearVariance, amp2_start
@@ -31,7 +32,7 @@ from .signatures import overlapping_avar
 
 #: Effects the workflow can name, in the shared vocabulary's order.
 VOCABULARY = ("white_noise", "quantization", "bias_instability", "rate_random_walk", "rate_ramp",
-              "sinusoid", "gauss_markov", "temperature_sensitivity", "outliers")
+              "sinusoid", "gauss_markov", "temperature_sensitivity", "outliers", "lowpass")
 
 
 class WhiteNoise(LinearVariance):
@@ -274,6 +275,41 @@ class Outliers(Candidate):
         return {"rate": p, "magnitude": mag}
 
 
+class Lowpass(Candidate):
+    """The sensor's output filter: the measured PSD falls below the model's towards Nyquist
+    and the Allan deviation at the shortest τ lies below the white-noise line. A start from a
+    grid of cut-offs (0.03–1 × the rate), then the bounded 1-D search on ln f_c."""
+
+    name = "lowpass"
+    needs_psd = True
+
+    def applicable(self, ctx):
+        return super().applicable(ctx) and not any(f.name == "lowpass" for f in ctx.existing)
+
+    def _fc(self, theta, ctx):
+        # below 2 % of the rate it would remove the white noise itself; above 2× it does nothing
+        return float(np.clip(math.exp(theta[0]), 0.02 * ctx.grid.rate_hz, 2.0 * ctx.grid.rate_hz))
+
+    def starts(self, ctx):
+        scored = []
+        for fc in np.geomspace(0.03, 1.0, 14) * ctx.grid.rate_hz:
+            t0 = np.array([math.log(fc)])
+            scored.append((ctx.sumsq(self.increment(t0, ctx)), t0))
+        return [min(scored, key=lambda s: s[0])[1]]
+
+    def bracket(self, t0):
+        return t0 - 0.6, t0 + 0.6
+
+    def increment(self, theta, ctx):
+        g, f = ctx.grid, ctx.freq()
+        dpsd = ctx.model.psd * (lowpass_gain2(f, self._fc(theta, ctx), g.dt_s) - 1.0)
+        return th.Increment(th.avar_from_psd(dpsd, f, g.m, g.dt_s), dpsd,
+                            th.diff_var_from_psd(dpsd, f, g.dt_s))
+
+    def params(self, theta, ctx):
+        return {"cutoff_hz": self._fc(theta, ctx)}
+
+
 LIBRARY: dict[str, Candidate] = {c.name: c for c in (
     WhiteNoise(), Quantization(), BiasInstability(), RateRandomWalk(), RateRamp(), Sinusoid(),
-    GaussMarkov(), TemperatureSensitivity(), Outliers())}
+    GaussMarkov(), TemperatureSensitivity(), Outliers(), Lowpass())}

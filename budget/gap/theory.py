@@ -28,6 +28,11 @@ approximately), so its *expected* contribution adds to the model's signatures:
 * First differences d_k = x_k − x_{k−1} (for the kurtosis and tail statistics): added variance
   and fourth cumulant — white 2N²/dt, 0; quantization 6Q²/dt², −0.6·var²; AR(1) 2σ²(1−φ), 0;
   random walk K²dt, 0; sinusoid 2A² sin²(πf·dt), −1.5·var²; outliers 2pM², 2pM⁴ − 6p²M⁴.
+
+* ``lowpass`` (first-order output filter, |H(f)|² in :func:`budget.imu.effects.lowpass_gain2`)
+  is not additive: it multiplies the model's PSD, ΔS = S_model·(|H|² − 1), and the Allan
+  variance and difference variance follow from ΔS through their discrete-time kernels
+  (:func:`avar_from_psd`, :func:`diff_var_from_psd`).
 """
 
 from __future__ import annotations
@@ -198,3 +203,25 @@ def random_walk_weight(weights: np.ndarray, dt_s: float) -> float:
     """var(Σ w_k b_k) of a random walk with K = 1: dt·Σ_k (Σ_{j≥k} w_j)² (regression weights w)."""
     tail = np.cumsum(weights[::-1])[::-1]
     return float(dt_s * np.einsum("i,i->", tail, tail))
+
+
+def _sum_weights(freq_hz: np.ndarray, dt_s: float) -> float:
+    return 1.0 / (dt_s * 2.0 * (freq_hz.size - 1))  # bin width of a one-sided rfft grid
+
+
+def avar_from_psd(psd: np.ndarray, freq_hz: np.ndarray, m, dt_s: float) -> np.ndarray:
+    """Allan variance at τ = m·dt of a sampled series with one-sided PSD ``psd`` on the rfft
+    grid ``freq_hz``: Σ S(f)·2 sin⁴(πfm·dt)/(m² sin²(πf·dt))·Δf (the transfer function of the
+    difference of two adjacent m-sample means; white S = 2σ²dt gives σ²/m)."""
+    f = np.asarray(freq_hz, float)[1:]
+    m = np.asarray(m, float)[:, None]
+    x = math.pi * f * dt_s
+    kern = 2.0 * np.sin(m * x) ** 4 / (m * m * np.sin(x) ** 2)
+    return kern @ np.asarray(psd, float)[1:] * _sum_weights(np.asarray(freq_hz), dt_s)
+
+
+def diff_var_from_psd(psd: np.ndarray, freq_hz: np.ndarray, dt_s: float) -> float:
+    """Variance of the first differences: Σ S(f)·4 sin²(πf·dt)·Δf."""
+    f = np.asarray(freq_hz, float)
+    return float(np.sum(np.asarray(psd) * 4.0 * np.sin(math.pi * f * dt_s) ** 2)
+                 * _sum_weights(f, dt_s))

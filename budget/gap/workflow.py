@@ -113,9 +113,10 @@ def _parsimonious(ch: str, best: CandidateFit, scored, score, st: _State, null: 
     with fewer parameters already brings the channel within its null threshold, ``best`` keeps
     its place only when its extra parameters buy a significant further drop of Σz²:
 
-        (Σz²_simple − Σz²_best)/φ > χ²_Δp⁻¹(1 − α/M),
+        (Σz²_simple − Σz²_best)/φ > χ²_Δp⁻¹(1 − α),
 
-    the likelihood-ratio test of the main score applied to the extra parameters Δp. Near the
+    a likelihood-ratio test of the extra parameters Δp at the workflow's level α (one
+    pairwise question, so no multiplicity correction). Near the
     detection limit a two-parameter shape (a Gauss–Markov hump) fits one realization of a
     one-parameter effect (flicker) a little better than the effect itself; a drop that small
     is not evidence for the richer effect."""
@@ -126,7 +127,7 @@ def _parsimonious(ch: str, best: CandidateFit, scored, score, st: _State, null: 
         return best
     simple = max(simpler, key=score)[1]
     extra = (simple.sum_sq - best.sum_sq) / null.inflation(ch)
-    need = stats.chi2.isf(alpha / len(scored), best.n_params - simple.n_params)
+    need = stats.chi2.isf(alpha, best.n_params - simple.n_params)
     return best if extra > need else simple
 
 

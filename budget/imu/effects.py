@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy import signal
 
 #: Default temperature series when none is given: 25 °C at switch-on, warming 0.5 °C/min.
 DEFAULT_TEMP_START_C = 25.0
@@ -87,3 +88,24 @@ def outlier_spikes(shape: tuple[int, int], rate: float, magnitude: float,
     n_hit = int(hit.sum())
     spikes[hit] = magnitude * (2.0 * rng.integers(0, 2, n_hit) - 1.0)
     return spikes
+
+
+def lowpass_coefficient(cutoff_hz: float, dt_s: float) -> float:
+    """Smoothing factor a = 1 − exp(−2π·f_c·dt) of the first-order output filter."""
+    return -math.expm1(-2.0 * math.pi * cutoff_hz * dt_s)
+
+
+def lowpass_gain2(freq_hz: np.ndarray, cutoff_hz: float, dt_s: float) -> np.ndarray:
+    """|H(f)|² of y_k = (1 − a)·y_{k−1} + a·x_k (unit DC gain):
+    a² / (1 − 2(1 − a)·cos 2πf·dt + (1 − a)²)."""
+    a = lowpass_coefficient(cutoff_hz, dt_s)
+    r = 1.0 - a
+    return a * a / (1.0 - 2.0 * r * np.cos(2.0 * math.pi * np.asarray(freq_hz) * dt_s) + r * r)
+
+
+def lowpass(x: np.ndarray, cutoff_hz: float, dt_s: float) -> np.ndarray:
+    """First-order low-pass of ``x`` (T, N) along time, y_k = (1 − a)·y_{k−1} + a·x_k, started
+    at y_0 = x_0 (the transient lasts ≈ 1/a samples). Models a sensor's internal output filter
+    (e.g. the averaging/decimation stage of a MEMS IMU) acting on its additive noise."""
+    a = lowpass_coefficient(cutoff_hz, dt_s)
+    return signal.lfilter([a], [1.0, a - 1.0], x, axis=-1, zi=(1.0 - a) * x[:, :1])[0]

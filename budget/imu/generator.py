@@ -8,9 +8,9 @@ angles) and b + n the additive terms of every channel's effects. The generator r
 Per trial, drawn once (1σ from the model, Gaussian): turn-on bias (catalog bias repeatability),
 scale factor, misalignment. Per sample: every effect of :meth:`NoiseModelSI.channel_effects`
 (catalog ARW/VRW → ``white_noise``, bias instability → flicker, gyro RRW → ``rate_random_walk``,
-plus the explicit effects). Order of application: additive terms, then (I+E) on the true
-signals, turn-on bias, quantization of the integrated output (which therefore sees the whole
-signal), and finally outliers (data glitches). Draw order is fixed (gyro triad, then accel
+plus the explicit effects). Order of application: additive terms, the output low-pass filter
+(``lowpass``) on them, then (I+E) on the true signals, turn-on bias, quantization of the
+integrated output (which therefore sees the whole signal), and finally outliers (data glitches). Draw order is fixed (gyro triad, then accel
 triad; within a triad: constants, stationary Gaussian part (per axis with a coloured term),
 white noise of the other axes, random walk, sinusoids, quantization, outliers), so the same
 generator state gives the same errors.
@@ -153,6 +153,13 @@ def _triad(si: NoiseModelSI, triad: str, n_trials: int, n_samples: int, dt_s: fl
             elif f.name == "sinusoid" and f.param("amplitude") > 0:
                 out[:, :, axis] += fx.sinusoid(n_trials, time_s, f.param("frequency_hz"),
                                                f.param("amplitude"), rng)
+
+    # --- the sensor's output filter shapes its additive noise (not the true signal: its lag
+    # of the motion is far below the bandwidths that matter here) ---------------------------
+    for axis, effs in enumerate(per_axis):
+        for f in effs:
+            if f.name == "lowpass":
+                out[:, :, axis] = fx.lowpass(out[:, :, axis], f.param("cutoff_hz"), dt_s)
 
     # --- scale factor and misalignment act on the true signal; then the turn-on bias -----
     const = bias.copy() if sig_b > 0 else None

@@ -18,7 +18,12 @@ sinusoid                    ``frequency_hz``, ``amplitude`` (peak, channel unit)
 gauss_markov                ``tau_s`` (correlation time), ``sigma`` (steady-state 1σ)
 temperature_sensitivity     ``coefficient`` (channel unit/°C), signed
 outliers                    ``rate`` (fraction of samples, 0–1), ``magnitude`` (channel unit)
+lowpass                     ``cutoff_hz``: first-order output filter (1 − a)·y + a·x,
+                            a = 1 − exp(−2π·f_c·dt), on the channel's additive noise
 ==========================  ===========================================================
+
+``lowpass`` extends the shared vocabulary: real MEMS parts average or filter internally before
+they output a sample, which white noise alone cannot describe (the ADIS16405 logs show it).
 
 The JSON form (MODEL.json) is the catalog row's keys in datasheet units plus
 ``"effects": [{"name": ..., "channel": ..., "params": {...}}]``; it is what the Monte Carlo and
@@ -53,10 +58,11 @@ EFFECT_PARAMS: dict[str, dict[str, tuple[str, float | None, bool]]] = {
     "gauss_markov": {"tau_s": ("s", 0.0, False), "sigma": ("", 0.0, True)},
     "temperature_sensitivity": {"coefficient": ("/°C", None, True)},
     "outliers": {"rate": ("fraction of samples", 0.0, True), "magnitude": ("", 0.0, True)},
+    "lowpass": {"cutoff_hz": ("Hz", 0.0, False)},
 }
 EFFECT_NAMES = tuple(EFFECT_PARAMS)
 #: Parameters measured in Hz or s, or dimensionless: their unit does not depend on the channel.
-_CHANNEL_FREE = {"frequency_hz", "tau_s", "rate"}
+_CHANNEL_FREE = {"frequency_hz", "tau_s", "rate", "cutoff_hz"}
 
 
 def channel_unit(channel: str) -> str:

@@ -31,7 +31,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.polynomial import legendre
 
+from ..errors import InputError
+from ..imu.noise_model import as_noise_model_si
 from ..motion import simulate_motion
+from ..noise.prefilter import calibrate_prefilter
 from ..rng import trial_generator
 from ..sar import (SarGeometry, Scene, evaluate, form_image, measure_targets, pga, phase_on_bins,
                    residual_phase_rad, simulate_echoes)
@@ -199,17 +202,40 @@ def run_trial_errors(setup: ChainSetup, error_m: np.ndarray, trial: int, seed: i
                         pga_reason=res.reason, score=float(score), detail=detail)
 
 
+_PREFILTERS: dict = {}
+
+
+def _prefilter(model, rate_hz: float, kind: str, samples: int, seed: int):
+    """The part's pre-filter, calibrated once per (model, rate, kind, samples, seed) and process."""
+    si = as_noise_model_si(model)
+    key = (repr(si), rate_hz, kind, samples, seed)
+    if key not in _PREFILTERS:
+        if len(_PREFILTERS) > 32:
+            _PREFILTERS.clear()
+        _PREFILTERS[key] = calibrate_prefilter(si, rate_hz, kind=kind, samples=samples, seed=seed)
+    return _PREFILTERS[key]
+
+
 def run_chunk(setup: ChainSetup, model, seed: int, start: int, stop: int,
               keep_detail: bool = False) -> list[TrialOutcome]:
     """Trials ``start … stop−1`` (``start`` a multiple of the chunk size) of ``model``; with the
     scenario's ``aiding``, the aided/smoothed solution (:mod:`budget.mc.aided`) replaces the
     free-inertial one."""
+    opts = setup.options
+    if setup.scenario.aiding and opts.prefilter != "none":
+        raise InputError("the ARMA-Kalman pre-filter applies to the free-inertial chain, not with "
+                         "aiding", field="prefilter", value=opts.prefilter,
+                         expected="prefilter = none when the scenario has aiding")
     if setup.scenario.aiding:
         from .aided import aided_motion
         time_s, series, cells = aided_motion(setup.scenario, model, seed, start, stop)
     else:
+        pre = None
+        if opts.prefilter != "none":
+            pre = _prefilter(model, setup.scenario.imu_rate_hz, opts.prefilter,
+                             opts.prefilter_calibration_samples, seed)
         motion = simulate_motion(setup.scenario, model, stop - start, seed, first_trial=start,
-                                 keep_series=True)
+                                 keep_series=True, prefilter=pre)
         time_s, series, cells = motion.time_s, motion.position_error_m, motion.peak_range_cells.max(axis=1)
     out = []
     for k in range(stop - start):

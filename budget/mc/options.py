@@ -35,6 +35,12 @@ class McOptions(BaseModel):
     pga_tol_rad: float = Field(0.005, gt=0, le=0.5, description="PGA stops when the estimate changes "
                                "by less than this rms (tighter than the 1° verdict limit)")
     image_method: Literal["rda", "backprojection"] = "rda"
+    prefilter: Literal["none", "kalman", "rts"] = Field(
+        "none", description="seed 000's ARMA-Kalman filtering of the IMU output before navigation: "
+                            "none, the real-time filter (kalman) or the RTS smoother (rts); the ARMA "
+                            "models are fitted on a simulated static record of the part")
+    prefilter_calibration_samples: int = Field(16_384, ge=1024, le=1 << 20,
+                                               description="length of that static record")
     snr_db: float | None = Field(None, description="receiver noise; None = noise-free echoes")
     chunk_trials: int = Field(64, ge=64, le=65536, multiple_of=64)
     keep_worst: int = Field(5, ge=0, le=100)

@@ -87,7 +87,8 @@ class McResult:
         lb, hb = self.ci_before
         reasons = ", ".join(f"{k} {v}" for k, v in self.agg.failure_reasons().items() if v) or "none"
         return (f"{self.model_label} on {self.scenario_name} (Tc = {self.tc_s:.3g} s), {self.trials} trials, "
-                f"seed {self.seed}{' (cancelled)' if self.cancelled else ''}\n"
+                f"seed {self.seed}{' (cancelled)' if self.cancelled else ''}"
+                f"{', IMU pre-filter: ' + self.extra['prefilter'] if self.extra.get('prefilter') else ''}\n"
                 f"P(pass) before PGA {self.p_pass_before:.3f} [{lb:.3f}, {hb:.3f}], "
                 f"after PGA {self.p_pass_after:.3f} [{lo:.3f}, {hi:.3f}] (95 % Wilson)\n"
                 f"failure reasons: {reasons}\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}"))

@@ -122,8 +122,9 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
                 f.cancel()
             if pool is not None:
                 pool.shutdown(wait=True, cancel_futures=True)
+    extra = {"prefilter": options.prefilter} if options.prefilter != "none" else {}
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
-                    tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials)
+                    tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra)
 
 
 def required_chunks(trials: int, options: McOptions) -> int:

@@ -68,8 +68,10 @@ def _positive_int(name: str, value, minimum: int = 1) -> int:
 class _Context:
     """Everything a block needs, computed once."""
 
-    def __init__(self, scenario, model_si, seed, disturbance, targets, initial_errors, keep_series):
+    def __init__(self, scenario, model_si, seed, disturbance, targets, initial_errors, keep_series,
+                 prefilter=None):
         self.scenario, self.si, self.seed = scenario, model_si, seed
+        self.prefilter = prefilter
         self.rate = scenario.imu_rate_hz
         self.dt = 1.0 / self.rate
         self.n = aperture_samples(scenario)
@@ -103,7 +105,10 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
                                true_rate_rad_s=rate_b, true_force_m_s2=motion.force_b_m_s2)
     init = ctx.initial.draw(ctx.block, trial_generator(ctx.seed, start, INITIAL_STREAM)) \
         if ctx.initial is not None else {}
-    nav = propagate_errors(errs.gyro_rad_s, errs.accel_m_s2, ctx.dt,
+    gyro, accel = errs.gyro_rad_s, errs.accel_m_s2
+    if ctx.prefilter is not None:  # filter what the sensor outputs (true + error), keep the error
+        gyro, accel = ctx.prefilter.apply(gyro, accel, rate_b, motion.force_b_m_s2)
+    nav = propagate_errors(gyro, accel, ctx.dt,
                            force_n_m_s2=motion.force_n_m_s2 if moving else None,
                            c_b_n=motion.c_b_n, lever_arm_b_m=ctx.lever, **init)
     del errs
@@ -133,7 +138,7 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
 def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chunk_size: int | None = None,
                     disturbance: Disturbance | dict | None = None, targets=None,
                     initial_errors: InitialErrors | dict | None = None, workers: int = 1,
-                    keep_series: bool = True, first_trial: int = 0) -> MotionResult:
+                    keep_series: bool = True, first_trial: int = 0, prefilter=None) -> MotionResult:
     """Monte Carlo of the motion error of ``n_trials`` apertures of ``scenario`` with IMU ``model``.
 
     ``model``: :class:`~budget.imu.noise_model.NoiseModel`, catalog ``PartSpec`` or
@@ -145,6 +150,8 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     error (T, K, N) series. ``workers`` > 1 runs chunks on threads; results are identical.
     ``first_trial`` (a multiple of :func:`block_trials`) simulates trials ``first_trial …
     first_trial + n_trials − 1`` of the same seed, so a Monte Carlo can be cut into chunks.
+    ``prefilter``: an :class:`~budget.noise.prefilter.ImuPrefilter` applied to the IMU output
+    before navigation (seed 000's ARMA-Kalman filtering), default none.
     """
     if not isinstance(scenario, Scenario):
         scenario = Scenario.from_dict(scenario) if isinstance(scenario, dict) else scenario
@@ -180,7 +187,7 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                          f"{MAX_SERIES_BYTES / 1e9:g} GB", field="n_trials",
                          expected="fewer trials or keep_series=False")
 
-    ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series)
+    ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series, prefilter)
     first = _positive_int("first_trial", first_trial, minimum=0)
     if first % ctx.block:
         raise InputError(f"first_trial must be a multiple of the {ctx.block}-trial random-stream block",

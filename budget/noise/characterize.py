@@ -65,11 +65,15 @@ class Characterization:
 
     def summary(self) -> str:
         p = self.part
-        lines = [f"part {p.part_id} ({p.grade}), rate {p.rate_hz} Hz",
-                 f"  gyro  ARW {p.gyro_arw_deg_rt_h} deg/√h, bias instability "
-                 f"{p.gyro_bias_instability_deg_h} deg/h, RRW {p.gyro_rrw_deg_h_rt_h} deg/h/√h",
-                 f"  accel VRW {p.accel_vrw_m_s_rt_h} m/s/√h, bias instability "
-                 f"{p.accel_bias_instability_ug} µg",
+
+        def v(x, unit):  # 4 significant digits; a term the fit did not find is said so
+            return "not found" if x is None else f"{x:.4g} {unit}"
+
+        lines = [f"part {p.part_id} ({p.grade}), rate {p.rate_hz:g} Hz",
+                 f"  gyro  ARW {v(p.gyro_arw_deg_rt_h, 'deg/√h')}, bias instability "
+                 f"{v(p.gyro_bias_instability_deg_h, 'deg/h')}, RRW {v(p.gyro_rrw_deg_h_rt_h, 'deg/h/√h')}",
+                 f"  accel VRW {v(p.accel_vrw_m_s_rt_h, 'm/s/√h')}, bias instability "
+                 f"{v(p.accel_bias_instability_ug, 'µg')}",
                  f"  axes combined: {self.combine_rule}"]
         lines += [t.summary() for t in self.channels.values()]
         lines += [f"note: {n}" for n in self.notes]
