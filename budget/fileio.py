@@ -41,7 +41,7 @@ def _umask() -> int:
                 if line.startswith("Umask:"):
                     return int(line.split()[1], 8)
     except (OSError, ValueError):
-        pass
+        pass  # no /proc (not Linux): fall through to the usual default
     return 0o022
 
 
