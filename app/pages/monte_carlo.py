@@ -9,6 +9,7 @@ import streamlit as st
 from budget.catalog.schema import PartSpec
 from budget.errors import InputError
 from budget.mc import REASONS, TRIAL_METRICS, McOptions, McResult, run_mc
+from budget.mc.options import PREFILTERS
 from budget.plots.mc import (has_detail, metric_histogram_figure, pass_probability_figure,
                              trial_images_figure, trial_phase_figure)
 from budget.scenario import Scenario
@@ -23,7 +24,6 @@ DEFAULT_SEED = 1
 MAX_TRIALS = 100_000
 #: Session-state key of the last run request (scenario JSON, part ids, trials, seed).
 RUN_KEY = "mc_request"
-PREFILTERS = ("none", "kalman", "rts")
 
 
 @st.cache_data(show_spinner=False, max_entries=16)

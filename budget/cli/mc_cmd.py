@@ -8,6 +8,7 @@ from ..catalog.io import get_part, load_catalog
 from ..errors import InputError
 from ..imu.noise_model import NoiseModel
 from ..mc import McOptions, run_mc
+from ..mc.options import PREFILTERS
 from ..mc.sweep import cheapest_passing, sweep
 from ..presets import get_preset
 from ..scenario import Scenario
@@ -58,7 +59,7 @@ def add_parser(sub) -> None:
     p.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
     p.add_argument("--no-fast-phase", action="store_true",
                    help="judge by the image alone (drop seed 004's 1° fast-phase criterion)")
-    p.add_argument("--prefilter", choices=("none", "kalman", "rts"), default="none",
+    p.add_argument("--prefilter", choices=PREFILTERS, default="none",
                    help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
                         "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
     add_json_option(p)

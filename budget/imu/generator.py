@@ -10,10 +10,10 @@ scale factor, misalignment. Per sample: every effect of :meth:`NoiseModelSI.chan
 (catalog ARW/VRW → ``white_noise``, bias instability → flicker, gyro RRW → ``rate_random_walk``,
 plus the explicit effects). Order of application: additive terms, the output low-pass filter
 (``lowpass``) on them, then (I+E) on the true signals, turn-on bias, quantization of the
-integrated output (which therefore sees the whole signal), and finally outliers (data glitches). Draw order is fixed (gyro triad, then accel
-triad; within a triad: constants, stationary Gaussian part (per axis with a coloured term),
-white noise of the other axes, random walk, sinusoids, quantization, outliers), so the same
-generator state gives the same errors.
+integrated output (which therefore sees the whole signal), and finally outliers (data glitches).
+Draw order is fixed (gyro triad, then accel triad; within a triad: constants, stationary
+Gaussian part (per axis with a coloured term), white noise of the other axes, random walk,
+sinusoids, quantization, outliers), so the same generator state gives the same errors.
 """
 
 from __future__ import annotations

@@ -6,7 +6,11 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from ..noise.prefilter import KINDS as PREFILTER_KINDS
 from ..sar.acceptance import Acceptance
+
+#: IMU pre-filter choices of the trial chain (``budget.noise.prefilter``).
+PREFILTERS = ("none", *PREFILTER_KINDS)
 
 #: Image acceptance for the verdict: as :class:`~budget.sar.acceptance.Acceptance`, except that a
 #: peak shift is not a focus failure (constant and linear phase only move the image, DESIGN.md §4).
@@ -35,7 +39,7 @@ class McOptions(BaseModel):
     pga_tol_rad: float = Field(0.005, gt=0, le=0.5, description="PGA stops when the estimate changes "
                                "by less than this rms (tighter than the 1° verdict limit)")
     image_method: Literal["rda", "backprojection"] = "rda"
-    prefilter: Literal["none", "kalman", "rts"] = Field(
+    prefilter: Literal[PREFILTERS] = Field(
         "none", description="seed 000's ARMA-Kalman filtering of the IMU output before navigation: "
                             "none, the real-time filter (kalman) or the RTS smoother (rts); the ARMA "
                             "models are fitted on a simulated static record of the part")

@@ -49,9 +49,9 @@ class ImuPrefilter:
             kf = self.filters.get(ch)
             if kf is None:
                 continue
-            truth = 0.0 if true is None else np.broadcast_to(true[..., axis], err.shape[:2])
+            truth = np.broadcast_to(0.0 if true is None else true[..., axis], err.shape[:2])
             for t in range(err.shape[0]):
-                tr = truth if np.isscalar(truth) else truth[t]
+                tr = truth[t]
                 z = err[t, :, axis] + tr
                 res = kf.filter(z) if self.kind == "kalman" else kf.smooth(z)
                 out[t, :, axis] = res.signal - tr
