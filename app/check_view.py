@@ -22,7 +22,9 @@ PASS_BINDING_BG, FAIL_BINDING_BG = "#74c476", "#fb6a4a"
 
 def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
     """One row per part: part_id, grade, verdict, binding, min margin, a margin per parameter,
-    unspecified parameters. Margins are bound/spec (≥ 1 passes); NaN where not in the datasheet."""
+    unspecified parameters, flag (⚠ where the check's seed 004 verdict and its fast-phase /
+    lever-arm verdict differ, ``CheckResult.flag``). Margins are bound/spec (≥ 1 passes); NaN where
+    not in the datasheet."""
     recs = result.records(scenario_index)
     mins = np.asarray(result.min_margin[:, scenario_index], float)
     rows = []
@@ -33,8 +35,14 @@ def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
         for p in result.params:
             row[PARAM_LABELS[p]] = rec["margins"].get(p, math.nan)
         row["unspecified"] = len(rec["unspecified"])
+        row["flag"] = "⚠" if rec.get("flag") else ""
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def flagged(result: CheckResult, scenario_index: int = 0) -> list[tuple[str, str]]:
+    """(part_id, reason) of every part whose two analytic verdicts differ."""
+    return [(r["part_id"], r.get("flag_reason") or "") for r in result.records(scenario_index) if r.get("flag")]
 
 
 def verdict_counts(frame: pd.DataFrame) -> dict[str, int]:

@@ -45,12 +45,9 @@ def guarded(render: Callable[[], None]) -> None:
     """Run ``render``; bad input is shown as its one-line message, anything else as a short note."""
     try:
         render()
-    except InputError as err:
-        st.error(str(err), icon=":material/error:")
     except Exception as err:  # noqa: BLE001 — the browser never gets a traceback
-        log.exception("dashboard page failed")
-        st.error(f"Something went wrong ({type(err).__name__}: {err}). The details are in the "
-                 "server log.", icon=":material/error:")
+        from uploads import show_error  # the CLI's one-line messages (budget.errors.describe_error)
+        show_error(err)
 
 
 # --- pydantic model ↔ widgets ------------------------------------------------------------------

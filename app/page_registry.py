@@ -1,6 +1,6 @@
 """The dashboard's pages: one module under ``pages/`` each, listed here in menu order.
 
-To add a page (Monte Carlo, noise lab, model gap): write ``pages/<name>.py`` whose body calls
+To add a page: write ``pages/<name>.py`` whose body calls
 ``page_frame.run_page(render)``, and add one :class:`PageEntry` below. A listed page whose
 module does not exist yet is left out of the menu.
 """
@@ -29,8 +29,10 @@ PAGES: tuple[PageEntry, ...] = (
     PageEntry("pages/catalog.py", "Catalog", ":material/inventory_2:", "catalog"),
     PageEntry("pages/check.py", "Check matrix", ":material/fact_check:", "check"),
     PageEntry("pages/monte_carlo.py", "Monte Carlo", ":material/casino:", "monte-carlo"),
+    PageEntry("pages/sweep.py", "Trade study", ":material/grid_on:", "sweep"),
     PageEntry("pages/noise_lab.py", "Noise lab", ":material/ssid_chart:", "noise-lab"),
     PageEntry("pages/model_gap.py", "Model gap", ":material/compare_arrows:", "model-gap"),
+    PageEntry("pages/focus.py", "Real SAR data", ":material/satellite_alt:", "focus"),
 )
 
 

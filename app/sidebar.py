@@ -16,9 +16,10 @@ from budget.errors import InputError
 from budget.presets import PRESETS, get_preset
 from budget.scenario import Scenario
 
-from components import keep, keep_model_state, model_from_state, model_inputs
+from components import STORE_KEY, keep, keep_model_state, model_from_state, model_inputs
 
 DEFAULT_PRESET = "airborne_xband"
+MAX_SCENARIO_BYTES = 1_000_000
 SCENARIO_PREFIX = "scn_"
 DERIVED_PREFIX = "da_"
 NOAF_PREFIX = "na_"
@@ -54,14 +55,63 @@ class Context:
         return self.scenario is not None and not self.errors
 
 
+#: Session-state keys: the scenario the fields started from (a preset or an uploaded file), as
+#: JSON, and where it came from; an edit of any field renames the scenario (see :func:`_named`).
+BASE_KEY, BASE_ORIGIN_KEY, UPLOAD_ERROR_KEY = "scn_base_json", "scn_base_origin", "scn_upload_error"
+
+
 def _keep_scenario(preset: str, force: bool) -> None:
     s = get_preset(preset)
     keep_model_state(SCENARIO_PREFIX, s, force=force, fallbacks={"propagation_speed_m_s": s.c_m_s})
+    if force or BASE_KEY not in st.session_state.get(STORE_KEY, {}):
+        keep(BASE_KEY, s.model_dump_json(), force=True)
+        keep(BASE_ORIGIN_KEY, f"preset {preset}", force=True)
 
 
 def _apply_preset() -> None:
     keep("scn_preset", st.session_state["scn_preset"], force=True)
     _keep_scenario(st.session_state["scn_preset"], force=True)
+
+
+def _apply_upload() -> None:
+    """A scenario file was uploaded: validate it (every error listed) and load its fields."""
+    up = st.session_state.get("scn_upload")
+    keep(UPLOAD_ERROR_KEY, "", force=True)
+    if up is None:
+        return
+    try:
+        s = scenario_from_upload(up.getvalue(), up.name)
+    except InputError as err:
+        keep(UPLOAD_ERROR_KEY, str(err), force=True)
+        return
+    keep_model_state(SCENARIO_PREFIX, s, force=True, fallbacks={"propagation_speed_m_s": s.c_m_s})
+    keep(BASE_KEY, s.model_dump_json(), force=True)
+    keep(BASE_ORIGIN_KEY, f"file {up.name}", force=True)
+
+
+def scenario_from_upload(data: bytes, name: str) -> Scenario:
+    """A scenario from uploaded JSON/YAML bytes (parsed as data, never executed)."""
+    import yaml
+
+    if len(data) > MAX_SCENARIO_BYTES:
+        raise InputError(f"file is {len(data)} bytes", file=name, expected=f"at most {MAX_SCENARIO_BYTES} bytes")
+    try:
+        data_ = yaml.safe_load(data.decode("utf-8"))  # JSON is YAML too
+    except (UnicodeDecodeError, yaml.YAMLError) as err:
+        raise InputError(f"not valid JSON/YAML ({type(err).__name__})", file=name,
+                         expected="a scenario file as written by `sar-budget scenario write`") from None
+    return Scenario.from_dict(data_, source=name)
+
+
+def _named(s: Scenario) -> Scenario:
+    """An edited scenario does not keep its preset's (or file's) name: ``<name>_edited``."""
+    base_json = st.session_state.get(BASE_KEY)
+    if not base_json:
+        return s
+    base = Scenario.model_validate_json(base_json)
+    if s.name != base.name or s.model_dump(exclude={"name"}) == base.model_dump(exclude={"name"}):
+        return s  # the user named it, or nothing changed
+    return s.model_copy(update={"name": f"{base.name}_edited"})
 
 
 def _reset_assumptions(prefix: str, model) -> None:
@@ -88,6 +138,13 @@ def render() -> Context:
     sb.header("Scenario")
     sb.selectbox("preset", options=sorted(PRESETS), key="scn_preset", on_change=_apply_preset,
                  help="picking a preset overwrites the fields below")
+    sb.file_uploader("or load a scenario file (JSON/YAML)", type=["json", "yaml", "yml"], key="scn_upload",
+                     on_change=_apply_upload, max_upload_size=1,
+                     help="e.g. from examples/scenarios or `sar-budget scenario write`; loading it "
+                          "overwrites the fields below")
+    if st.session_state.get(UPLOAD_ERROR_KEY):
+        sb.error(st.session_state[UPLOAD_ERROR_KEY], icon=":material/error:")
+    sb.caption(f"fields from {st.session_state.get(BASE_ORIGIN_KEY, 'preset ' + DEFAULT_PRESET)}")
     model_inputs(Scenario, SCENARIO_PREFIX, MAIN_FIELDS, sb)
     with sb.expander("More scenario fields"):
         model_inputs(Scenario, SCENARIO_PREFIX, MORE_FIELDS, st)
@@ -106,6 +163,7 @@ def render() -> Context:
 
     errors: list[str] = []
     scenario = _build(Scenario, SCENARIO_PREFIX, "scenario", errors)
+    scenario = _named(scenario) if scenario is not None else None
     derived = _build(DerivedAssumptions, DERIVED_PREFIX, "derived assumptions", errors)
     noaf = _build(NoAutofocusAssumptions, NOAF_PREFIX, "no-autofocus assumptions", errors)
     for e in errors:

@@ -18,6 +18,7 @@ from pathlib import Path
 from budget.catalog.io import read_parts
 from budget.catalog.schema import PartSpec
 from budget.errors import InputError
+from budget.fileio import printable
 
 MAX_UPLOAD_BYTES = 5_000_000
 #: At most this many errors are listed; at most this many rows are re-validated one by one.
@@ -40,7 +41,8 @@ class UploadCheck:
 
     def error_rows(self) -> list[dict]:
         """One dict per error: row, column, value, problem, expected (for a table)."""
-        return [{"row": e.row, "column": e.field, "value": None if e.value is None else str(e.value),
+        return [{"row": e.row, "column": e.field,
+                 "value": None if e.value is None else printable(str(e.value), 80),
                  "problem": e.reason, "expected": e.expected} for e in self.errors]
 
 

@@ -1,32 +1,56 @@
-"""Uploaded files: written to a private temporary copy, read by the library, never executed."""
+"""Uploaded files (written to a private temporary copy, read by the library, never executed) and
+the dashboard's side of the error boundary: :func:`error_text` / :func:`show_error` give a page
+the same one-line message the CLI prints (:func:`budget.errors.describe_error`), never a
+traceback and never a bare "something went wrong"."""
 
 from __future__ import annotations
 
+import logging
 import os
 import tempfile
 from pathlib import Path
 
 import streamlit as st
 
-from budget.errors import InputError
+from budget.errors import InputError, describe_error
+from budget.fileio import printable
 from budget.noise import ImuLog, read_log
+
+log = logging.getLogger("sar_budget.dashboard")
+
+
+def error_text(err: BaseException) -> str:
+    """The one-line message for ``err``: the input problem as the CLI states it, or for an
+    unexpected failure its type and a short hint (the traceback goes to the server log)."""
+    msg = describe_error(err)
+    if msg.kind == "unexpected":
+        log.error("dashboard page failed", exc_info=err)
+        text = msg.text.split(" — ")[0]
+        return f"{printable(text, 300)} — an unexpected error; the details are in the server log."
+    return printable(msg.text, 2000)
+
+
+def show_error(err: BaseException) -> None:
+    """Show ``err`` on the page as :func:`error_text` (``st.error``)."""
+    st.error(error_text(err), icon=":material/error:")
 
 
 @st.cache_data(show_spinner="Reading the log …", max_entries=4)
 def read_uploaded_log(data: bytes, name: str, max_rows: int, repair: bool) -> ImuLog:
     """Write the upload to a temporary file (keeping its suffix: .csv, .gz, …) and read it;
     errors name the user's file, not the temporary copy."""
-    suffix = "".join(Path(name).suffixes[-2:]) or ".csv"
+    name = Path(name or "upload.csv").name[:200] or "upload.csv"
+    suffix = "".join(s for s in Path(name).suffixes[-2:] if s.isascii() and len(s) <= 8) or ".csv"
     fd, tmp = tempfile.mkstemp(suffix=suffix)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
-        log = read_log(tmp, repair=repair, max_rows=max_rows)
+        log_ = read_log(tmp, repair=repair, max_rows=max_rows)
     except InputError as err:
         if err.file == tmp:
             err.rename_file(name)
         raise
     finally:
         os.unlink(tmp)
-    log.source = name
-    return log
+    log_.source = name
+    return log_

@@ -1,15 +1,46 @@
-"""One exception type for bad user input, with a message that says where and what was expected.
+"""Error types for bad user input and unusable outputs, and the one-line text a user sees.
 
 Every reader of user data (catalog CSV, scenario JSON/YAML, IMU logs, Allan tables, noise
-models) raises :class:`InputError`; the CLI and the dashboard print its message as one line and
-never show a traceback.
+models) raises :class:`InputError`; an output that cannot be written (missing or read-only
+folder, ``/proc``) raises :class:`OutputError`. :func:`describe_error` turns *any* exception
+into one line and an exit status — the single error boundary the CLI and the dashboard share:
+2 = bad input, 1 = environment (unwritable output, out of memory, unexpected failure),
+130 = cancelled. Values quoted in messages are shortened with :mod:`reprlib`, so a 5 MB cell
+or a billion-laughs YAML tree never reaches ``repr`` whole.
 """
 
 from __future__ import annotations
 
+import reprlib
+from dataclasses import dataclass
 from pathlib import Path
 
 from pydantic import ValidationError
+
+#: Exit status of bad input, of an environment problem and of a cancelled run.
+EXIT_INPUT, EXIT_ENVIRONMENT, EXIT_CANCELLED = 2, 1, 130
+
+_short = reprlib.Repr()
+_short.maxstring = 80
+_short.maxother = 80
+_short.maxlong = 40
+_short.maxlist = _short.maxtuple = _short.maxdict = _short.maxset = 6
+_short.maxlevel = 2
+
+
+def short_repr(value: object) -> str:
+    """``repr(value)`` cut to about 80 characters (nested containers to two levels); never
+    expands a huge or deeply shared structure, never fails."""
+    try:
+        return _short.repr(value)
+    except Exception:  # noqa: BLE001 — a broken __repr__ must not hide the real error
+        return f"<{type(value).__name__}>"
+
+
+def _short_text(text: str | None, limit: int = 200) -> str | None:
+    if text is None or len(text) <= limit:
+        return text
+    return text[:limit - 1] + "…"
 
 
 class InputError(ValueError):
@@ -23,8 +54,8 @@ class InputError(ValueError):
                  field: str | None = None, value: object = None, expected: str | None = None):
         self.file = str(file) if file is not None else None
         self.row = row
-        self.field = field
-        self.value = value
+        self.field = _short_text(str(field)) if field is not None else None
+        self.value = value  # shown through short_repr: it may be huge (a 5 MB cell, an alias tree)
         self.expected = expected
         self.reason = message
         super().__init__(self._format())
@@ -42,20 +73,35 @@ class InputError(ValueError):
         if self.row is not None:
             where.append(f"row {self.row}")
         if self.field:
-            where.append(f"field {self.field}")
+            where.append(f"option {self.field}" if self.field.startswith("--") else f"field {self.field}")
         text = ", ".join(where)
         msg = self.reason
         if self.value is not None:
-            msg += f" (got {self.value!r})"
+            msg += f" (got {short_repr(self.value)})"
         if self.expected:
             msg += f"; expected {self.expected}"
         return f"{text}: {msg}" if text else msg
 
 
+class OutputError(OSError):
+    """An output (``--json``, ``--out``, ``--report``, ``--append`` …) that cannot be written:
+    an environment problem (exit status 1), found before any computation starts."""
+
+    def __init__(self, message: str, *, file: str | Path | None = None, option: str | None = None):
+        self.file = str(file) if file is not None else None
+        self.option = option
+        self.reason = message
+        where = ", ".join(x for x in (option, self.file) if x)
+        super().__init__(f"{where}: {message}" if where else message)
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
 def from_validation_error(err: ValidationError, *, file: str | Path | None = None,
                           row: int | None = None) -> InputError:
     """Turn the first pydantic error into an :class:`InputError` naming the field."""
-    first = err.errors()[0]
+    first = err.errors(include_url=False)[0]
     field = ".".join(str(p) for p in first.get("loc", ())) or None
     value = first.get("input")
     if isinstance(value, dict):
@@ -63,7 +109,61 @@ def from_validation_error(err: ValidationError, *, file: str | Path | None = Non
     msg = first.get("msg", "invalid value")
     if msg.startswith("Value error, "):  # pydantic's prefix for errors raised by our validators
         msg = msg[len("Value error, "):]
-    more = len(err.errors()) - 1
-    if more:
-        msg += f" (and {more} more error{'s' if more > 1 else ''})"
+    msg = _short_text(msg, 400)
+    others = []  # every further error is named too, not only counted
+    for e in err.errors(include_url=False)[1:]:
+        loc = ".".join(str(p) for p in e.get("loc", ())) or "(model)"
+        m = e.get("msg", "invalid value").removeprefix("Value error, ")
+        v = e.get("input")
+        got = "" if isinstance(v, dict) or v is None else f" (got {short_repr(v)})"
+        others.append(_short_text(f"field {loc}: {m}{got}", 200))
+    if others:
+        if value is not None:  # keep the first error's value next to it, before the others
+            msg, value = f"{msg} (got {short_repr(value)})", None
+        msg += f"; {len(others)} more error{'s' if len(others) > 1 else ''}: " + "; ".join(others)
     return InputError(msg, file=file, row=row, field=field, value=value)
+
+
+@dataclass(frozen=True)
+class UserMessage:
+    """What a user is shown for an exception: one line of ``text`` and the process ``exit_code``."""
+
+    text: str
+    exit_code: int
+    kind: str  # "input" | "environment" | "cancelled" | "unexpected"
+
+
+DEBUG_HINT = "rerun with --debug (or SAR_BUDGET_DEBUG=1) for the traceback, and report it"
+
+
+def describe_error(err: BaseException) -> UserMessage:
+    """One line and an exit status for any exception (the CLI's and the dashboard's boundary).
+
+    Bad input (:class:`InputError`, too deep nesting, integers too long to convert) → 2; an
+    unwritable output, a file system or memory problem → 1; anything else → 1 with the
+    exception type and a hint, never a traceback.
+    """
+    if isinstance(err, InputError):
+        return UserMessage(str(err), EXIT_INPUT, "input")
+    if isinstance(err, ValidationError):
+        return UserMessage(str(from_validation_error(err)), EXIT_INPUT, "input")
+    if isinstance(err, KeyboardInterrupt):
+        return UserMessage("cancelled", EXIT_CANCELLED, "cancelled")
+    if isinstance(err, RecursionError):
+        return UserMessage("input nested too deeply to process (recursion limit reached)",
+                           EXIT_INPUT, "input")
+    if isinstance(err, ValueError) and "Exceeds the limit" in str(err) and "digits" in str(err):
+        return UserMessage("a number has too many digits (more than 4300)", EXIT_INPUT, "input")
+    if isinstance(err, OutputError):
+        return UserMessage(str(err), EXIT_ENVIRONMENT, "environment")
+    if isinstance(err, MemoryError):
+        return UserMessage("out of memory: the input or the requested run is too large for this "
+                           "machine (use fewer trials/rows, or a smaller file)", EXIT_ENVIRONMENT,
+                           "environment")
+    if isinstance(err, OSError):
+        what = err.strerror or type(err).__name__
+        where = f": {err.filename}" if err.filename else ""
+        return UserMessage(f"{what}{where}", EXIT_ENVIRONMENT, "environment")
+    text = _short_text(str(err).splitlines()[0] if str(err) else "", 200)
+    return UserMessage(f"unexpected {type(err).__name__}{': ' + text if text else ''} — {DEBUG_HINT}",
+                       EXIT_ENVIRONMENT, "unexpected")

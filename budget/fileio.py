@@ -1,29 +1,235 @@
-"""File helpers shared by every reader and writer: bounded text reads and atomic writes."""
+"""File helpers shared by every reader and writer: bounded, decompressing reads; JSON/YAML with
+depth, size and alias limits; atomic writes; spreadsheet-safe CSV text; printable text.
+
+Limits (each refused with an :class:`~budget.errors.InputError` naming the file):
+
+* compressed input (gzip, bzip2, xz, a zip with one member) is decompressed as a stream and
+  the decompressed bytes are *counted* — a size field in the container (gzip's trailer, zip's
+  header) is never trusted; ``.zst`` and tar archives are refused; a truncated or damaged
+  stream is reported as such;
+* JSON/YAML: at most :data:`MAX_DEPTH` levels of nesting and :data:`MAX_NODES` values
+  (YAML aliases counted as often as they are expanded, so a "billion laughs" file is refused
+  before it is built), integers of at most :data:`MAX_INT_DIGITS` digits.
+"""
 
 from __future__ import annotations
 
+import bz2
+import contextlib
+import csv
+import gzip
+import io
 import json
+import lzma
 import math
 import os
+import re
 import tempfile
+import time
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, OutputError
+
+#: Default cap on the decompressed size of any compressed input (bytes).
+MAX_DECOMPRESSED_BYTES = 4_000_000_000
+#: JSON/YAML limits: nesting depth, number of values (aliases expanded), digits of an integer.
+MAX_DEPTH = 64
+MAX_NODES = 200_000
+MAX_INT_DIGITS = 30
+
+_MAGIC = ((b"\x1f\x8b", "gzip"), (b"BZh", "bzip2"), (b"\xfd7zXZ\x00", "xz"),
+          (b"PK\x03\x04", "zip"), (b"PK\x05\x06", "zip"), (b"\x28\xb5\x2f\xfd", "zstd"))
+_DAMAGED = (EOFError, zlib.error, lzma.LZMAError, zipfile.BadZipFile, gzip.BadGzipFile, OSError)
+
+
+def compression_of(path: Path) -> str | None:
+    """Container format of ``path`` from its first bytes (not its suffix): gzip, bzip2, xz, zip,
+    zstd, tar or None (plain); an unreadable file raises :class:`InputError`."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(262)
+    except FileNotFoundError:
+        raise InputError("file not found", file=path) from None
+    except IsADirectoryError:
+        raise InputError("is a folder, not a file", file=path) from None
+    except OSError as err:
+        raise InputError(f"cannot read the file ({err.strerror or type(err).__name__})",
+                         file=path) from None
+    for magic, name in _MAGIC:
+        if head.startswith(magic):
+            return name
+    if head[257:262] == b"ustar":
+        return "tar"
+    return None
+
+
+class _Counted(io.RawIOBase):
+    """A read-only stream that counts what it passes on and maps decompression errors."""
+
+    def __init__(self, inner, path: Path, limit: int, kind: str | None):
+        self._inner, self._path, self._limit, self._kind = inner, path, limit, kind
+        self.count = 0
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buf) -> int:
+        try:
+            data = self._inner.read(len(buf))
+        except InputError:
+            raise
+        except _DAMAGED as err:
+            what = f"{self._kind} data" if self._kind else "file"
+            raise InputError(f"{what} is damaged or truncated ({type(err).__name__}: "
+                             f"{str(err)[:120]})", file=self._path,
+                             expected="a complete file (download or copy it again)") from None
+        n = len(data)
+        self.count += n
+        if self.count > self._limit:
+            raise InputError(f"decompresses to more than {self._limit:,} bytes", file=self._path,
+                             expected=f"at most {self._limit:,} bytes of text")
+        buf[:n] = data
+        return n
+
+    def close(self) -> None:
+        with contextlib.suppress(Exception):
+            self._inner.close()
+        super().close()
+
+
+def _open_inner(path: Path, kind: str | None):
+    if kind is None:
+        return open(path, "rb")
+    if kind == "gzip":
+        return gzip.open(path, "rb")
+    if kind == "bzip2":
+        return bz2.open(path, "rb")
+    if kind == "xz":
+        return lzma.open(path, "rb")
+    if kind == "zip":
+        try:
+            zf = zipfile.ZipFile(path)
+        except (zipfile.BadZipFile, OSError, EOFError) as err:
+            raise InputError(f"not a readable zip archive ({err})", file=path) from None
+        members = [m for m in zf.infolist() if not m.is_dir()]
+        if len(members) != 1:
+            zf.close()
+            raise InputError(f"zip archive holds {len(members)} files", file=path,
+                             expected="exactly one file in the zip (or the plain/.gz file)")
+        try:
+            inner = zf.open(members[0])
+        except (NotImplementedError, RuntimeError, zipfile.BadZipFile) as err:
+            zf.close()
+            raise InputError(f"zip member cannot be read ({err})", file=path,
+                             expected="an unencrypted zip (deflate, bzip2 or lzma)") from None
+        return _ZipMember(inner, zf)
+    what = {"zstd": "Zstandard (.zst)", "tar": "a tar archive"}[kind]
+    raise InputError(f"{what} is not supported", file=path,
+                     expected="a plain, .gz, .bz2, .xz or single-file .zip file")
+
+
+class _ZipMember:
+    def __init__(self, member, zf):
+        self._m, self._zf = member, zf
+
+    def read(self, n=-1):
+        return self._m.read(n)
+
+    def close(self):
+        self._m.close()
+        self._zf.close()
+
+
+@contextlib.contextmanager
+def open_input(path: str | Path, max_bytes: int = MAX_DECOMPRESSED_BYTES):
+    """Open ``path`` for binary reading, decompressing gzip/bzip2/xz/single-file zip (detected
+    by content), with at most ``max_bytes`` decompressed bytes; every problem is an
+    :class:`InputError` naming the file."""
+    path = Path(path)
+    try:
+        kind = compression_of(path)
+        inner = _open_inner(path, kind)
+    except FileNotFoundError:
+        raise InputError("file not found", file=path) from None
+    except IsADirectoryError:
+        raise InputError("is a folder, not a file", file=path) from None
+    except OSError as err:
+        raise InputError(f"cannot read the file ({err.strerror or type(err).__name__})",
+                         file=path) from None
+    raw = _Counted(inner, path, max_bytes, kind)
+    stream = io.BufferedReader(raw, buffer_size=1 << 20)
+    try:
+        yield stream
+    finally:
+        stream.close()
+
+
+_REFUSED_SUFFIXES = (".zst", ".zstd", ".tar", ".tgz", ".tbz2", ".txz")
+
+
+def check_input_file(path: str | Path, max_bytes: int = MAX_DECOMPRESSED_BYTES) -> str | None:
+    """Make sure ``path`` can be read to the end before a reader (e.g. pandas) starts on it:
+    readable, not a tar/zstd archive, a zip with one member, and a compressed stream that is
+    complete, undamaged and at most ``max_bytes`` decompressed (streamed and counted, in
+    bounded memory). Returns the compression found (None = plain); raises :class:`InputError`."""
+    path = Path(path)
+    name = path.name.lower()
+    if name.endswith(_REFUSED_SUFFIXES) or ".tar." in name:
+        raise InputError("archives (tar) and Zstandard files are not supported", file=path,
+                         expected="a plain, .gz, .bz2, .xz or single-file .zip file")
+    try:
+        kind = compression_of(path)
+    except OSError as err:
+        raise InputError(f"cannot read the file ({err.strerror or type(err).__name__})",
+                         file=path) from None
+    if kind is None:
+        return None
+    with open_input(path, max_bytes) as fh:
+        while fh.read(1 << 20):
+            pass
+    return kind
+
+
+def read_bytes(path: str | Path, max_bytes: int) -> bytes:
+    """All (decompressed) bytes of ``path``, at most ``max_bytes``; errors as :class:`InputError`."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError("is a folder, not a file", file=path)
+    with open_input(path, max_bytes) as fh:
+        return fh.read()
 
 
 def read_text(path: Path, max_bytes: int = 10_000_000) -> str:
-    """Read a small UTF-8 text file; empty, huge or non-UTF-8 files raise :class:`InputError`."""
-    size = path.stat().st_size
-    if size == 0:
+    """Read a small UTF-8 text file (optionally compressed); empty, huge, unreadable or non-UTF-8
+    files raise :class:`InputError`."""
+    path = Path(path)
+    if not path.exists():
+        raise InputError("file not found", file=path)
+    if path.is_file() and path.stat().st_size == 0:
         raise InputError("file is empty", file=path)
-    if size > max_bytes:
-        raise InputError(f"file is {size} bytes", file=path, expected=f"at most {max_bytes} bytes")
+    if path.is_file() and compression_of(path) is None and path.stat().st_size > max_bytes:
+        raise InputError(f"file is {path.stat().st_size} bytes", file=path,
+                         expected=f"at most {max_bytes} bytes")
+    data = read_bytes(path, max_bytes)
     try:
-        return path.read_text(encoding="utf-8-sig")
+        text = data.decode("utf-8-sig")
     except UnicodeDecodeError as err:
         raise InputError(f"not UTF-8 text (byte {err.start})", file=path, expected="UTF-8 encoding") from None
+    if not text.strip():
+        raise InputError("file is empty", file=path)
+    return text
+
+
+# --- atomic writes ---------------------------------------------------------------------------
+
+#: Temporary files of :func:`atomic_write_text` are named ``.<target>.sar-budget-<random>.tmp``;
+#: ones older than this (left by a killed process) are removed by the next write to the target.
+STALE_TMP_S = 3600.0
+TMP_TAG = ".sar-budget-"
 
 
 def _target_mode(path: Path) -> int:
@@ -45,11 +251,36 @@ def _umask() -> int:
     return 0o022
 
 
-def atomic_write_text(path: str | Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and ``os.replace``: never half-written."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+def _clean_stale(path: Path) -> None:
+    now = time.time()
+    with contextlib.suppress(OSError):
+        for old in path.parent.glob(f".{glob_escape(path.name)}{TMP_TAG}*.tmp"):
+            with contextlib.suppress(OSError):
+                if now - old.lstat().st_mtime > STALE_TMP_S:
+                    old.unlink()
+
+
+def glob_escape(name: str) -> str:
+    return re.sub(r"([*?\[])", r"[\1]", name)
+
+
+def atomic_write_text(path: str | Path, text: str, *, create_dirs: bool = True) -> None:
+    """Write ``text`` to ``path`` through a temporary file and ``os.replace``: never half-written.
+
+    A symbolic link is followed (its target is updated, the link stays). The temporary file
+    (``.<name>.sar-budget-XXXX.tmp`` beside the target) is removed on any failure or
+    interruption; stale ones left by a killed process are cleaned after an hour.
+    """
+    given = path
+    path = Path(os.path.realpath(path))
+    if path.is_dir():
+        raise OutputError("is a folder; give a file name", file=given)
+    if not create_dirs and not path.parent.is_dir():
+        raise OutputError(f"folder {path.parent} does not exist", file=given)
+    if create_dirs:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    _clean_stale(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}{TMP_TAG}", suffix=".tmp", dir=path.parent)
     try:
         # mkstemp creates 0600; give the file the mode it had, or what the umask allows
         os.chmod(tmp, _target_mode(path))
@@ -59,30 +290,128 @@ def atomic_write_text(path: str | Path, text: str) -> None:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
-        try:
+        with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
-        except FileNotFoundError:
-            pass
         raise
+
+
+# --- JSON / YAML -----------------------------------------------------------------------------
+
+def _check_tree(data, path) -> None:
+    """Depth, size and integer limits of parsed JSON (iterative: no recursion on deep input)."""
+    stack = [(data, 1)]
+    nodes = 0
+    while stack:
+        obj, depth = stack.pop()
+        nodes += 1
+        if nodes > MAX_NODES:
+            raise InputError(f"more than {MAX_NODES:,} values", file=path,
+                             expected="a small configuration file")
+        if depth > MAX_DEPTH:
+            raise InputError(f"nested more than {MAX_DEPTH} levels deep", file=path,
+                             expected="a flat configuration mapping")
+        if isinstance(obj, dict):
+            stack.extend((v, depth + 1) for v in obj.values())
+        elif isinstance(obj, list):
+            stack.extend((v, depth + 1) for v in obj)
+        elif isinstance(obj, int) and not isinstance(obj, bool) and abs(obj) >= 10 ** MAX_INT_DIGITS:
+            raise InputError(f"integer with more than {MAX_INT_DIGITS} digits", file=path,
+                             value=obj, expected="a number of sensible size")
+
+
+def _yaml_node(text: str, path):
+    """Compose the YAML document and check depth and *expanded* size before constructing it."""
+    import yaml
+
+    loader = yaml.SafeLoader(text)
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        _check_yaml_nodes(node, path)
+        return loader.construct_document(node)
+    finally:
+        loader.dispose()
+
+
+def _check_yaml_nodes(root, path) -> None:
+    import yaml
+
+    size: dict[int, int] = {}
+    # iterative post-order walk; shared (aliased) nodes are sized once and counted per use
+    stack = [(root, 1, False)]
+    on_path: set[int] = set()
+    while stack:
+        node, depth, done = stack.pop()
+        key = id(node)
+        if done:
+            on_path.discard(key)
+            kids = _yaml_children(node)
+            size[key] = 1 + sum(size[id(k)] for k in kids)
+            if size[key] > MAX_NODES:
+                raise InputError(f"expands to more than {MAX_NODES:,} values (YAML aliases?)",
+                                 file=path, expected="a small configuration file without alias bombs")
+            continue
+        if key in size:
+            continue
+        if depth > MAX_DEPTH:
+            raise InputError(f"nested more than {MAX_DEPTH} levels deep", file=path,
+                             expected="a flat configuration mapping")
+        if key in on_path:
+            raise InputError("recursive YAML alias", file=path, expected="a tree of values")
+        if isinstance(node, yaml.ScalarNode):
+            if node.tag.endswith(":int") and len(node.value.lstrip("+-0")) > MAX_INT_DIGITS:
+                raise InputError(f"integer with more than {MAX_INT_DIGITS} digits", file=path,
+                                 value=node.value, expected="a number of sensible size")
+            size[key] = 1
+            continue
+        on_path.add(key)
+        stack.append((node, depth, True))
+        stack.extend((k, depth + 1, False) for k in _yaml_children(node) if id(k) not in size)
+
+
+def _yaml_children(node) -> list:
+    import yaml
+
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    if isinstance(node, yaml.MappingNode):
+        return [x for pair in node.value for x in pair]
+    return []
+
+
+def parse_structured(text: str, *, yaml_syntax: bool, path=None):
+    """Parse JSON (or YAML) text with the limits of this module; errors as :class:`InputError`."""
+    import yaml
+
+    kind = "YAML" if yaml_syntax else "JSON"
+    try:
+        data = _yaml_node(text, path) if yaml_syntax else json.loads(text)
+    except InputError:
+        raise
+    except (json.JSONDecodeError, yaml.YAMLError) as err:
+        raise InputError(f"not valid {kind}: {str(err).splitlines()[0][:200]}", file=path) from None
+    except RecursionError:
+        raise InputError(f"nested too deeply to read (more than {MAX_DEPTH} levels expected)",
+                         file=path, expected="a flat configuration mapping") from None
+    except ValueError as err:  # e.g. an integer beyond Python's 4300-digit conversion limit
+        msg = ("an integer has more than 4300 digits" if "digits" in str(err)
+               else f"not valid {kind}: {str(err).splitlines()[0][:120]}")
+        raise InputError(msg, file=path, expected="numbers of sensible size") from None
+    _check_tree(data, path)  # for YAML the alias-expanded size was bounded before construction
+    return data
 
 
 def read_structured(path: str | Path, what: str, max_bytes: int = 10_000_000) -> dict:
     """Read a JSON or YAML mapping (by suffix; YAML also reads JSON) for ``what`` (e.g.
-    "a scenario"); a missing, empty, malformed or non-mapping file raises :class:`InputError`."""
-    import json
-
-    import yaml
-
+    "a scenario"); a missing, empty, malformed, too deep/large or non-mapping file raises
+    :class:`InputError`."""
     path = Path(path)
     if not path.is_file():
         raise InputError("file not found", file=path, expected=f"{what} JSON/YAML file")
     text = read_text(path, max_bytes=max_bytes)
     is_yaml = path.suffix.lower() in (".yaml", ".yml")
-    try:
-        data = yaml.safe_load(text) if is_yaml else json.loads(text)
-    except (json.JSONDecodeError, yaml.YAMLError) as err:
-        raise InputError(f"not valid {'YAML' if is_yaml else 'JSON'}: {str(err).splitlines()[0]}",
-                         file=path) from None
+    data = parse_structured(text, yaml_syntax=is_yaml, path=path)
     if not isinstance(data, dict):
         raise InputError(f"{what} must be a mapping of keys to values", file=path,
                          expected="a JSON object / YAML mapping")
@@ -107,3 +436,70 @@ def json_safe(obj):
 def json_text(obj) -> str:
     """Indented JSON text of ``obj`` (through :func:`json_safe`), newline-terminated."""
     return json.dumps(json_safe(obj), indent=2, ensure_ascii=False) + "\n"
+
+
+# --- spreadsheet-safe CSV and printable text -------------------------------------------------
+
+#: First characters that make a spreadsheet read a cell as a formula (OWASP "CSV injection").
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+_PLAIN_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+_CONTROL = re.compile(r"\x1b\[[0-?]*[ -/]*[@-~]|\x1b[@-_]|[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+
+
+def looks_like_formula(text: str) -> bool:
+    """True if ``text`` starts with = + - @ TAB or CR and is not a plain number (``-2.5``, ``1e-3``)."""
+    return bool(text) and text[0] in FORMULA_START and not _PLAIN_NUMBER.fullmatch(text)
+
+
+def safe_csv_text(value):
+    """``value`` as it may go into a CSV cell: text a spreadsheet would run as a formula gets a
+    leading ``'`` (OWASP); numbers and plain numeric strings pass unchanged."""
+    if value is None or isinstance(value, (bool, int, float, np.number)):
+        return value
+    text = str(value)
+    return "'" + text if looks_like_formula(text) else text
+
+
+def csv_text(rows, header=None, *, lineterminator: str = "\n") -> str:
+    """CSV text of ``rows`` (and ``header``) with every text cell through :func:`safe_csv_text`;
+    floats written with ``repr`` (round-trip exact), ``None`` as an empty cell."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator=lineterminator)
+    if header is not None:
+        w.writerow([safe_csv_text(h) for h in header])
+    for row in rows:
+        w.writerow(["" if v is None else (repr(float(v)) if isinstance(v, (float, np.floating))
+                                          else safe_csv_text(v)) for v in row])
+    return buf.getvalue()
+
+
+def frame_csv_text(frame) -> str:
+    """``DataFrame.to_csv`` text with every text cell (and column name) made spreadsheet-safe."""
+    from pandas.api.types import is_bool_dtype, is_numeric_dtype
+
+    out = frame.copy()
+    for col in out.columns:
+        if not (is_numeric_dtype(out[col].dtype) or is_bool_dtype(out[col].dtype)):
+            out[col] = out[col].map(lambda v: v if _missing(v) else safe_csv_text(v))
+    out.columns = [safe_csv_text(str(c)) for c in out.columns]
+    return out.to_csv(index=False, lineterminator="\n")
+
+
+def _missing(v) -> bool:
+    import pandas as pd
+
+    if v is None or isinstance(v, (list, tuple, dict, set, np.ndarray)):
+        return v is None
+    try:
+        return bool(pd.isna(v))
+    except (TypeError, ValueError):
+        return False
+
+
+def printable(text: object, limit: int | None = None) -> str:
+    """``text`` without ANSI escape sequences and control characters (tab and newline become a
+    space), optionally cut to ``limit`` characters — for anything printed to a terminal."""
+    s = _CONTROL.sub("", str(text).replace("\t", " ").replace("\n", " "))
+    if limit is not None and len(s) > limit:
+        s = s[:limit - 1] + "…"
+    return s

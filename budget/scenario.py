@@ -13,11 +13,30 @@ from pathlib import Path
 from typing import Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator,
+                      model_validator)
 
+from .aiding_spec import CORRECTION_MODES, DEFAULT_CORRECTION_MODE, AidingConfig, parse_aiding
 from .errors import InputError, from_validation_error
 from .fileio import atomic_write_text, read_structured
 from .units import C_LIGHT, C_SOUND_WATER, G0
+
+
+#: Physically plausible ranges (SI) of the scenario inputs and of Tc, with the reason: a value
+#: outside is refused with the reason rather than turned into absurd bounds or margins.
+PLAUSIBLE: dict[str, tuple[float, float, str]] = {
+    "propagation_speed_m_s": (100.0, C_LIGHT, "between slow acoustic media and the speed of light"),
+    "slant_range_m": (0.01, 1e9, "1 cm … 10⁶ km (beyond lunar-radar distances)"),
+    "azimuth_resolution_m": (1e-5, 1e5, "10 µm … 100 km"),
+    "range_resolution_m": (1e-5, 1e5, "10 µm … 100 km"),
+    "platform_speed_m_s": (1e-3, 2e4, "1 mm/s … 20 km/s (faster than any orbit)"),
+    "platform_accel_m_s2": (0.0, 1e4, "≤ 10⁴ m/s² (about 1000 g)"),
+    "platform_rate_deg_s": (0.0, 1e4, "≤ 10⁴ deg/s"),
+}
+#: Carrier frequency per medium (Hz): radar 1 MHz … 10 THz, sonar 10 Hz … 5 MHz.
+PLAUSIBLE_CARRIER_HZ = {"radar": (1e6, 1e13), "sonar": (10.0, 5e6)}
+#: Synthetic-aperture time Tc (s) that a budget can mean something for.
+PLAUSIBLE_TC_S = (1e-5, 1e5)
 
 
 class Scenario(BaseModel):
@@ -49,13 +68,36 @@ class Scenario(BaseModel):
     platform_rate_deg_s: float = Field(0.0, ge=0, allow_inf_nan=False,
                                        description="angular-rate level seen by gyro scale factor")
     imu_rate_hz: float = Field(200.0, gt=0, le=100_000, allow_inf_nan=False)
-    aiding: tuple[dict, ...] = Field(
+    # --- aiding section (typed; parsed once, here) ----------------------------------
+    aiding: tuple[AidingConfig, ...] = Field(
         (), description="aiding sensors [{type: gnss|dvl|master_ins|star_tracker, ...}] "
-                        "(budget.aiding.config); empty = unaided IMU, as seed 004 assumes")
-    aiding_smoother: Literal["none", "rts"] = Field(
-        "none", description="real-time Kalman filter or fixed-interval RTS smoothing (post-processing)")
+                        "(budget.aiding_spec); empty = unaided IMU, as seed 004 assumes")
+    aiding_mode: Literal[CORRECTION_MODES] = Field(
+        DEFAULT_CORRECTION_MODE,
+        description="how aiding corrections reach the antenna track: realtime (steps at each fix, "
+                    "worst case), frozen (held across the aperture, real-time mocomp), feedforward "
+                    "(slow blend), smoothed (RTS, offline)")
     aiding_warmup_s: float = Field(60.0, ge=0, le=3600, allow_inf_nan=False,
                                    description="aided navigation runs this long before the aperture")
+    aiding_blend_time_s: float | None = Field(
+        None, gt=0, le=3600, allow_inf_nan=False,
+        description="feedforward mode: mean delay of the correction blend (default 5·Tc)")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _renamed_aiding_keys(cls, data):
+        if isinstance(data, dict) and "aiding_smoother" in data:
+            raise InputError("aiding_smoother was replaced by aiding_mode", field="aiding_smoother",
+                             value=data["aiding_smoother"], expected="aiding_mode: realtime | frozen | "
+                             "feedforward | smoothed (aiding_smoother: rts is aiding_mode: smoothed)")
+        return data
+
+    @field_validator("aiding", mode="before")
+    @classmethod
+    def _parse_aiding(cls, value, info: ValidationInfo):
+        if value is None or value == ():
+            return ()
+        return tuple(parse_aiding(value, imu_rate_hz=info.data.get("imu_rate_hz")))
 
     @model_validator(mode="after")
     def _check(self) -> "Scenario":
@@ -65,10 +107,31 @@ class Scenario(BaseModel):
             raise ValueError("sonar carrier_frequency_hz above 5 MHz: did you mean medium 'radar'?")
         if self.medium == "radar" and self.carrier_frequency_hz < 1e6:
             raise ValueError("radar carrier_frequency_hz below 1 MHz: did you mean medium 'sonar'?")
-        if self.aiding:
-            from .aiding.config import parse_aiding  # aiding is optional: import only when used
-            parse_aiding([dict(a) for a in self.aiding], imu_rate_hz=self.imu_rate_hz)
+        self._check_plausible()
         return self
+
+    def _check_plausible(self) -> None:
+        """Refuse physically absurd inputs and a Tc outside :data:`PLAUSIBLE_TC_S`, with the reason."""
+        lo, hi = PLAUSIBLE_CARRIER_HZ[self.medium]
+        if not lo <= self.carrier_frequency_hz <= hi:
+            raise InputError(f"{self.medium} carrier of {self.carrier_frequency_hz:.4g} Hz is not "
+                             "physically plausible", field="carrier_frequency_hz",
+                             expected=f"{lo:g} … {hi:g} Hz for {self.medium}")
+        for name, (lo, hi, why) in PLAUSIBLE.items():
+            v = getattr(self, name)
+            if v is not None and not lo <= v <= hi:
+                raise InputError(f"{v:.4g} is not physically plausible", field=name,
+                                 expected=f"{lo:g} … {hi:g} ({why})")
+        if any(abs(v) > 1e3 for v in self.lever_arm_m):
+            raise InputError("lever arm longer than 1 km", field="lever_arm_m",
+                             value=list(self.lever_arm_m), expected="|component| ≤ 1000 m")
+        tc = self.tc_s
+        lo, hi = PLAUSIBLE_TC_S
+        if not (math.isfinite(tc) and lo <= tc <= hi):
+            raise InputError(f"these inputs give an aperture time Tc = a_w λ R / (2 δℓ V sin θ) of "
+                             f"{tc:.3g} s, which no IMU budget can mean", field="tc_s (derived)",
+                             expected=f"inputs giving {lo:g} s ≤ Tc ≤ {hi:g} s (check the units of "
+                             "frequency, range, resolution and speed)")
 
     # --- derived -----------------------------------------------------------------
     @property
@@ -113,6 +176,9 @@ class Scenario(BaseModel):
         try:
             return cls.model_validate(data)
         except ValidationError as err:
+            cause = (err.errors()[0].get("ctx") or {}).get("error")
+            if isinstance(cause, InputError):  # the aiding section names its own field
+                raise (cause.rename_file(source) if source else cause) from None
             raise from_validation_error(err, file=source) from None
 
     @classmethod

@@ -1,6 +1,6 @@
 """Seed 001: missile-borne slave IMU corrected at 1 Hz by master-INS data through a lever arm.
 
-Full-size run of :mod:`budget.aiding.seeds.master_slave` (1200 s of flight at 100 Hz, the
+Full-size run of :mod:`budget.seeds.master_slave` (1200 s of flight at 100 Hz, the
 paper's conditions). Prints the variation of the real-time corrected errors within an imaging
 period (paper: < 5 cm, < 0.001 m/s, < 1″) and the absolute errors at the end.
 
@@ -18,7 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 import numpy as np  # noqa: E402
 
-from budget.aiding.seeds.master_slave import MasterSlaveParams, run_master_slave  # noqa: E402
+from budget.seeds.master_slave import MasterSlaveParams, run_master_slave  # noqa: E402
 from budget.presets import get_preset  # noqa: E402
 
 

@@ -1,6 +1,6 @@
 """Seed 001 (4): PRF slaved to forward speed (f_PR = k·V) versus a fixed PRF.
 
-Full-size run of :mod:`budget.aiding.seeds.prf_slaving` on the ``missile_borne`` preset: the
+Full-size run of :mod:`budget.seeds.prf_slaving` on the ``missile_borne`` preset: the
 missile accelerates (2 m/s²) and its speed oscillates (±0.5 m/s at 1 Hz). Prints the
 along-track sampling non-uniformity and the point-target metrics for targets at −1, 0, +1
 aperture lengths from the reference time.
@@ -18,7 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 import numpy as np  # noqa: E402
 
-from budget.aiding.seeds.prf_slaving import PrfParams, run_prf_slaving  # noqa: E402
+from budget.seeds.prf_slaving import PrfParams, run_prf_slaving  # noqa: E402
 
 
 def main() -> None:

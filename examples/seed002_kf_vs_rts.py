@@ -1,6 +1,6 @@
 """Seed 002: transfer alignment of a sub-IMU on a flexible lever arm — Kalman filter vs RTS smoother.
 
-Full-size run of :mod:`budget.aiding.seeds.transfer_alignment`: master RLG IMU (0.01 deg/h,
+Full-size run of :mod:`budget.seeds.transfer_alignment`: master RLG IMU (0.01 deg/h,
 50 µg), sub FOG IMU (0.02 deg/h, 50 µg), lever arm [0.175, −0.180, 0.002] m, mounting angles
 [−0.3051, −0.0877, −0.1015] deg, a 2 Hz bending mode on the arm, errors scored on a straight
 imaging segment between S-turns. Prints the RMSE table and the smoother's improvement; then
@@ -20,8 +20,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 import numpy as np  # noqa: E402
 
-from budget.aiding.seeds.large_misalignment import MisalignmentParams, run_large_misalignment  # noqa: E402
-from budget.aiding.seeds.transfer_alignment import TransferParams, run_transfer_alignment  # noqa: E402
+from budget.seeds.large_misalignment import MisalignmentParams, run_large_misalignment  # noqa: E402
+from budget.seeds.transfer_alignment import TransferParams, run_transfer_alignment  # noqa: E402
 
 
 def main() -> None:

@@ -1,6 +1,6 @@
 """Seed 003: SAS motion compensation with INS only, GPS, DVL and fused data, compared by PSLR/ISLR.
 
-Full-size run of :mod:`budget.aiding.seeds.sonar_fusion` on the ``sas_100khz`` preset
+Full-size run of :mod:`budget.seeds.sonar_fusion` on the ``sas_100khz`` preset
 (100 kHz, c = 1500 m/s, Tc = 10 s). The point-target azimuth IRF is computed from the residual
 phase error directly (FFT of the windowed exp(jφ)) and measured with ``budget.sar.irf``.
 
@@ -18,7 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 import numpy as np  # noqa: E402
 
-from budget.aiding.seeds.sonar_fusion import SonarParams, run_sonar_fusion  # noqa: E402
+from budget.seeds.sonar_fusion import SonarParams, run_sonar_fusion  # noqa: E402
 
 
 def main() -> None:

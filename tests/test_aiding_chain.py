@@ -8,7 +8,7 @@ import pytest
 from budget import units as u
 from budget.aiding import (FlexureConfig, ImuErrorModel, InitialUncertainty, NominalTrajectory,
                            aided_position_error, build_system, simulate_truth)
-from budget.aiding.config import parse_aiding
+from budget.aiding_spec import parse_aiding
 from budget.aiding.kalman import run_kalman
 from budget.catalog.schema import PartSpec
 from budget.errors import InputError

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from pydantic import ValidationError
 
-from budget.aiding.config import AidingPlan, GnssAiding, MasterInsAiding, parse_aiding
+from budget.aiding_spec import AidingPlan, GnssAiding, MasterInsAiding, parse_aiding
 from budget.errors import InputError
 
 GOOD = [
@@ -74,10 +74,19 @@ def test_rate_check_through_pydantic_context():
         GnssAiding.model_validate({"rate_hz": 51, "sigma_m": 1}, context={"imu_rate_hz": 50})
 
 
-def test_plan_round_trip():
-    plan = AidingPlan.model_validate({"aiding": GOOD, "smoother": "rts", "warmup_s": 30})
+def test_plan_round_trip_modes_and_label():
+    plan = AidingPlan.model_validate({"aiding": GOOD, "mode": "smoothed", "warmup_s": 30})
     assert isinstance(plan.aiding[2], MasterInsAiding)
     again = AidingPlan.model_validate(plan.model_dump())
     assert again == plan
+    assert plan.label() == "gnss+dvl+master_ins+star_tracker, smoothed, 30 s warm-up"
+    assert AidingPlan().mode == "frozen" and AidingPlan().label() == "none"
     with pytest.raises(ValidationError):
-        AidingPlan.model_validate({"aiding": GOOD, "smoother": "ukf"})
+        AidingPlan.model_validate({"aiding": GOOD, "mode": "ukf"})
+    with pytest.raises(ValidationError):
+        AidingPlan.model_validate({"aiding": GOOD, "smoother": "rts"})  # renamed: mode
+
+
+def test_typed_configs_are_accepted_as_they_are():
+    typed = parse_aiding(GOOD, imu_rate_hz=100)
+    assert parse_aiding(tuple(typed), imu_rate_hz=100) == typed

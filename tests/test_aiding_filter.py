@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_discrete_are
 
-from budget.aiding.config import (DvlAiding, FlexureConfig, GnssAiding, MasterInsAiding,
+from budget.aiding_spec import (DvlAiding, FlexureConfig, GnssAiding, MasterInsAiding,
                                   StarTrackerAiding)
 from budget.aiding.consistency import average_bounds, nees_report, nis_report
 from budget.aiding.ins_error_model import ImuErrorModel, NominalTrajectory
@@ -162,7 +162,7 @@ def test_filter_and_smoother_are_consistent_nees_nis():
 
 def test_consistent_on_a_turning_trajectory_with_gnss_and_dvl():
     """Time-varying F and H (S-turns), GNSS lever arm and Gauss–Markov error, DVL GM bias."""
-    from budget.aiding.seeds.transfer_alignment import TransferParams, s_turn_trajectory
+    from budget.seeds.transfer_alignment import TransferParams, s_turn_trajectory
     traj = s_turn_trajectory(TransferParams(rate_hz=5, duration_s=200, imaging_s=40, turn_period_s=40))
     imu = ImuErrorModel(gyro_bias_rad_s=2e-5, gyro_arw_rad_s_rt_hz=1e-4, accel_bias_m_s2=3e-3,
                         accel_vrw_m_s2_rt_hz=3e-3)
@@ -218,3 +218,32 @@ def test_results_do_not_depend_on_batch_composition(T):
     f = run_kalman(s, z)
     f0 = run_kalman(s, {k: v[:1] for k, v in z.items()})
     assert np.allclose(f.estimate[:1], f0.estimate, rtol=1e-12, atol=1e-15)
+
+
+def test_blended_output_feeds_each_update_in_with_its_time_constant():
+    """Random-constant position (Φ = I on position, no process noise): two critically damped
+    stages leave of an update Δ_j, m = k − k_j ≥ 0 steps later, the pending part
+    Δ_j·a^{m−1}·(a + m(1 − a)), a = e^{−1/τ} (closed form); the output has no step at fixes."""
+    traj = NominalTrajectory.straight_level(10.0, 0.1, 81)
+    s = build_system(traj, ImuErrorModel(), [GnssAiding(rate_hz=2, sigma_m=1.5)],
+                     InitialUncertainty(3.0, 0.0, 0.0))
+    rng = np.random.default_rng(2)
+    truth = simulate_truth(s, 5, rng)
+    z = simulate_measurements(s, truth, rng)
+    tau_steps = 12.0
+    f = run_kalman(s, z, blend_steps=tau_steps)
+    ep = s.epochs["gnss0"]
+    x = f.estimate[..., 0]
+    delta = x[:, ep] - x[:, ep - 1]                          # the update at each epoch
+    k = np.arange(x.shape[1])
+    lag = k[None, :] - ep[:, None]                           # (E, N)
+    a = np.exp(-1.0 / tau_steps)
+    m = np.clip(lag, 0, None)
+    weight = np.where(lag >= 0, a ** (m - 1.0) * (a + m * (1 - a)), 0.0)
+    expect = x - delta @ weight
+    np.testing.assert_allclose(f.blended[..., 0], expect, rtol=0, atol=1e-12)
+    # at a fix the output changes by a small fraction of what is pending, not by Δ
+    jump_rt = np.abs(np.diff(f.estimate[..., 0], axis=1)[:, ep - 1]).mean()
+    jump_ff = np.abs(np.diff(f.blended[..., 0], axis=1)[:, ep - 1]).mean()
+    assert jump_ff < 0.1 * jump_rt
+    assert run_kalman(s, z).blended is None

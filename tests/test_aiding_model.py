@@ -10,7 +10,7 @@ from scipy.linalg import expm
 from scipy.spatial.transform import Rotation
 
 from budget import units as u
-from budget.aiding.config import DvlAiding, FlexureConfig, GnssAiding
+from budget.aiding_spec import DvlAiding, FlexureConfig, GnssAiding
 from budget.aiding.flexure import (antenna_flexure_error, flexure_autocorrelation, flexure_blocks,
                                    simulate_flexure)
 from budget.aiding.ins_error_model import (ImuErrorModel, NominalTrajectory, StateLayout,

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from scipy.special import fresnel
 
-from budget.aiding.point_target import azimuth_irf_metrics
-from budget.aiding.seeds.master_slave import MasterSlaveParams, run_master_slave
-from budget.aiding.seeds.prf_slaving import PrfParams, run_prf_slaving
-from budget.aiding.seeds.sonar_fusion import SonarParams, run_sonar_fusion
-from budget.aiding.seeds.transfer_alignment import TransferParams, run_transfer_alignment
+from budget.sar.point_target import azimuth_irf_metrics
+from budget.seeds.master_slave import MasterSlaveParams, run_master_slave
+from budget.seeds.prf_slaving import PrfParams, run_prf_slaving
+from budget.seeds.sonar_fusion import SonarParams, run_sonar_fusion
+from budget.seeds.transfer_alignment import TransferParams, run_transfer_alignment
 from budget.presets import get_preset
 
 
@@ -96,7 +96,7 @@ def test_point_target_quadratic_phase_peak_loss_is_fresnel(quad_rad):
 
 
 def test_seed002_ddf2_smoother_helps_only_at_large_misalignment():
-    from budget.aiding.seeds.large_misalignment import MisalignmentParams, run_large_misalignment
+    from budget.seeds.large_misalignment import MisalignmentParams, run_large_misalignment
     p = MisalignmentParams(heading_sigma_deg=(0.5, 10.0), trials=8, duration_s=160.0, imaging_s=40.0)
     r = run_large_misalignment(p, rng=np.random.default_rng(15)).table.set_index("heading_sigma_deg")
     assert abs(r.loc[0.5, "ddf2_gain"]) < 0.05        # small angles: the linear model is exact enough

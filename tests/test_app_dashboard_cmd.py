@@ -43,8 +43,24 @@ def test_command_is_headless_local_and_limits_uploads():
     cmd = dashboard_cmd.build_command(REPO / "app" / "main.py", 8765)
     assert cmd[:4] == [sys.executable, "-m", "streamlit", "run"]
     for flag in ("--server.headless=true", "--server.port=8765", "--server.address=127.0.0.1",
-                 "--browser.gatherUsageStats=false", "--server.maxUploadSize=5", "--client.showErrorDetails=none"):
+                 "--browser.gatherUsageStats=false", f"--server.maxUploadSize={dashboard_cmd.MAX_UPLOAD_MB}",
+                 "--client.showErrorDetails=none"):
         assert flag in cmd
+
+
+def test_upload_limit_is_one_constant_shown_by_the_widgets():
+    """The server flag and the widgets' stated and enforced limit are the same number (≥ 64 MB,
+    enough for a real 10⁶-row log as plain CSV)."""
+    if str(REPO / "app") not in sys.path:
+        sys.path.insert(0, str(REPO / "app"))
+    import upload_tables
+
+    assert dashboard_cmd.MAX_UPLOAD_MB >= 64
+    assert upload_tables.UPLOAD_LIMIT_MB == dashboard_cmd.MAX_UPLOAD_MB
+    assert f"at most {dashboard_cmd.MAX_UPLOAD_MB} MB" in upload_tables.upload_label("IMU log")
+    for page in ("noise_lab.py", "model_gap.py"):
+        text = (REPO / "app" / "pages" / page).read_text()
+        assert "max_upload_size=UPLOAD_LIMIT_MB" in text and "MAX_UPLOAD_MB = " not in text
 
 
 @pytest.mark.parametrize("port", [0, 70000])

@@ -39,5 +39,10 @@ def test_model_gap_page_runs_the_example():
     rate, n = 100.0, 180_000
     log = log_from_arrays(simulate_static_log(model.with_effect(effect), n, rate, np.random.default_rng(0)), rate)
     ref = run_gap(log, get_part("ADIS16405"), seed=0, realizations=4)
-    assert shown["gap before"] == f"{ref.gap_before:.3g}"
-    assert shown["gap after"] == f"{ref.gap_after:.3g}"
+    assert shown["gap before (mean z²)"] == f"{ref.gap_before:.3g}"
+    assert shown["gap after (mean z²)"] == f"{ref.gap_after:.3g}"
+    # a later input change does not re-run the workflow: the last run stays, with a note
+    at.number_input(key="gap_seed").set_value(1).run()
+    assert not at.exception
+    assert {m.label: m.value for m in at.metric}["gap before (mean z²)"] == f"{ref.gap_before:.3g}"
+    assert any("inputs changed" in i.value for i in at.info)

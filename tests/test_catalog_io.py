@@ -133,3 +133,18 @@ def test_atomic_write_gives_ordinary_permissions(tmp_path):
     os.chmod(old, 0o640)
     atomic_write_text(old, "y\n")
     assert stat.S_IMODE(old.stat().st_mode) == 0o640 and old.read_text() == "y\n"
+
+
+def test_bad_verified_value_names_the_field(tmp_path):
+    p = write(tmp_path, "part_id,grade,source,verified\nP1,tactical,ds,datasheet\nP2,tactical,ds,maybe\n")
+    with pytest.raises(InputError) as e:
+        read_parts(p)
+    msg = str(e.value)
+    assert "row 3" in msg and "field verified" in msg and "second_hand" in msg
+
+
+def test_shipped_rows_state_convention_and_verification():
+    parts = read_parts(shipped_catalog_dir() / "parts.csv")
+    assert all(p.verified is not None for p in parts.values())
+    assert parts["HG1700AG58"].bias_instability_convention == "total_1sigma"
+    assert parts["STIM300"].bias_instability_convention == "adev_min"

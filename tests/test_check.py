@@ -98,3 +98,24 @@ def test_presets_check_runs_for_all():
         for mode in ("paper", "derived", "no-autofocus"):
             r = check_parts([part], get_preset(name), mode=mode).records()[0]
             assert r["verdict"] in ("pass", "fail")
+
+
+def test_total_bias_row_is_checked_as_given_and_reported():
+    """A total 1σ bias (HG1700AG58's 1 mg) meets the constant-bias bound of seed 004 (8) as given."""
+    s = scen(10.0)
+    b = paper_bounds(s.tc_s, 0.1).datasheet()["accel_bias_ug"][0]
+    part = PartSpec(part_id="T", grade="tactical", source="x", accel_bias_instability_ug=b / 2,
+                    bias_instability_convention="total_1sigma")
+    r = check_parts([part], s).records()[0]
+    assert r["margins"]["accel_bias_instability_ug"] == pytest.approx(2.0)
+    assert r["bias_convention"] == "total_1sigma"
+
+
+def test_grade_typical_values_sit_between_best_and_worst():
+    from budget.check import grade_spec_matrix
+    g = grades()
+    best, typ, worst = (grade_spec_matrix(g, use) for use in ("best", "typical", "worst"))
+    assert np.all(best <= typ) and np.all(typ <= worst)
+    np.testing.assert_allclose(typ, np.sqrt(best * worst))
+    with pytest.raises(ValueError):
+        grade_spec_matrix(g, "median")

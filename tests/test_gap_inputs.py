@@ -90,7 +90,8 @@ def test_cli_same_seed_same_report(sine_log, tmp_path):
 def test_cli_bad_input_exits_2_with_one_line(sine_log, tmp_path, capsys):
     bad = write_model(tmp_path / "bad.json", {**MODEL_JSON, "effects": [
         {"name": "flicker_walk", "channel": "gyro_x", "params": {}}]})
-    code = main(["gap", str(sine_log), "--model", str(bad), "--report", str(tmp_path / "r.json")])
+    code = main(["gap", str(sine_log), "--model", str(bad), "--report", str(tmp_path / "r.json"),
+                 "--quiet"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and "\n" not in err and "unknown effect" in err and "flicker_walk" in err
     code = main(["gap", str(sine_log), "--part", "NO_SUCH_PART", "--report", str(tmp_path / "r.json")])
@@ -134,11 +135,24 @@ def test_too_short_logs_are_rejected(tmp_path):
 
 
 def test_missing_channel_is_named(tmp_path):
+    """A channel asked for but absent is an error; by default the channels present are compared
+    (a single-gyro log is a normal input), and the report says so."""
     log = write_log(tmp_path / "five.csv", BASE, 16_384, 3, drop=("gyro_z",))
     with pytest.raises(InputError, match="gyro_z missing"):
-        run_gap(log, BASE)
+        run_gap(log, BASE, channels=["gyro_x", "gyro_z"])
+    rep = run_gap(log, BASE, max_steps=0)
+    assert set(rep.channels) == set(CHANNELS) - {"gyro_z"}
+    assert any("compared on those channels" in n for n in rep.notes)
     rep = run_gap(log, BASE, channels=["gyro_x", "accel_z"], max_steps=0)
     assert set(rep.channels) == {"gyro_x", "accel_z"}
+
+
+def test_single_channel_log(tmp_path):
+    log = write_log(tmp_path / "one.csv", BASE, 16_384, 4,
+                    drop=tuple(c for c in CHANNELS if c != "gyro_y"))
+    rep = run_gap(log, BASE, max_steps=2)
+    assert set(rep.channels) == {"gyro_y"} and rep.steps == []
+    assert any("gyro_y only" in n for n in rep.notes)
 
 
 def test_unknown_effect_and_temperature_without_channel(tmp_path):

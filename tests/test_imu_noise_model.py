@@ -10,7 +10,7 @@ import pytest
 from budget import units as u
 from budget.catalog.schema import PartSpec
 from budget.errors import InputError
-from budget.imu.noise_model import EFFECT_NAMES, Effect, NoiseModel
+from budget.imu.noise_model import EFFECT_NAMES, EFFECT_PARAMS, Effect, NoiseModel
 
 
 def _part() -> PartSpec:
@@ -21,10 +21,13 @@ def _part() -> PartSpec:
                     accel_misalignment_mrad=0.5)
 
 
-def test_vocabulary_is_the_shared_one_plus_lowpass():
+def test_vocabulary_is_the_shared_one_plus_lowpass_vibration_heavy_tails():
+    """The effect/parameter table is pinned: changing it is a deliberate act."""
     assert set(EFFECT_NAMES) == {"white_noise", "quantization", "bias_instability", "rate_random_walk",
                                  "rate_ramp", "sinusoid", "gauss_markov", "temperature_sensitivity",
-                                 "outliers", "lowpass"}
+                                 "outliers", "lowpass", "vibration", "heavy_tailed"}
+    assert EFFECT_PARAMS["vibration"].keys() == {"center_hz", "width_hz", "sigma"}
+    assert EFFECT_PARAMS["heavy_tailed"].keys() == {"density", "dof"}
 
 
 def test_from_part_converts_through_partspec_to_si():

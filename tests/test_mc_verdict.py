@@ -83,10 +83,13 @@ def test_progress_and_cancel():
 
 def test_sweep_and_cheapest():
     parts = [get_part("ADIS16405"), get_part("STIM300")]
-    df = sweep(parts, [get_preset("automotive_77ghz")], 64, 2)
+    # 24 GHz: the industrial part passes there (README verdict table; at 77 GHz it is 0.72 since
+    # the Taylor window and the PGA-residual criterion)
+    df = sweep(parts, [get_preset("automotive_24ghz")], 64, 2)
     assert len(df) == 2 and {"p_pass_after", "ci_after_lo", "fail_range_migration"} <= set(df.columns)
     best = cheapest_passing(df, 0.9)
     assert best.loc[0, "part_id"] == "ADIS16405"  # industrial is the cheaper grade
+    assert best.loc[0, "decided_on"] == "ci_after_lo"  # decided on the lower Wilson bound
 
 
 def test_bad_inputs():

@@ -6,12 +6,14 @@ import streamlit as st
 
 from budget.catalog.schema import GRADES
 from budget.check import check_parts, recommend_grade
+from budget.fileio import frame_csv_text, json_text
 from budget.plots.check import margin_heatmap_figure
+from budget.report import build_report
 
 import components as c
 import sidebar
 from page_frame import run_page
-from check_view import check_frame, style_check_frame, verdict_counts
+from check_view import check_frame, flagged, style_check_frame, verdict_counts
 
 
 def _recommendation(ctx: sidebar.Context) -> None:
@@ -48,12 +50,37 @@ def render() -> None:
     cols[2].metric("unknown", n["unknown"], help="no error figure in the datasheet")
     with cols[3]:
         _recommendation(ctx)
+    flags = flagged(result)
+    if flags:
+        st.warning("**Seed 004's bounds and what PGA cannot remove disagree** (⚠ in the table; the Monte "
+                   "Carlo page simulates it): " + "; ".join(f"**{pid}** {why}" for pid, why in flags),
+                   icon=":material/warning:")
+        st.markdown(f"<span id='check-flags'>{len(flags)} flagged</span>", unsafe_allow_html=True)
     # A static HTML table: every cell readable (and testable in a browser), colours and frames kept.
     st.table(style_check_frame(frame).hide(axis="index"))
     st.caption("Margin = bound / datasheet value (≥ 1 passes, green; < 1 fails, red; – not in the datasheet, "
                "never assumed). The framed, darker cell is the binding (smallest-margin) parameter. In-run "
                "bias instability is checked against the bias bounds, as seed 004 Tables 3–4 do.")
     st.plotly_chart(margin_heatmap_figure(result), key="chk_heatmap", width="stretch")
+    _downloads(result, frame, parts, ctx)
+
+
+def _downloads(result, frame, parts, ctx: sidebar.Context) -> None:
+    s = ctx.scenario
+    st.subheader("Export")
+    a, b, c3 = st.columns(3)
+    a.download_button("Check matrix (CSV)", frame_csv_text(frame), f"check_{s.name}.csv", mime="text/csv",
+                      key="chk_dl_csv")
+    b.download_button("Check matrix (JSON)", json_text({"scenario": s.model_dump(mode="json"), "mode": ctx.mode,
+                                                        "parts": result.records(0)}),
+                      f"check_{s.name}.json", mime="application/json", key="chk_dl_json")
+    if c3.button("Build the report (HTML)", key="chk_build_report",
+                 help="scenario, bounds, this check and figures; the Monte Carlo page adds P(pass)"):
+        st.session_state["chk_report"] = (f"report_{s.name}.html", build_report(
+            s, parts, mode=ctx.mode, assumptions={ctx.mode: ctx.assumptions()}).html())
+    got = st.session_state.get("chk_report")
+    if got is not None:
+        c3.download_button("Download the report", got[1], got[0], mime="text/html", key="chk_dl_report")
 
 
 run_page(render)

@@ -1,32 +1,44 @@
-"""Page: model gap — a measured log against the model it should follow: where they disagree,
-which effect is missing, and the gap after adding it. Every number from ``budget.gap``."""
+"""Page: model gap — a measured log (or Allan table) against the model it should follow: where
+they disagree, which effect is missing, and the gap after adding it. Every number from ``budget.gap``.
+
+The workflow runs only when **Run** is pressed; its result is kept in the session and shown
+until the next run (a later change of an input says so instead of silently re-running).
+"""
 
 from __future__ import annotations
 
+import hashlib
 import json
 
 import numpy as np
 import streamlit as st
 
+from budget.catalog.schema import PartSpec
 from budget.errors import InputError
+from budget.fileio import json_text
 from budget.gap import run_gap
 from budget.gap.inputs import log_from_arrays
 from budget.gap.plots import adev_figure, gap_figure, psd_figure
 from budget.imu.generator import simulate_static_log
-from budget.catalog.schema import PartSpec
 from budget.imu.noise_model import NoiseModel
 
 import components as c
+from formatting import fmt_value, tidy
 from page_frame import run_page
+from upload_tables import (LOG_TYPES, UPLOAD_LIMIT_MB, adev_inputs, check_size, is_adev_table,
+                           read_uploaded_adev, upload_label)
 from uploads import read_uploaded_log
 
-MAX_UPLOAD_MB = 50
-SOURCES = ("built-in example (a part with a hidden effect)", "upload a log CSV")
+SOURCES = ("built-in example (a part with a hidden effect)", "upload a log or an Allan table")
 #: The example: 30 min at 100 Hz of the chosen part, plus a sinusoid on gyro_z the part does not
 #: have (0.7 Hz, 0.02 deg/s peak), so the workflow has something to find.
 EXAMPLE_RATE_HZ, EXAMPLE_SECONDS = 100.0, 1800.0
 EXAMPLE_EFFECT = {"name": "sinusoid", "channel": "gyro_z",
                   "params": {"frequency_hz": 0.7, "amplitude": float(np.radians(0.02))}}
+#: Rows read from an uploaded log by default (10⁶ = a real ADIS16405 log at 100 Hz, whole).
+DEFAULT_MAX_ROWS = 1_000_000
+#: Session-state key of the last run: (request tuple, GapReport).
+RESULT_KEY = "gap_result"
 
 
 @st.cache_data(show_spinner="Simulating the example log …", max_entries=4)
@@ -37,12 +49,13 @@ def _example(part_json: str, seed: int):
     return log_from_arrays(chans, EXAMPLE_RATE_HZ, source="example (hidden sinusoid on gyro_z)")
 
 
-@st.cache_data(show_spinner="Comparing the log with the model …", max_entries=8)
-def _run(key: str, model_json: str, from_catalog: bool, seed: int, realizations: int, _log):
+def _run(model_json: str, from_catalog: bool, seed: int, realizations: int, measured, rate_hz=None,
+         samples=None):
     model = NoiseModel.model_validate_json(model_json)
     # a catalog part is checked as a part (its datasheet rate need not be the log's rate)
     arg = PartSpec.model_validate(model.model_dump(exclude={"effects"})) if from_catalog else model
-    return run_gap(_log, arg, seed=seed, realizations=realizations)
+    with st.spinner("Comparing the measurement with the model …"):
+        return run_gap(measured, arg, seed=seed, realizations=realizations, rate_hz=rate_hz, samples=samples)
 
 
 def _model() -> tuple[NoiseModel | None, bool]:
@@ -53,8 +66,8 @@ def _model() -> tuple[NoiseModel | None, bool]:
         pid = st.selectbox("part", ids, index=ids.index("ADIS16405") if "ADIS16405" in ids else 0,
                            key="gap_part")
         return NoiseModel.from_part(cat[pid]), True
-    up = st.file_uploader("MODEL.json (catalog-row fields, optional effects)", type=["json"], key="gap_model_upload",
-                          max_upload_size=1)
+    up = st.file_uploader("MODEL.json (catalog-row fields, optional effects; at most 1 MB)", type=["json"],
+                          key="gap_model_upload", max_upload_size=1)
     if up is None:
         st.info("Upload a noise-model JSON, or pick a catalog part.")
         return None, False
@@ -64,44 +77,44 @@ def _model() -> tuple[NoiseModel | None, bool]:
         raise InputError(f"not valid JSON: {err}", file=up.name) from None
 
 
-def render() -> None:
-    st.title("Model gap")
-    st.caption("Compare a static log with its model, name the missing effect, show the gap shrink "
-               "(Allan deviation, PSD, tails; the gap is within noise when it is below its null threshold).")
-    model, from_catalog = _model()
-    if model is None:
-        return
-    src = st.radio("measured log", SOURCES, horizontal=True, key="gap_source")
-    left, mid, right = st.columns(3)
-    seed = int(left.number_input("seed", min_value=0, value=0, step=1, key="gap_seed"))
-    realizations = int(mid.number_input("model realizations", min_value=4, max_value=32, value=6, step=1,
-                                        key="gap_realizations"))
+def _measured(model: NoiseModel, seed: int):
+    """(request key, measured object, rate_hz, samples) or None while nothing is uploaded."""
+    src = st.radio("measured", SOURCES, horizontal=True, key="gap_source")
     if src == SOURCES[0]:
-        log = _example(model.model_dump_json(), seed)
-        key = f"example-{seed}-{model.part_id}"
-    else:
-        up = st.file_uploader(f"IMU log (at most {MAX_UPLOAD_MB} MB)", type=["csv", "gz"], key="gap_upload",
-                              max_upload_size=MAX_UPLOAD_MB)
-        if up is None:
-            st.info("Upload a static IMU log in the canonical columns, or use the example.")
-            return
-        data = up.getvalue()
-        log = read_uploaded_log(data, up.name, 2_000_000, False)
-        key = f"{up.name}-{len(data)}-{hash(data)}"
-    if not right.button("Run", type="primary", key="gap_run"):
-        if "gap_last" not in st.session_state:
-            return
-    report = _run(key, model.model_dump_json(), from_catalog, seed, realizations, log)
-    st.session_state["gap_last"] = True
+        return f"example-{seed}-{model.part_id}", _example(model.model_dump_json(), seed), None, None
+    st.markdown("A static **log** (canonical columns, plain or .gz/.bz2/.xz/.zip, read in chunks as the "
+                "CLI reads it) or an **Allan table** `channel, tau_s, adev[, lci, uci]`.")
+    up = st.file_uploader(upload_label("IMU log or Allan table"), type=LOG_TYPES, key="gap_upload",
+                          max_upload_size=UPLOAD_LIMIT_MB)
+    if up is None:
+        st.info("Upload a static IMU log or an Allan table, or use the example.")
+        return None
+    data = up.getvalue()
+    check_size(data, up.name)
+    digest = hashlib.sha256(data).hexdigest()[:16]
+    if is_adev_table(data, up.name):
+        rate, samples = adev_inputs("gap")
+        tables = read_uploaded_adev(data, up.name, rate, samples)
+        st.caption(f"{up.name}: Allan table, channels {', '.join(tables)} (compared by ADEV only).")
+        return f"{up.name}-{digest}-{rate}-{samples}", tables, None, None
+    max_rows = int(st.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
+                                   step=100_000, key="gap_max_rows"))
+    log = read_uploaded_log(data, up.name, max_rows, False)
+    st.caption(f"{up.name}: {log.n_samples} samples at {log.rate_hz:.6g} Hz ({log.duration_s:.6g} s).")
+    return f"{up.name}-{digest}-{max_rows}", log, None, None
+
+
+def _show(report) -> None:
     a, b, c2 = st.columns(3)
-    a.metric("gap before", f"{report.gap_before:.3g}")
-    b.metric("gap after", f"{report.gap_after:.3g}")
-    c2.metric("within-noise threshold", f"{report.threshold:.3g}")
+    a.metric("gap before (mean z²)", fmt_value(report.gap_before, 3),
+             help="mean over channels of the mean squared standardised difference; ≈ 1 when the "
+                  "log follows its model")
+    b.metric("gap after (mean z²)", fmt_value(report.gap_after, 3))
+    c2.metric("within-noise threshold (mean z²)", fmt_value(report.threshold, 3))
+    st.markdown(f"<span id='gap-result'>{len(report.steps)} effect(s) named</span>", unsafe_allow_html=True)
     if report.steps:
         st.subheader("Effects named, in order")
-        st.dataframe([{"effect": s.name, "channel": s.channel, "params": json.dumps(s.params),
-                       "gap before": s.gap_before, "gap after": s.gap_after} for s in report.steps],
-                     hide_index=True, key="gap_steps")
+        st.dataframe(tidy(_steps_frame(report)), hide_index=True, key="gap_steps")
     else:
         st.success("No effect is missing: the log follows its model within the statistical noise.")
     st.plotly_chart(gap_figure(report), key="gap_fig")
@@ -109,15 +122,53 @@ def render() -> None:
     st.plotly_chart(adev_figure(report, ch), key="gap_adev")
     if report.kind == "log":
         st.plotly_chart(psd_figure(report, ch), key="gap_psd")
-    st.dataframe(report.to_frame(), hide_index=True, key="gap_table")
+    st.dataframe(tidy(report.to_frame()), hide_index=True, key="gap_table")
     d1, d2 = st.columns(2)
-    d1.download_button("Download REPORT.json", json.dumps(report.to_json(), indent=2), "gap_report.json",
+    d1.download_button("Download REPORT.json", json_text(report.to_json()), "gap_report.json",
                        mime="application/json", key="gap_dl_report")
     if report.updated_model is not None:
-        d2.download_button("Download the updated model JSON", json.dumps(report.updated_model.to_dict(), indent=2),
+        d2.download_button("Download the updated model JSON", json_text(report.updated_model.to_dict()),
                            "updated_model.json", mime="application/json", key="gap_dl_model")
     for note in report.notes:
         st.caption(note)
 
 
-run_page(render)
+def _steps_frame(report):
+    import pandas as pd
+
+    return pd.DataFrame([{"effect": s.name, "channel": s.channel,
+                          "parameters (SI)": ", ".join(f"{k} = {fmt_value(v)}" for k, v in s.params.items()),
+                          "channel gap before (mean z²)": s.gap_before,
+                          "channel gap after (mean z²)": s.gap_after} for s in report.steps])
+
+
+def render() -> None:
+    st.title("Model gap")
+    st.caption("Compare a static log (or Allan table) with its model, name the missing effect, show the "
+               "gap shrink (Allan deviation, PSD, tails; the gap is within noise when it is below its null "
+               "threshold).")
+    model, from_catalog = _model()
+    if model is None:
+        return
+    left, mid, right = st.columns(3)
+    seed = int(left.number_input("seed", min_value=0, value=0, step=1, key="gap_seed"))
+    realizations = int(mid.number_input("model realizations", min_value=4, max_value=32, value=6, step=1,
+                                        key="gap_realizations"))
+    got = _measured(model, seed)
+    if got is None:
+        return
+    key, measured, rate_hz, samples = got
+    request = (key, model.model_dump_json(), from_catalog, seed, realizations)
+    if right.button("Run", type="primary", key="gap_run"):
+        report = _run(model.model_dump_json(), from_catalog, seed, realizations, measured, rate_hz, samples)
+        st.session_state[RESULT_KEY] = (request, report)
+    last = st.session_state.get(RESULT_KEY)
+    if last is None:
+        st.info("Press **Run** to compare.")
+        return
+    if last[0] != request:
+        st.info("The inputs changed since the last run; press **Run** to update. Showing the last run.")
+    _show(last[1])
+
+
+run_page(render, sidebar=False)

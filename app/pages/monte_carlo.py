@@ -9,21 +9,25 @@ import streamlit as st
 from budget.catalog.schema import PartSpec
 from budget.errors import InputError
 from budget.mc import REASONS, TRIAL_METRICS, McOptions, McResult, run_mc
-from budget.mc.options import PREFILTERS
-from budget.plots.mc import (has_detail, metric_histogram_figure, pass_probability_figure,
+from budget.check import check_parts
+from budget.fileio import frame_csv_text, json_text
+from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS
+from budget.plots.mc import (METRIC_LABELS, has_detail, metric_histogram_figure, pass_probability_figure,
                              trial_images_figure, trial_phase_figure)
+from budget.report import build_report, check_vs_mc, mc_dict
 from budget.scenario import Scenario
 
 import components as c
 import sidebar
+from formatting import tidy
 from page_frame import run_page
 
 DEFAULT_PART = "ADIS16405"
-DEFAULT_TRIALS = 64
-DEFAULT_SEED = 1
 MAX_TRIALS = 100_000
 #: Session-state key of the last run request (scenario JSON, part ids, trials, seed).
 RUN_KEY = "mc_request"
+#: Session-state key of the last built report: (inputs key, HTML text).
+REPORT_KEY = "mc_report"
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -80,25 +84,77 @@ def _summary(results: dict[str, McResult], scenario: Scenario, seed: int) -> Non
                        help=f"95 % CI [{r.ci_after[0]:.3f}, {r.ci_after[1]:.3f}]")
     fmt = {k: "{:.3f}" for k in summary_frame(results).columns if k.startswith(("P(", "CI"))}
     st.dataframe(summary_frame(results).style.format(fmt), hide_index=True, key="mc_summary")
+    fills = [f"**{pid}** — {r.unspecified_summary()}" for pid, r in results.items() if r.unspecified_summary()]
+    if fills:  # no silent zeros: say which datasheet terms were filled or taken as 0
+        st.caption("  \n".join(fills))
     st.plotly_chart(pass_probability_figure(results), key="mc_pass_plot", width="stretch")
     st.subheader("Failure reasons (trials failing for each reason, after PGA)")
     st.dataframe(pd.DataFrame([{"part_id": pid, **r.agg.failure_reasons()} for pid, r in results.items()],
                               columns=["part_id", *REASONS]), hide_index=True, key="mc_reasons")
 
 
+def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict, mode: str) -> None:
+    """The analytic check of the same parts next to the Monte Carlo; a disagreement is said."""
+    st.subheader("Analytic check vs. Monte Carlo")
+    parts = [catalog[p] for p in results if p in catalog]
+    if not parts:
+        return
+    recs = {r["part_id"]: r for r in check_parts(parts, scenario, mode if mode != "no-autofocus" else "paper")
+            .records(0)}
+    rows = []
+    for pid, r in results.items():
+        cmp_ = check_vs_mc(recs.get(pid, {"part_id": pid, "verdict": "not checked"}), r)
+        rows.append(cmp_)
+        if cmp_["agree"] is False:
+            st.warning(f"**{pid}: the check and the Monte Carlo disagree.** {cmp_['reason']}",
+                       icon=":material/warning:")
+    frame = pd.DataFrame([{"part_id": x["part_id"], "check verdict": x["check_verdict"],
+                           "MC P(pass) after PGA": x["mc_p_pass_after"], "MC verdict": x["mc_verdict"],
+                           "agree": {True: "yes", False: "NO", None: "n/a"}[x["agree"]]} for x in rows])
+    st.dataframe(tidy(frame), hide_index=True, key="mc_check_vs_mc")
+    st.caption(f"MC verdict: pass when the 95 % interval of P(pass after PGA) lies at or above "
+               f"{rows[0]['target']:g}, fail when below, undecided otherwise.")
+
+
+def _downloads(results: dict[str, McResult], scenario: Scenario, catalog: dict, mode: str,
+               request: tuple) -> None:
+    st.subheader("Export")
+    a, b, c3 = st.columns(3)
+    a.download_button("P(pass) table (CSV)", frame_csv_text(summary_frame(results)),
+                      f"mc_{scenario.name}.csv", mime="text/csv", key="mc_dl_csv")
+    b.download_button("Full results (JSON)", json_text({pid: mc_dict(r) for pid, r in results.items()}),
+                      f"mc_{scenario.name}.json", mime="application/json", key="mc_dl_json")
+    parts = [catalog[p] for p in results if p in catalog]
+    key = (request, ctx_mode(mode))
+    if c3.button("Build the report (HTML)", key="mc_build_report",
+                 help="scenario, bounds, check, these P(pass) with intervals, figures, provenance"):
+        rep = build_report(scenario, parts, mode=ctx_mode(mode), mc_results=results)
+        st.session_state[REPORT_KEY] = (key, rep.html())
+    got = st.session_state.get(REPORT_KEY)
+    if got is not None and got[0] == key:
+        c3.download_button("Download the report (opens offline)", got[1], f"report_{scenario.name}.html",
+                           mime="text/html", key="mc_dl_report", type="primary")
+
+
+def ctx_mode(mode: str) -> str:
+    """Bounds mode of the report's check (no-autofocus has no grade advice: paper then)."""
+    return mode if mode in ("paper", "derived") else "paper"
+
+
 def _percentiles(results: dict[str, McResult]) -> None:
     st.subheader("Metric percentiles (worst target per trial)")
     tabs = st.tabs(list(results))
     for tab, (pid, r) in zip(tabs, results.items()):
-        tab.dataframe(r.to_frame().style.format({k: "{:.4g}" for k in r.to_frame().columns if k != "metric"}),
-                      hide_index=True, key=f"mc_pct_{pid}")
+        frame = r.to_frame()
+        frame["metric"] = frame["metric"].map(lambda m: METRIC_LABELS.get(m, m))
+        tab.dataframe(tidy(frame), hide_index=True, key=f"mc_pct_{pid}")
 
 
 def _distribution(results: dict[str, McResult]) -> None:
     st.subheader("Metric distribution over trials")
     metric = st.selectbox("metric", TRIAL_METRICS, index=TRIAL_METRICS.index("residual_phase_rms_deg"),
-                          key="mc_metric")
-    values = {pid: r.to_json_dict().get("metrics_after", {}).get(metric, []) for pid, r in results.items()}
+                          format_func=lambda m: METRIC_LABELS.get(m, m), key="mc_metric")
+    values = {pid: mc_dict(r).get("metrics_after", {}).get(metric, []) for pid, r in results.items()}
     st.plotly_chart(metric_histogram_figure(values, metric), key="mc_hist", width="stretch")
 
 
@@ -113,8 +169,9 @@ def _inspector(results: dict[str, McResult]) -> None:
     labels = {o.trial: f"trial {o.trial} — {', '.join(o.reasons) or 'passed'}" for o in worst}
     trial = right.selectbox("trial (worst first)", list(labels), format_func=labels.get, key="mc_worst_trial")
     o = next(w for w in worst if w.trial == trial)
-    st.dataframe(pd.DataFrame([{"metric": m, "before PGA": o.before.get(m), "after PGA": o.after.get(m)}
-                               for m in TRIAL_METRICS]), hide_index=True, key="mc_worst_metrics")
+    st.dataframe(tidy(pd.DataFrame([{"metric": METRIC_LABELS.get(m, m), "before PGA": o.before.get(m),
+                                     "after PGA": o.after.get(m)} for m in TRIAL_METRICS])),
+                 hide_index=True, key="mc_worst_metrics")
     st.caption(f"peak range migration {o.peak_range_cells:.3g} range cells · PGA "
                f"{'converged' if o.pga_converged else 'did not converge'} ({o.pga_reason})")
     if not has_detail(o.detail):
@@ -160,7 +217,10 @@ def render() -> None:
             st.error(f"{pid}: {err}", icon=":material/error:")
     if not results:
         return
-    _summary(results, Scenario.model_validate_json(scen_json), run_seed)
+    run_scenario = Scenario.model_validate_json(scen_json)
+    _summary(results, run_scenario, run_seed)
+    _check_vs_mc(results, run_scenario, catalog, ctx.mode)
+    _downloads(results, run_scenario, catalog, ctx.mode, last)
     _percentiles(results)
     _distribution(results)
     _inspector(results)

@@ -13,21 +13,24 @@ import streamlit as st
 from budget import units as u
 from budget.catalog.io import parts_to_csv_text
 from budget.errors import InputError
-from budget.noise import (ArmaKalman, ImuLog, LogError, allan_deviation, characterize, check_series,
-                          fit_noise_terms, frequency_response, preprocess, select_arma, welch_psd)
+from budget.fileio import json_text
+from budget.noise import ImuLog, LogError, allan_deviation, characterize, fit_noise_terms, welch_psd
+from budget.noise.pipeline import analyse_arma, channel_si_unit
 from budget.noise.plots import allan_figure, filter_figure, psd_figure, response_figure
 from budget.noise.synth import imu_noise
 from budget.plots.noise import arma_criteria_figure, preprocess_figure
 
+from formatting import tidy, value_table
 from page_frame import run_page
+from upload_tables import (LOG_TYPES, UPLOAD_LIMIT_MB, adev_inputs, check_size, is_adev_table,
+                           read_uploaded_adev, upload_label)
 from uploads import read_uploaded_log
 
-MAX_UPLOAD_MB = 50
 DEFAULT_MAX_ROWS = 500_000
 DEFAULT_ARMA_SAMPLES = 20_000
 #: Session-state key holding the built-in example log (CSV text) currently shown.
 EXAMPLE_KEY = "noise_example_csv"
-SOURCES = ("built-in synthetic example", "upload a log CSV")
+SOURCES = ("built-in synthetic example", "upload a log or an Allan table")
 
 #: The built-in example: a static 6-axis log, 200 s at 100 Hz, with known IEEE-952 terms
 #: (datasheet units; the CSV is written in SI: rad/s and m/s²).
@@ -56,32 +59,24 @@ def example_csv(seed: int) -> str:
     return buf.getvalue()
 
 
-def _unit(channel: str) -> str:
-    return "rad/s" if channel.startswith("gyro") else "m/s^2"
-
-
 @st.cache_data(show_spinner="Modelling the channel …", max_entries=8)
-def _analyse(key: str, channel: str, arma_samples: int, _log: ImuLog) -> dict:
-    """Preprocessing, checks, ARMA selection, Kalman filter and response, Allan, PSD of one channel."""
+def _analyse(key: str, channel: str, arma_samples: int, _log: ImuLog):
+    """The ARMA pipeline (:func:`budget.noise.pipeline.analyse_arma`, as ``sar-budget noise arma``)
+    on the first ``arma_samples`` samples; Allan deviation, IEEE-952 fit and PSD on all of them."""
     x = _log.channels[channel]
-    pre = preprocess(x[:arma_samples])
-    sel = select_arma(pre.x, method="ls")
-    kf = ArmaKalman(sel.selected)
-    allan = allan_deviation(x, _log.rate_hz, channel=channel, unit=_unit(channel))
-    return {"raw": x[:arma_samples], "pre": pre, "checks": check_series(pre.x), "selection": sel,
-            "kalman": kf.filter(pre.x), "kalman_summary": kf.summary(),
-            "response": frequency_response(kf, _log.rate_hz), "allan": allan,
-            "terms": fit_noise_terms(allan),
-            "psd": welch_psd(x, _log.rate_hz, channel=channel, unit=_unit(channel))}
+    unit = channel_si_unit(channel)
+    arma = analyse_arma(x[:arma_samples], _log.rate_hz, channel=channel, response_freq_hz="dense")
+    allan = allan_deviation(x, _log.rate_hz, channel=channel, unit=unit)
+    return arma, allan, fit_noise_terms(allan), welch_psd(x, _log.rate_hz, channel=channel, unit=unit)
 
 
-@st.cache_data(show_spinner="Characterising the log …", max_entries=8)
-def _characterize(key: str, part_id: str, _log: ImuLog):
-    return characterize(_log, part_id=part_id)
+@st.cache_data(show_spinner="Characterising …", max_entries=8)
+def _characterize(key: str, part_id: str, _data):
+    return characterize(_data, part_id=part_id)
 
 
 def _source() -> tuple[bytes, str] | None:
-    src = st.radio("log", SOURCES, key="noise_source", horizontal=True)
+    src = st.radio("input", SOURCES, key="noise_source", horizontal=True)
     if src == SOURCES[0]:
         seed = int(st.number_input("example seed", min_value=0, value=7, step=1, key="noise_example_seed"))
         text = example_csv(seed)
@@ -93,16 +88,17 @@ def _source() -> tuple[bytes, str] | None:
         st.download_button("Download the example log (CSV)", data=text, file_name=f"example_imu_log_{seed}.csv",
                            mime="text/csv", key="noise_example_download")
         return text.encode(), f"example_imu_log_{seed}.csv"
-    st.markdown("Columns `time_s` (or a known rate), `gyro_x_dps|rps|dph` … `accel_z_mps2|g|mg`; "
-                "plain or .gz/.bz2/.xz/.zip.")
-    up = st.file_uploader(f"IMU log (at most {MAX_UPLOAD_MB} MB)", type=["csv", "gz", "bz2", "xz", "zip"],
-                          key="noise_upload", max_upload_size=MAX_UPLOAD_MB)
+    st.markdown("A **log**: columns `time_s` (or a known rate), `gyro_x_dps|rps|dph` … `accel_z_mps2|g|mg`; "
+                "plain or .gz/.bz2/.xz/.zip (read in chunks, as the CLI reads it). Or an **Allan table**: "
+                "`channel, tau_s, adev[, lci, uci]` with the unit on the channel name (`gyro_x_dps`, "
+                "`accel_x_g` …).")
+    up = st.file_uploader(upload_label("IMU log or Allan table"), type=LOG_TYPES, key="noise_upload",
+                          max_upload_size=UPLOAD_LIMIT_MB)
     if up is None:
-        st.info("Upload a static IMU log, or pick the built-in example.")
+        st.info("Upload a static IMU log or an Allan table, or pick the built-in example.")
         return None
     data = up.getvalue()
-    if len(data) > MAX_UPLOAD_MB * 1_000_000:
-        raise InputError(f"file is {len(data) / 1e6:.1f} MB", file=up.name, expected=f"at most {MAX_UPLOAD_MB} MB")
+    check_size(data, up.name)
     return data, up.name
 
 
@@ -121,8 +117,9 @@ def _load(data: bytes, name: str) -> ImuLog | None:
     except InputError as err:
         st.error(str(err), icon=":material/error:")
         return None
-    st.markdown(f"**{name}**: {log.n_samples} samples at {log.rate_hz:.6g} Hz ({log.duration_s:.6g} s); "
-                f"channels {', '.join(f'{c} [{log.source_units[c]}]' for c in log.channels)}")
+    st.markdown(f"<span id='noise-loaded'>**{name}**: {log.n_samples} samples at {log.rate_hz:.6g} Hz "
+                f"({log.duration_s:.6g} s)</span>; channels "
+                f"{', '.join(f'{c} [{log.source_units[c]}]' for c in log.channels)}", unsafe_allow_html=True)
     if log.issues.issues or log.issues.repairs:
         with st.expander(f"Log report: {len(log.issues.issues)} finding(s), {len(log.issues.repairs)} repair(s)"):
             st.text(log.issues.summary())
@@ -133,63 +130,89 @@ def _load(data: bytes, name: str) -> ImuLog | None:
     return log
 
 
+def _terms_table(terms, key: str) -> None:
+    st.dataframe(tidy(terms.to_frame()), hide_index=True, key=key)
+
+
 def _channel_sections(log: ImuLog, key: str) -> None:
     left, right = st.columns(2)
     channel = left.selectbox("channel", list(log.channels), key="noise_channel")
     n_arma = int(right.number_input("samples for ARMA/Kalman (from the start)", min_value=100,
                                     value=DEFAULT_ARMA_SAMPLES, step=1000, key="noise_arma_samples"))
-    a = _analyse(key, channel, n_arma, log)
-    unit = _unit(channel)
+    a, allan, terms, psd = _analyse(key, channel, n_arma, log)
+    unit = a.unit
 
     st.subheader("Preprocessing and checks (seed 000 §3.1)")
-    st.markdown(f"{a['pre'].summary()}. Checks: **{a['checks'].summary()}**.")
-    st.dataframe(a["checks"].to_frame().drop(columns=["flags"]), hide_index=True, key="noise_checks")
-    st.plotly_chart(preprocess_figure(a["raw"], a["pre"], log.rate_hz, unit=unit), key="noise_pre_plot",
+    st.markdown(f"{a.pre.summary()}. Checks: **{a.checks.summary()}**.")
+    st.dataframe(tidy(a.checks.to_frame().drop(columns=["flags"])), hide_index=True, key="noise_checks")
+    st.plotly_chart(preprocess_figure(a.raw, a.pre, log.rate_hz, unit=unit), key="noise_pre_plot",
                     width="stretch")
 
     st.subheader("ARMA model")
-    sel = a["selection"]
+    sel = a.selection
     st.metric("selected ARMA model (lowest AIC, stationary and invertible)", sel.selected.name)
-    frame = sel.to_frame()
-    frame["phi"] = frame["phi"].map(lambda v: ", ".join(f"{c:.4g}" for c in v))
-    frame["theta"] = frame["theta"].map(lambda v: ", ".join(f"{c:.4g}" for c in v))
-    st.dataframe(frame, hide_index=True, key="noise_arma_table")
+    frame = a.to_frame()
+    for col in ("phi", "theta", "stderr"):
+        if col in frame.columns:
+            frame[col] = frame[col].map(lambda v: ", ".join(f"{c:.4g}" for c in v))
+    st.dataframe(tidy(frame), hide_index=True, key="noise_arma_table")
     for note in sel.notes:
         st.caption(f"note: {note}")
     st.plotly_chart(arma_criteria_figure(sel), key="noise_arma_plot", width="stretch")
 
     st.subheader("Kalman filter on the ARMA model")
-    k = a["kalman"]
+    k = a.filtered
     cols = st.columns(3)
     cols[0].metric(f"variance before ({unit})²", f"{k.variance_before:.4g}")
     cols[1].metric(f"variance after ({unit})²", f"{k.variance_after:.4g}")
-    cols[2].metric("reduction", f"÷{k.variance_before / k.variance_after:.3g}")
-    st.caption(a["kalman_summary"])
-    st.plotly_chart(filter_figure(a["pre"].x, k, log.rate_hz, unit=unit), key="noise_filter_plot", width="stretch")
-    st.markdown(f"What the filter does to real motion: {a['response'].summary()}")
-    st.plotly_chart(response_figure(a["response"]), key="noise_response_plot", width="stretch")
+    cols[2].metric("reduction", f"÷{a.variance_reduction:.3g}")
+    st.caption(a.kalman.summary())
+    st.plotly_chart(filter_figure(a.pre.x, k, log.rate_hz, unit=unit), key="noise_filter_plot", width="stretch")
+    st.markdown(f"What the filter does to real motion: {a.response.summary()}")
+    st.plotly_chart(response_figure(a.response), key="noise_response_plot", width="stretch")
+    st.download_button("Download the ARMA result (JSON, as `sar-budget noise arma --json`)",
+                       data=json_text(a.to_dict()), file_name=f"arma_{channel}.json", mime="application/json",
+                       key="noise_arma_download")
 
     st.subheader("Allan deviation and IEEE-952 terms")
-    st.plotly_chart(allan_figure(a["allan"], {channel: a["terms"]}, show_terms=True), key="noise_allan_plot",
+    st.plotly_chart(allan_figure(allan, {channel: terms}, show_terms=True), key="noise_allan_plot",
                     width="stretch")
-    st.dataframe(a["terms"].to_frame(), hide_index=True, key="noise_terms_table")
-    st.caption(a["terms"].summary().splitlines()[0])
+    _terms_table(terms, "noise_terms_table")
+    st.caption(terms.summary().splitlines()[0])
     st.subheader("Power spectral density")
-    st.plotly_chart(psd_figure(a["psd"]), key="noise_psd_plot", width="stretch")
+    st.plotly_chart(psd_figure(psd), key="noise_psd_plot", width="stretch")
 
 
-def _catalog_entry(log: ImuLog, key: str) -> None:
+def _allan_table_sections(data: bytes, name: str) -> dict | None:
+    """An uploaded Allan table: its curves, the IEEE-952 fit per channel (no ARMA: no series)."""
+    st.markdown(f"**{name}** is an Allan table. The record's rate and length are not in it; give them "
+                "(they fix the averaging factors and, without lci/uci, the confidence intervals).")
+    rate, samples = adev_inputs("noise")
+    tables = read_uploaded_adev(data, name, rate, samples)
+    st.markdown(f"<span id='noise-loaded'>**{name}**: Allan table, {len(tables)} channel(s): "
+                f"{', '.join(tables)}</span>", unsafe_allow_html=True)
+    channel = st.selectbox("channel", list(tables), key="noise_table_channel")
+    ch = _characterize(f"{name}:{rate}:{samples}", "measured_imu", tables)
+    terms = ch.channels.get(channel)
+    st.subheader("Allan deviation and IEEE-952 terms")
+    st.plotly_chart(allan_figure(tables[channel], {channel: terms} if terms else None, show_terms=True),
+                    key="noise_allan_plot", width="stretch")
+    if terms is not None:
+        _terms_table(terms, "noise_terms_table")
+    st.caption("ARMA modelling and the Kalman filter need the time series; upload the log for them.")
+    return tables
+
+
+def _catalog_entry(data, key: str) -> None:
     st.subheader("Save the characterisation as a catalog entry")
     part_id = st.text_input("part id", value="measured_imu", key="noise_part_id").strip()
     if not part_id:
         st.info("Give the part an id.")
         return
-    ch = _characterize(key, part_id, log)
-    row = {k: v for k, v in ch.part.model_dump().items() if v not in (None, "")}
-    st.dataframe(pd.DataFrame({"column": list(row), "value": [str(v) for v in row.values()]}),
-                 hide_index=True, key="noise_part_row")
+    ch = _characterize(key, part_id, data)
+    st.dataframe(value_table(ch.part.model_dump()), hide_index=True, key="noise_part_row")
     with st.expander("Per-channel IEEE-952 fits"):
-        st.dataframe(ch.to_frame(), hide_index=True, key="noise_char_table")
+        st.dataframe(tidy(ch.to_frame()), hide_index=True, key="noise_char_table")
         for note in ch.notes:
             st.caption(f"note: {note}")
     st.download_button("Download the catalog row (CSV)", data=parts_to_csv_text([ch.part]),
@@ -203,12 +226,18 @@ def render() -> None:
     if src is None:
         return
     data, name = src
+    digest = hashlib.sha256(data).hexdigest()
+    if is_adev_table(data, name):
+        tables = _allan_table_sections(data, name)
+        rate, samples = st.session_state["noise_adev_rate"], st.session_state["noise_adev_samples"]
+        _catalog_entry(tables, f"{digest}:{rate}:{samples}")
+        return
     log = _load(data, name)
     if log is None:
         return
-    key = f"{hashlib.sha256(data).hexdigest()}:{st.session_state['noise_max_rows']}:{st.session_state['noise_repair']}"
+    key = f"{digest}:{st.session_state['noise_max_rows']}:{st.session_state['noise_repair']}"
     _channel_sections(log, key)
     _catalog_entry(log, key)
 
 
-run_page(render)
+run_page(render, sidebar=False)

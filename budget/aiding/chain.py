@@ -1,9 +1,10 @@
-"""Aided or smoothed trajectory error per Monte Carlo trial: the entry point of the verdict chain.
+"""Aided or smoothed trajectory error per Monte Carlo trial: the aided path of the motion engine.
 
 :func:`run_aided` runs filter (and smoother) on a built system with given truth;
-:func:`aided_position_error` is the array-in/array-out form for the Monte Carlo engine: it takes
-the *free-inertial* errors the motion engine propagates and returns the position error of the
-aided (or smoothed) solution that motion compensation would use.
+:func:`correct_free_inertial` takes the *free-inertial* errors the motion engine propagates and
+returns the errors of the solution motion compensation uses, in one of the correction modes of
+:mod:`budget.aiding_spec` (``realtime``, ``frozen``, ``feedforward``, ``smoothed``);
+:func:`aided_position_error` is its array-in/array-out form for position alone.
 """
 
 from __future__ import annotations
@@ -14,10 +15,10 @@ import numpy as np
 import pandas as pd
 from pydantic import BaseModel
 
+from ..aiding_spec import CORRECTION_MODES, FlexureConfig, parse_aiding
 from ..catalog.schema import ImuErrorsSI
 from ..errors import InputError
 from ..units import G0
-from .config import FlexureConfig, parse_aiding
 from .flexure import antenna_flexure_error, simulate_flexure
 from .ins_error_model import ImuErrorModel, NominalTrajectory
 from .kalman import run_kalman
@@ -100,6 +101,108 @@ def estimate_errors(system: AidedSystem, truth, z: dict, *, smoother: bool = Fal
                        sigma=np.sqrt(np.clip(pdiag[:, :9], 0, None)), method=method)
 
 
+def _typed(aiding, imu_rate_hz: float) -> list:
+    """Validated configs: typed ones (a scenario's, parsed once) are used as they are."""
+    items = list(aiding or [])
+    if all(isinstance(a, BaseModel) for a in items):
+        for i, a in enumerate(items):
+            if a.rate_hz > imu_rate_hz * (1 + 1e-9):
+                raise InputError(f"{a.rate_hz:g} Hz is above the IMU rate {imu_rate_hz:g} Hz",
+                                 field=f"aiding[{i}].rate_hz", value=a.rate_hz)
+        return items
+    return parse_aiding(items, imu_rate_hz=imu_rate_hz)
+
+
+def _check_free_inertial(position_error_m, velocity_error_m_s, attitude_error_rad, dt_s):
+    pos = np.asarray(position_error_m, dtype=float)
+    if pos.ndim != 3 or pos.shape[-1] != 3:
+        raise InputError("free-inertial position error must have shape (trials, samples, 3)",
+                         field="position_error_m", value=pos.shape)
+    for name, a in (("position_error_m", pos), ("velocity_error_m_s", velocity_error_m_s),
+                    ("attitude_error_rad", attitude_error_rad)):
+        a = np.asarray(a, dtype=float)
+        if a.shape != pos.shape:
+            raise InputError(f"{name} must have the shape of position_error_m {pos.shape}",
+                             field=name, value=a.shape)
+        if not np.all(np.isfinite(a)):
+            raise InputError("free-inertial errors contain NaN or infinity", field=name)
+    if not (np.isfinite(dt_s) and dt_s > 0):
+        raise InputError("sample interval must be > 0", field="dt_s", value=dt_s)
+    return pos
+
+
+def correct_free_inertial(position_error_m, velocity_error_m_s, attitude_error_rad, imu, aiding,
+                          dt_s: float, rng: np.random.Generator, *, mode: str = "realtime",
+                          aperture_start: int = 0, blend_time_s: float | None = None,
+                          initial: InitialUncertainty | None = None,
+                          imu_rate_hz: float | None = None, velocity_n_m_s=(0.0, 0.0, 0.0),
+                          gm_tau_s: float = 100.0) -> tuple[np.ndarray, np.ndarray]:
+    """(position m, attitude rad) errors (T, N, 3) of the corrected solution, n frame, computed −
+    true, from the free-inertial errors (same shapes and sign) and the aiding ``aiding``.
+
+    ``mode`` (:data:`~budget.aiding_spec.CORRECTION_MODES`):
+
+    * ``realtime`` — the filter's real-time output x̂ (latency honoured): x − x̂ steps at fixes;
+    * ``frozen`` — only measurements available by sample ``aperture_start`` are used; after
+      it the correction is the filter's prediction Φ x̂ (the INS coasting on its corrected
+      state and bias estimates);
+    * ``feedforward`` — the real-time corrections blended in, critically damped, with mean
+      delay ``blend_time_s`` (two stages of τ = blend_time_s/2,
+      :func:`~budget.aiding.kalman.run_kalman`, ``blend_steps``);
+    * ``smoothed`` — fixed-interval RTS over the whole record (seed 002).
+
+    The filter is linearised about level unaccelerated flight (one covariance for all trials,
+    :mod:`budget.aiding.kalman`) at velocity ``velocity_n_m_s`` (what a DVL sees); the truth
+    may move (it is whatever produced the inputs).
+    ``imu``: :class:`~budget.catalog.schema.ImuErrorsSI` or :class:`ImuErrorModel` (the
+    filter's process model); ``initial``: the filter's initial 1σ. Measurement noise and the
+    measurement-error states are drawn from ``rng``. No aiding: the inputs are returned.
+    """
+    pos = _check_free_inertial(position_error_m, velocity_error_m_s, attitude_error_rad, dt_s)
+    att = np.asarray(attitude_error_rad, dtype=float)
+    if mode not in CORRECTION_MODES:
+        raise InputError(f"unknown correction mode {mode!r}", field="aiding_mode",
+                         expected=" | ".join(CORRECTION_MODES))
+    aiding = _typed(aiding, imu_rate_hz or 1.0 / dt_s)
+    if not aiding:
+        return pos, att
+    if mode == "feedforward" and not (blend_time_s is not None and blend_time_s > 0):
+        raise InputError("feedforward needs a blend time > 0", field="aiding_blend_time_s",
+                         value=blend_time_s)
+    T, N, _ = pos.shape
+    if not 0 <= aperture_start < N:
+        raise InputError("aperture start outside the record", field="aperture_start",
+                         value=aperture_start, expected=f"0 … {N - 1}")
+    model = imu if isinstance(imu, ImuErrorModel) else _filter_model(imu, gm_tau_s)
+    traj = NominalTrajectory(dt_s=float(dt_s), f_n=np.broadcast_to(np.array([0.0, 0.0, G0]), (N, 3)),
+                             c_bn=np.broadcast_to(np.eye(3), (N, 3, 3)),
+                             v_n=np.broadcast_to(np.asarray(velocity_n_m_s, dtype=float), (N, 3)),
+                             constant=True)
+    system = build_system(traj, model, aiding, initial)
+    if mode == "frozen":  # no correction that arrives after the aperture start
+        for m in system.measurements:
+            ep = system.epochs[m.name]
+            system.epochs[m.name] = ep[ep + m.latency_steps(dt_s) <= aperture_start]
+    truth = embed_ins_truth(system, pos, velocity_error_m_s, att, rng, parts=True)
+    z = simulate_measurements(system, truth, rng)
+    blend = 0.5 * blend_time_s / dt_s if mode == "feedforward" else None  # two stages of τ/2
+    filt = run_kalman(system, z, x0=np.zeros((T, system.layout["filter"].n)), blend_steps=blend)
+    if mode == "smoothed":
+        est = run_rts(system, filt).estimate
+    elif mode == "feedforward":
+        est = filt.blended
+    else:
+        est = filt.realtime
+    return pos - est[..., 0:3], att - est[..., 6:9]
+
+
+def _filter_model(imu, gm_tau_s: float) -> ImuErrorModel:
+    if not isinstance(imu, ImuErrorsSI):
+        raise InputError("imu must be ImuErrorsSI or ImuErrorModel", field="imu",
+                         value=type(imu).__name__)
+    return ImuErrorModel.from_imu_errors(imu, gm_tau_s=gm_tau_s)
+
+
 def aided_position_error(position_error_m, velocity_error_m_s, attitude_error_rad, imu, aiding,
                          dt_s: float, rng: np.random.Generator, *, smoother: bool = False,
                          specific_force_n_m_s2=(0.0, 0.0, G0), c_bn=None, velocity_n_m_s=None,
@@ -135,23 +238,9 @@ def aided_position_error(position_error_m, velocity_error_m_s, attitude_error_ra
     per trial and sample (T = 300: 1.9 s); the RTS smoother about doubles it. Memory ≈
     8·T·N·(9 + n_aug + 12) bytes — pass trials in chunks of a few hundred for long spans.
     """
-    pos = np.asarray(position_error_m, dtype=float)
-    if pos.ndim != 3 or pos.shape[-1] != 3:
-        raise InputError("free-inertial position error must have shape (trials, samples, 3)",
-                         field="position_error_m", value=pos.shape)
+    pos = _check_free_inertial(position_error_m, velocity_error_m_s, attitude_error_rad, dt_s)
     T, N, _ = pos.shape
-    for name, a in (("position_error_m", pos), ("velocity_error_m_s", velocity_error_m_s),
-                    ("attitude_error_rad", attitude_error_rad)):
-        a = np.asarray(a, dtype=float)
-        if a.shape != pos.shape:
-            raise InputError(f"{name} must have the shape of position_error_m {pos.shape}",
-                             field=name, value=a.shape)
-        if not np.all(np.isfinite(a)):
-            raise InputError("free-inertial errors contain NaN or infinity", field=name)
-    if not (np.isfinite(dt_s) and dt_s > 0):
-        raise InputError("sample interval must be > 0", field="dt_s", value=dt_s)
-    items = [a.model_dump() if isinstance(a, BaseModel) else a for a in (aiding or [])]
-    aiding = parse_aiding(items, imu_rate_hz=imu_rate_hz or 1.0 / dt_s)
+    aiding = _typed(aiding, imu_rate_hz or 1.0 / dt_s)
     if isinstance(antenna_flexure, dict):
         antenna_flexure = FlexureConfig.model_validate(antenna_flexure)
     flex = 0.0
@@ -160,10 +249,7 @@ def aided_position_error(position_error_m, velocity_error_m_s, attitude_error_ra
                                      c_bn)
     if not aiding:
         return pos + flex
-    if not isinstance(imu, (ImuErrorModel, ImuErrorsSI)):
-        raise InputError("imu must be ImuErrorsSI or ImuErrorModel", field="imu",
-                         value=type(imu).__name__)
-    model = imu if isinstance(imu, ImuErrorModel) else ImuErrorModel.from_imu_errors(imu, gm_tau_s=gm_tau_s)
+    model = imu if isinstance(imu, ImuErrorModel) else _filter_model(imu, gm_tau_s)
     f_n = np.broadcast_to(np.asarray(specific_force_n_m_s2, dtype=float), (N, 3))
     c = np.broadcast_to(np.eye(3) if c_bn is None else np.asarray(c_bn, dtype=float), (N, 3, 3))
     v = np.broadcast_to(np.zeros(3) if velocity_n_m_s is None else np.asarray(velocity_n_m_s, dtype=float),

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .config import FlexureConfig
+from ..aiding_spec import FlexureConfig
 from .ins_error_model import van_loan
 from .lti import sample_initial, sample_lti
 

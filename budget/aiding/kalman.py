@@ -22,6 +22,14 @@ it at its validity time (the estimate x̂_k after all measurements — what post
 and what the consistency tests check); the *real-time* output at sample i only contains the
 corrections of measurements with k + L ≤ i (the others are subtracted, propagated by Φ).
 That is the exact output of a real-time filter that buffers and re-processes late data.
+
+Blended (feed-forward) output: with ``blend_steps`` = τ/dt, each correction that has arrived is
+not applied at once but fed to the navigation solution through two first-order stages of time
+constant τ (critically damped: a correction Δ reaches the output as Δ·[1 − (1 + t/τ)e^{−t/τ}],
+mean delay 2τ, continuous in value and slope). The pending parts d₁, d₂ propagate with the
+error model; per step, with a = e^{−dt/τ}: d₂ ← a·Φd₂ + (1 − a)·Φd₁, d₁ ← a·Φd₁, and
+d₁ ← d₁ + Δx̂ when an update arrives. The navigation output is x̂ − d₁ − d₂: no steps and no
+kinks at the fixes.
 """
 
 from __future__ import annotations
@@ -45,7 +53,8 @@ class FilterOutput:
     state) after all measurements valid up to each sample; ``realtime`` (T, N, s) the same
     honouring latency (``estimate`` itself when no measurement has latency); ``p_diag`` (N, n)
     the variances; checkpoints (for the smoother and NEES): sample indices, x̂⁺ (T, C, n),
-    P⁺ (C, n, n), P⁻ (C, n, n); ``innovations`` name → (ν (T, E, m), S (E, m, m)).
+    P⁺ (C, n, n), P⁻ (C, n, n); ``innovations`` name → (ν (T, E, m), S (E, m, m));
+    ``blended`` (T, N, s) the feed-forward output (``None`` unless ``blend_steps`` was given).
     """
 
     store_index: np.ndarray
@@ -57,6 +66,7 @@ class FilterOutput:
     p_post: np.ndarray
     p_prior: np.ndarray
     innovations: dict = field(default_factory=dict)
+    blended: np.ndarray | None = None
 
     def summary(self) -> dict:
         T, N, _ = self.estimate.shape
@@ -95,9 +105,10 @@ def joseph_update(P: np.ndarray, H: np.ndarray, R: np.ndarray):
 
 
 def run_kalman(system: AidedSystem, z: dict[str, np.ndarray], *, store=("pos", "vel", "att"),
-               x0: np.ndarray | None = None) -> FilterOutput:
+               x0: np.ndarray | None = None, blend_steps: float | None = None) -> FilterOutput:
     """Run the filter over all samples for every trial; ``z`` from
-    :func:`~budget.aiding.system.simulate_measurements` (name → (T, E, m))."""
+    :func:`~budget.aiding.system.simulate_measurements` (name → (T, E, m)). ``blend_steps``
+    (τ/dt > 0) also forms the feed-forward output (module docstring)."""
     N = system.n_samples
     lay = system.layout["filter"]
     n = lay.n
@@ -120,6 +131,10 @@ def run_kalman(system: AidedSystem, z: dict[str, np.ndarray], *, store=("pos", "
                       np.empty((len(system.epochs[m.name]), m.size, m.size)))
              for m in system.measurements}
     pending: list[list] = []  # [expiry sample, correction (T, n)]
+    blend = None if blend_steps is None else np.empty((T, N, sel.size))
+    keep = 1.0 if blend_steps is None else float(np.exp(-1.0 / blend_steps))
+    d = np.zeros((T, n))   # arrived corrections waiting in the first blend stage
+    d2 = np.zeros((T, n))  # … and in the second
     last_ck = 0
     for k in range(N):
         if k > 0:
@@ -128,6 +143,10 @@ def run_kalman(system: AidedSystem, z: dict[str, np.ndarray], *, store=("pos", "
             P = phi @ P @ phi.T + qd
             for p in pending:
                 p[1] = p[1] @ phi.T
+            if blend is not None:
+                d = d @ phi.T
+                d2 = (d2 @ phi.T) * keep + d * (1.0 - keep)
+                d *= keep
         prior = P
         for m, j in events.get(k, ()):
             H = system.H("filter", m, k)
@@ -140,6 +159,8 @@ def run_kalman(system: AidedSystem, z: dict[str, np.ndarray], *, store=("pos", "
             innov[m.name][1][j] = S
             if lat[m.name] > 0:
                 pending.append([k + lat[m.name], dx])
+            elif blend is not None:
+                d = d + dx
         if k in events or k == 0 or k == N - 1 or k - last_ck >= MAX_INTERVAL:
             ck_k.append(k)
             ck_x.append(x.copy())
@@ -148,10 +169,17 @@ def run_kalman(system: AidedSystem, z: dict[str, np.ndarray], *, store=("pos", "
             last_ck = k
         est[:, k] = x[:, sel]
         if any_latency:
+            if blend is not None:  # corrections arriving now join the blend
+                for p in pending:
+                    if p[0] <= k:
+                        d = d + p[1]
             pending = [p for p in pending if p[0] > k]
             xr = x - sum(p[1] for p in pending) if pending else x
             rt[:, k] = xr[:, sel]
+        if blend is not None:
+            blend[:, k] = rt[:, k] - d[:, sel] - d2[:, sel]
         p_diag[k] = np.diag(P)
     return FilterOutput(store_index=sel, estimate=est, realtime=rt, p_diag=p_diag,
                         checkpoints=np.array(ck_k), x_post=np.stack(ck_x, axis=1),
-                        p_post=np.stack(ck_post), p_prior=np.stack(ck_prior), innovations=innov)
+                        p_post=np.stack(ck_post), p_prior=np.stack(ck_prior), innovations=innov,
+                        blended=blend)

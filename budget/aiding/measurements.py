@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .config import DvlAiding, GnssAiding, MasterInsAiding, StarTrackerAiding, sigma3
+from ..aiding_spec import DvlAiding, GnssAiding, MasterInsAiding, StarTrackerAiding, sigma3
 from .flexure import flexure_blocks
 from .ins_error_model import NominalTrajectory, StateLayout, skew
 

@@ -172,7 +172,7 @@ class AidedSystem:
 def build_system(trajectory: NominalTrajectory, imu: ImuErrorModel, aiding: list,
                  initial: InitialUncertainty | None = None,
                  filter_imu: ImuErrorModel | None = None) -> AidedSystem:
-    """System from validated aiding configs (see :mod:`budget.aiding.config`).
+    """System from validated aiding configs (see :mod:`budget.aiding_spec`).
 
     Measurements are numbered per type (``gnss0``, ``dvl0``, ``gnss1`` …), so the same sensor
     has the same name — and the same augmented-state names — in systems that share it

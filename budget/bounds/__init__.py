@@ -4,6 +4,7 @@
 * :mod:`.derived` — the same bounds from physics, every assumption explicit.
 * :mod:`.no_autofocus` — what each error may be when no autofocus runs.
 * :mod:`.fast_phase` — the limits on what autofocus cannot remove.
+* :mod:`.lever_arm` — seed 004's bounds together with attitude error × lever arm.
 """
 
 from .table import BOUND_FIELDS, BoundsTable
@@ -12,15 +13,21 @@ from .derived import DerivedAssumptions, derived_bounds
 from .no_autofocus import NoAutofocusAssumptions, no_autofocus_bounds
 from .fast_phase import fast_phase_limits, FastPhaseLimits
 from .legendre import random_walk_constants
+from .lever_arm import LeverArmAssumptions, lever_arm_bounds, lever_arm_terms
 
 __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", "derived_bounds",
            "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
-           "random_walk_constants", "compute_bounds"]
+           "random_walk_constants", "compute_bounds", "LeverArmAssumptions", "lever_arm_bounds",
+           "lever_arm_terms", "MODES"]
+
+#: Bound modes of :func:`compute_bounds` (and ``sar-budget bounds --mode``).
+MODES = ("paper", "derived", "no-autofocus", "lever-arm")
 
 
 def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_m=None,
                    assumptions=None) -> BoundsTable:
-    """Bounds in ``mode`` ``paper`` | ``derived`` | ``no-autofocus`` for arrays of Tc and δr."""
+    """Bounds in ``mode`` ``paper`` | ``derived`` | ``no-autofocus`` | ``lever-arm`` for arrays of
+    Tc and δr (``lever-arm`` needs the wavelength and a :class:`LeverArmAssumptions`)."""
     if mode == "paper":
         return paper_bounds(tc_s, range_resolution_m)
     if mode == "derived":
@@ -29,4 +36,8 @@ def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_
         if wavelength_m is None:
             raise ValueError("no-autofocus bounds need the wavelength (they limit phase, not range cells)")
         return no_autofocus_bounds(tc_s, wavelength_m, assumptions or NoAutofocusAssumptions())
-    raise ValueError(f"unknown bounds mode {mode!r}; expected paper, derived or no-autofocus")
+    if mode in ("lever-arm", "lever_arm"):
+        if wavelength_m is None:
+            raise ValueError("lever-arm bounds need the wavelength (their fast-phase limit is a phase)")
+        return lever_arm_bounds(tc_s, range_resolution_m, wavelength_m, assumptions or LeverArmAssumptions())
+    raise ValueError(f"unknown bounds mode {mode!r}; expected paper, derived, no-autofocus or lever-arm")

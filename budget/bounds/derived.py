@@ -1,7 +1,7 @@
 """Seed 004's bounds re-derived from physics with every assumption explicit.
 
 Each source alone must keep its position error over Tc within its share of one range cell δr
-(DESIGN.md §2, reconstructed):
+(reconstructed from seed 004):
 
 * accel scale factor β:  β·a·Tc²/2 ≤ s_β δr          → β ≤ 2 s_β δr/(a Tc²)
 * gyro scale factor γ:   tilt γΘ couples g: g γ Θ Tc²/2 ≤ s_γ δr → γ ≤ 2 s_γ δr/(g Θ Tc²)

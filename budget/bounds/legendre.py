@@ -2,7 +2,7 @@
 
 A velocity random walk of density N (m/s²/√Hz) gives a position error
 e(t) = N ∫₀ᵗ (t − s) dW(s); an angle random walk N_θ (rad/√s) tilting gravity g gives
-e(t) = g N_θ ∫₀ᵗ (t − s)²/2 dW(s) (DESIGN.md §3: accelerometer errors enter position by double
+e(t) = g N_θ ∫₀ᵗ (t − s)²/2 dW(s) (accelerometer errors enter position by double
 integration, gyro errors by triple integration through gravity). Over t ∈ [0, Tc] mapped to
 u = 2t/Tc − 1 ∈ [−1, 1], e(u) = Σ c_k P_k(u) + r(u).
 

@@ -1,7 +1,7 @@
 """Bounds when no autofocus runs: the phase error itself must stay small.
 
 Without PGA, the quadratic phase error at the aperture edge must stay ≤ π/4 (defocus), the cubic
-≤ π/8 (asymmetric sidelobes) and what is left beyond the cubic ≤ 1° rms (DESIGN.md §2, §4).
+≤ π/8 (asymmetric sidelobes) and what is left beyond the cubic ≤ 1° rms (seed 004).
 Phase φ = 4π Δr/λ with the whole error assumed along the line of sight (worst case).
 
 Error accumulates from the aperture start t = 0 (zero initial error, seed 004 assumption 4);

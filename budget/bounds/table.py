@@ -7,17 +7,20 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .. import units as u
+from ..parameters import BOUNDS
 
-#: Output keys (datasheet units) in the order of seed 004 Tables 1–2, and their SI → unit map.
+
+def _from_si(factor: float):
+    """SI value → datasheet unit (divide by the unit's SI factor)."""
+    def conv(v):
+        return v / factor
+    return conv
+
+
+#: Output keys (datasheet units) in the order of seed 004 Tables 1–2 → (SI attribute, SI → unit),
+#: built from the one parameter table :data:`budget.parameters.PARAMETERS`.
 BOUND_FIELDS: dict[str, tuple[str, callable]] = {
-    "accel_scale_factor_ppm": ("accel_scale_factor", u.ratio_to_ppm),
-    "gyro_scale_factor_ppm": ("gyro_scale_factor", u.ratio_to_ppm),
-    "misalignment_mrad": ("misalignment_rad", u.rad_to_mrad),
-    "accel_bias_ug": ("accel_bias_m_s2", u.m_s2_to_ug),
-    "gyro_bias_deg_h": ("gyro_bias_rad_s", u.rad_s_to_deg_h),
-    "accel_vrw_ug_rt_hz": ("accel_vrw_m_s2_rt_hz", u.m_s2_rt_hz_to_ug_rt_hz),
-    "gyro_arw_deg_rt_h": ("gyro_arw_rad_s_rt_hz", u.rad_s_rt_hz_to_deg_rt_h),
+    p.bound_key: (p.bound, _from_si(p.bound_to_si)) for p in BOUNDS
 }
 
 

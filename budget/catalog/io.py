@@ -5,50 +5,39 @@
   ``SAR_BUDGET_CATALOG``) is merged over it: a user row with the same ``part_id`` replaces the
   shipped one, new ids are added.
 * Validation is strict: unknown or duplicate columns, duplicate ids, non-numeric, negative,
-  NaN/inf or out-of-range numbers, formula-looking text cells, wrong encoding and empty files
-  each raise :class:`~budget.errors.InputError` naming file, row (1-based data row; the header
-  is row 1, so the first part is row 2 as in a spreadsheet), column, value and what was expected.
+  NaN/inf or out-of-range numbers, formula-looking text cells (OWASP: a text cell starting with
+  ``= + - @``, tab or CR; plain numbers such as ``-2.5`` pass), control characters or escape
+  sequences in text, cells over :data:`MAX_CELL_CHARS`, wrong encoding and empty files each
+  raise :class:`~budget.errors.InputError` naming file, row (1-based data row; the header is
+  row 1, so the first part is row 2 as in a spreadsheet), column, value and what was expected.
+* Validation is vectorised per column (:func:`budget.catalog.validate.validate_parts_table`): a
+  50 MB catalog checks in seconds; :func:`read_parts` then builds the :class:`PartSpec` models
+  (pydantic re-checks each row, so the schema stays the single authority).
 * Other header units: a column may carry an alternative unit named in :data:`ALT_UNIT_COLUMNS`
   (e.g. ``accel_vrw_ug_rt_hz`` instead of ``accel_vrw_m_s_rt_h``); it is converted to the
   canonical unit on reading. Giving both the canonical and an alternative column is an error.
 * Writes are atomic (temporary file + rename): a failed update never leaves a half-written file.
+  :func:`append_part` adds one row in the user's own column order and units, follows a
+  symbolic link to its target and refuses a missing folder.
 """
 
 from __future__ import annotations
 
 import csv
 import io
-import math
 import os
 from collections.abc import Mapping
 from pathlib import Path
 
 from pydantic import ValidationError
 
-from .. import units as u
-from ..errors import InputError
-from ..fileio import atomic_write_text
-from .schema import (GRADES, PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED, GradeSpec,
-                     PartSpec)
+from ..errors import InputError, OutputError
+from ..fileio import atomic_write_text, csv_text
+from .schema import PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED, GradeSpec, PartSpec
+from .validate import (ALT_UNIT_COLUMNS, MAX_BYTES, MAX_CELL_CHARS, _expected_text,  # noqa: F401
+                       _map_header, _read_rows, _read_text, count_valid_parts, validate_parts_table)
 
 ENV_VAR = "SAR_BUDGET_CATALOG"
-MAX_BYTES = 20_000_000
-
-#: Alternative header → (canonical column, conversion to the canonical unit).
-ALT_UNIT_COLUMNS: dict[str, tuple[str, callable]] = {
-    "gyro_bias_instability_deg_s": ("gyro_bias_instability_deg_h", lambda v: v * 3600.0),
-    "gyro_bias_repeatability_deg_s": ("gyro_bias_repeatability_deg_h", lambda v: v * 3600.0),
-    "gyro_arw_deg_s_rt_hz": ("gyro_arw_deg_rt_h", lambda v: v * 60.0),
-    "gyro_arw_rad_s_rt_hz": ("gyro_arw_deg_rt_h", u.rad_s_rt_hz_to_deg_rt_h),
-    "gyro_scale_factor_pct": ("gyro_scale_factor_ppm", lambda v: v * 1e4),
-    "gyro_misalignment_deg": ("gyro_misalignment_mrad", lambda v: u.rad_to_mrad(u.deg_to_rad(v))),
-    "accel_bias_instability_mg": ("accel_bias_instability_ug", lambda v: v * 1e3),
-    "accel_bias_repeatability_mg": ("accel_bias_repeatability_ug", lambda v: v * 1e3),
-    "accel_vrw_ug_rt_hz": ("accel_vrw_m_s_rt_h", u.ug_rt_hz_to_m_s_rt_h),
-    "accel_vrw_m_s2_rt_hz": ("accel_vrw_m_s_rt_h", u.m_s2_rt_hz_to_m_s_rt_h),
-    "accel_scale_factor_pct": ("accel_scale_factor_ppm", lambda v: v * 1e4),
-    "accel_misalignment_deg": ("accel_misalignment_mrad", lambda v: u.rad_to_mrad(u.deg_to_rad(v))),
-}
 
 GRADE_COLUMNS = tuple(GradeSpec.model_fields)
 
@@ -63,133 +52,30 @@ def shipped_catalog_dir() -> Path:
                      expected="catalog/parts.csv in the source tree or budget/_catalog when installed")
 
 
-def _read_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
-    if not path.is_file():
-        raise InputError("file not found", file=path, expected="a catalog CSV file")
-    size = path.stat().st_size
-    if size == 0:
-        raise InputError("file is empty", file=path, expected="a header row and at least one part")
-    if size > MAX_BYTES:
-        raise InputError(f"file is {size} bytes", file=path, expected=f"at most {MAX_BYTES} bytes")
-    raw = path.read_bytes()
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        raise InputError(f"not UTF-8 text (byte {err.start})", file=path,
-                         expected="a UTF-8 encoded CSV") from None
-    if "\x00" in text:
-        raise InputError("contains NUL bytes (binary file?)", file=path, expected="a UTF-8 CSV")
-    reader = csv.reader(io.StringIO(text, newline=""))
-    try:
-        rows = [r for r in reader]
-    except csv.Error as err:
-        raise InputError(f"malformed CSV: {err}", file=path) from None
-    rows = [r for r in rows if any(c.strip() for c in r)]
-    if not rows:
-        raise InputError("file has no header", file=path, expected="a header row")
-    header = [h.strip() for h in rows[0]]
-    out = []
-    for i, r in enumerate(rows[1:], start=2):
-        if len(r) != len(header):
-            raise InputError(f"has {len(r)} cells but the header has {len(header)}", file=path, row=i,
-                             expected="one cell per header column (quote cells that contain commas)")
-        out.append(dict(zip(header, (c.strip() for c in r))))
-    return header, out
-
-
-def _parse_number(text: str, *, path, row, col, unit: str) -> float | None:
-    if text == "":
-        return None
-    try:
-        v = float(text)
-    except ValueError:
-        raise InputError("not a number", file=path, row=row, field=col, value=text,
-                         expected=f"a number in {unit} (or an empty cell if unknown)") from None
-    if not math.isfinite(v):
-        raise InputError("not a finite number", file=path, row=row, field=col, value=text,
-                         expected=f"a finite number in {unit}")
-    return v
-
-
-def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], required: tuple[str, ...],
-                alt: Mapping[str, tuple[str, callable]]) -> dict[str, str]:
-    """Header column → canonical column; raises on unknown, duplicate or missing columns."""
-    mapping: dict[str, str] = {}
-    seen: dict[str, str] = {}
-    for col in header:
-        if col == "":
-            raise InputError("empty column name in the header", file=path, row=1)
-        if col in allowed:
-            canon = col
-        elif col in alt:
-            canon = alt[col][0]
-        else:
-            raise InputError("unknown column", file=path, row=1, field=col,
-                             expected=f"one of {', '.join(allowed)}"
-                             + (f" or an alternative-unit column ({', '.join(alt)})" if alt else ""))
-        if col in mapping:
-            raise InputError("duplicate column", file=path, row=1, field=col)
-        if canon in seen:
-            raise InputError(f"gives {canon} twice (as {seen[canon]!r} and {col!r})", file=path,
-                             row=1, field=col, expected="one column per quantity")
-        mapping[col] = canon
-        seen[canon] = col
-    missing = [c for c in required if c not in seen]
-    if missing:
-        raise InputError(f"missing required column(s) {', '.join(missing)}", file=path, row=1)
-    return mapping
-
-
 def read_parts(path: str | Path) -> dict[str, PartSpec]:
     """Validate a parts CSV; returns part_id → :class:`PartSpec` in file order."""
     path = Path(path)
-    header, rows = _read_rows(path)
-    mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
-    if not rows:
-        raise InputError("has a header but no parts", file=path, expected="at least one data row")
+    table, rows = validate_parts_table(path)
+    names = list(table)
+    cols = [table[c].tolist() if c in PART_NUMERIC_COLUMNS else table[c] for c in names]
     parts: dict[str, PartSpec] = {}
-    for i, raw in enumerate(rows, start=2):
-        rec: dict[str, object] = {}
-        for col, text in raw.items():
-            canon = mapping[col]
-            if canon in PART_NUMERIC_COLUMNS:
-                unit = PART_NUMERIC_COLUMNS[canon][0] if col == canon else col.rsplit("_", 1)[-1]
-                v = _parse_number(text, path=path, row=i, col=col, unit=unit)
-                if v is not None and col != canon:
-                    v = ALT_UNIT_COLUMNS[col][1](v)
-                rec[canon] = v
-            elif text != "" or canon in PART_REQUIRED:
-                rec[canon] = text
+    for i, values in zip(rows, zip(*cols)):
+        rec = {}
+        for c, v in zip(names, values):
+            if c in PART_NUMERIC_COLUMNS:
+                rec[c] = None if v != v else v
+            elif v != "" or c in PART_REQUIRED:
+                rec[c] = v
         try:
             part = PartSpec.model_validate(rec)
-        except ValidationError as err:
+        except ValidationError as err:  # a rule of the schema not mirrored above
             e = err.errors()[0]
             canon = str(e["loc"][0]) if e.get("loc") else None
-            col = next((h for h, c in mapping.items() if c == canon), canon)
             unit = PART_NUMERIC_COLUMNS.get(canon, ("",))[0]
-            expected = _expected_text(canon, e, unit)
-            raise InputError(e["msg"], file=path, row=i, field=col, value=raw.get(col, None),
-                             expected=expected) from None
-        if part.part_id in parts:
-            raise InputError("duplicate part_id", file=path, row=i, field="part_id",
-                             value=part.part_id, expected="each part_id once per file")
+            raise InputError(e["msg"].removeprefix("Value error, "), file=path, row=i, field=canon,
+                             value=rec.get(canon), expected=_expected_text(canon, unit)) from None
         parts[part.part_id] = part
     return parts
-
-
-def _expected_text(canon: str | None, err: dict, unit: str) -> str | None:
-    if canon == "grade":
-        return "one of " + ", ".join(GRADES)
-    if canon == "part_id":
-        return "letters, digits, '.', '_' or '-' (1-64 characters, starting with a letter or digit)"
-    if canon in PART_NUMERIC_COLUMNS:
-        lim = PART_NUMERIC_COLUMNS[canon][1]
-        return f"a number in {unit}, 0 … {lim:g}" + (" (> 0)" if canon == "rate_hz" else "")
-    if canon == "bias_instability_convention":
-        return "adev_min or ieee_b"
-    if canon == "source":
-        return "the datasheet (with revision) the numbers come from"
-    return None
 
 
 def read_grades(path: str | Path) -> dict[str, GradeSpec]:
@@ -246,17 +132,23 @@ def get_part(part_id: str, catalog: Mapping[str, PartSpec] | None = None,
                                                                  " (see `sar-budget catalog list`)")) from None
 
 
+# --- writing -----------------------------------------------------------------------------------
+
+def _cell(part: PartSpec, column: str):
+    """The value of ``part`` for a header ``column`` (canonical or alternative unit)."""
+    d = part.model_dump()
+    if column in ALT_UNIT_COLUMNS:
+        canon, conv = ALT_UNIT_COLUMNS[column]
+        v = d[canon]
+        return None if v is None else float(v) / float(conv(1.0))  # conversions are linear
+    return d[column]
+
+
 def parts_to_csv_text(parts: Mapping[str, PartSpec] | list[PartSpec]) -> str:
-    """Canonical CSV text (header + rows in canonical column order and units)."""
+    """Canonical CSV text (header + rows in canonical column order and units); text cells
+    spreadsheet-safe (:func:`budget.fileio.safe_csv_text`)."""
     items = list(parts.values()) if isinstance(parts, Mapping) else list(parts)
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(PART_COLUMNS)
-    for p in items:
-        d = p.model_dump()
-        w.writerow(["" if d[c] is None else (repr(d[c]) if isinstance(d[c], float) else d[c])
-                    for c in PART_COLUMNS])
-    return buf.getvalue()
+    return csv_text(([p.model_dump()[c] for c in PART_COLUMNS] for p in items), PART_COLUMNS)
 
 
 def write_parts(path: str | Path, parts: Mapping[str, PartSpec] | list[PartSpec]) -> None:
@@ -267,20 +159,58 @@ def write_parts(path: str | Path, parts: Mapping[str, PartSpec] | list[PartSpec]
 def append_part(path: str | Path, part: PartSpec, *, replace: bool = False) -> None:
     """Add ``part`` to the user catalog at ``path`` (created if absent), atomically.
 
-    An existing file is validated first; a duplicate id is an error unless ``replace``.
-    The shipped catalog cannot be the target.
+    The existing file is validated first; a duplicate id is an error unless ``replace`` (the
+    row is then replaced where it stands). The user's columns, their order, units and other
+    rows are kept as they are: the new row is written in the file's own header (columns the
+    header lacks but the part fills are added at the end). A symbolic link is followed (the
+    target is updated); the folder must exist. The shipped catalog cannot be the target.
     """
-    path = Path(path)
+    given = Path(path)
+    target = Path(os.path.realpath(given))
     try:
         shipped = shipped_catalog_dir().resolve()
     except InputError:
         shipped = None
-    if shipped is not None and path.resolve().parent == shipped:
-        raise InputError("refusing to modify the shipped catalog", file=path,
+    if shipped is not None and target.parent == shipped:
+        raise InputError("refusing to modify the shipped catalog", file=given,
                          expected="a user catalog path (e.g. my_catalog.csv)")
-    parts = read_parts(path) if path.exists() and path.stat().st_size > 0 else {}
+    if not target.parent.is_dir():
+        raise OutputError(f"folder {target.parent} does not exist", file=given, option="--append")
+    if target.exists() and not target.is_file():
+        raise OutputError("is not a regular file", file=given, option="--append")
+    if not target.exists() or target.stat().st_size == 0:
+        atomic_write_text(target, parts_to_csv_text([part]), create_dirs=False)
+        return
+    parts = read_parts(target)
     if part.part_id in parts and not replace:
-        raise InputError("part_id already in the catalog", file=path, field="part_id",
+        raise InputError("part_id already in the catalog", file=given, field="part_id",
                          value=part.part_id, expected="a new id (or replace=True)")
-    parts[part.part_id] = part
-    write_parts(path, parts)
+    text = _read_text(target)
+    newline = "\r\n" if "\r\n" in text[:65536] else "\n"
+    records = list(csv.reader(io.StringIO(text, newline="")))
+    header = [h.strip() for h in records[0]]
+    canon_in_header = {ALT_UNIT_COLUMNS[h][0] if h in ALT_UNIT_COLUMNS else h for h in header}
+    extra = [c for c in PART_COLUMNS if c not in canon_in_header     # a default needs no column
+             and _cell(part, c) not in (None, "", PartSpec.model_fields[c].default)]
+    new_row = [_cell(part, c) for c in header + extra]
+    if part.part_id not in parts and not extra:
+        # plain append: the user's bytes stay as they are, one line is added
+        sep = "" if text.endswith(("\n", "\r")) else newline
+        atomic_write_text(target, text + sep + csv_text([new_row], lineterminator=newline),
+                          create_dirs=False)
+        return
+    body = []
+    replaced = False
+    pid = header.index("part_id")
+    for r in records[1:]:
+        if not any(c.strip() for c in r):
+            continue  # blank lines are not rows (read_parts skips them too)
+        if r[pid].strip() == part.part_id:
+            body.append(new_row)
+            replaced = True
+        else:
+            body.append(r + [""] * len(extra))
+    if not replaced:
+        body.append(new_row)
+    out = csv_text(body, header + extra, lineterminator=newline)
+    atomic_write_text(target, out, create_dirs=False)

@@ -4,10 +4,26 @@ A part row *is* a noise model: :meth:`PartSpec.to_si` gives the SI error paramet
 simulator and the bounds check use. Unknown datasheet values stay ``None`` (empty cell) —
 never invented; consumers treat ``None`` as "not specified".
 
-Bias-instability convention: most vendors quote the *minimum of the Allan deviation*; IEEE
-Std 952 defines the flicker coefficient B with that minimum = B·√(2 ln2/π) ≈ 0.664·B. The
-column ``bias_instability_convention`` says which one a row holds (default ``adev_min``);
-:meth:`PartSpec.to_si` always returns the Allan-deviation floor *and* IEEE B.
+Bias convention (column ``bias_instability_convention``, one per row, :data:`BIAS_CONVENTIONS`)
+says what the figures in the two ``*_bias_instability_*`` columns are:
+
+* ``adev_min`` (default): in-run bias instability as the *minimum of the Allan deviation*
+  (Analog Devices, Sensonor, Xsens, KVH "in-run bias stability"); simulated as flicker noise;
+* ``ieee_b``: the IEEE Std 952 flicker coefficient B (Allan minimum = B·√(2 ln2/π) ≈ 0.664·B);
+* ``total_1sigma``: a total 1σ bias (Honeywell's "bias, 1σ"), mostly a turn-on constant:
+  simulated as a per-trial Gaussian constant, not as flicker noise;
+* ``turn_on_1sigma``: a turn-on-to-turn-on (repeatability) 1σ figure; simulated as the same
+  per-trial constant.
+
+With ``total_1sigma`` / ``turn_on_1sigma`` the repeatability columns must stay empty (the figure
+already is the turn-on bias). :meth:`PartSpec.to_si` gives the flicker coefficient B, the Allan
+floor and the turn-on 1σ accordingly; :meth:`PartSpec.bias_figure` gives the figure the bias
+bounds of seed 004 (8)–(9) are checked against (the Allan-minimum equivalent for ``ieee_b``).
+
+``verified`` (:data:`VERIFIED_STATES`) says how the row's numbers were checked: ``datasheet``
+(read in the vendor's document), ``second_hand`` (a third-party transcription of it),
+``partial`` (some values read, some recalled) or ``unverified`` (recalled, not checked);
+empty = not stated.
 """
 
 from __future__ import annotations
@@ -26,6 +42,13 @@ GRADE_RANK = {g: i + 1 for i, g in enumerate(GRADES)}
 
 #: √(2 ln 2 / π): Allan-deviation floor of flicker noise per unit IEEE B.
 FLICKER_FLOOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
+
+#: Values of ``bias_instability_convention`` (see the module docstring).
+BIAS_CONVENTIONS = ("adev_min", "ieee_b", "total_1sigma", "turn_on_1sigma")
+#: Conventions whose figure is a per-trial constant (turn-on) bias, not flicker noise.
+CONSTANT_BIAS_CONVENTIONS = ("total_1sigma", "turn_on_1sigma")
+#: Values of ``verified``.
+VERIFIED_STATES = ("datasheet", "second_hand", "partial", "unverified")
 
 _num = dict(ge=0.0, allow_inf_nan=False)
 
@@ -47,10 +70,10 @@ PART_NUMERIC_COLUMNS: dict[str, tuple[str, float]] = {
     "price_usd": ("USD", 1e8),
 }
 PART_TEXT_COLUMNS = ("part_id", "vendor", "model", "grade", "source",
-                     "bias_instability_convention", "notes")
+                     "bias_instability_convention", "verified", "notes")
 #: Canonical column order of parts.csv.
 PART_COLUMNS = ("part_id", "vendor", "model", "grade", *PART_NUMERIC_COLUMNS, "source",
-                "bias_instability_convention", "notes")
+                "bias_instability_convention", "verified", "notes")
 PART_REQUIRED = ("part_id", "grade", "source")
 
 
@@ -78,8 +101,22 @@ class PartSpec(BaseModel):
     mass_g: float | None = Field(None, le=1e6, **_num)
     price_usd: float | None = Field(None, le=1e8, **_num)
     source: str = Field(..., min_length=1)
-    bias_instability_convention: Literal["adev_min", "ieee_b"] = "adev_min"
+    bias_instability_convention: Literal["adev_min", "ieee_b", "total_1sigma", "turn_on_1sigma"] = "adev_min"
+    verified: Literal["datasheet", "second_hand", "partial", "unverified"] | None = None
     notes: str = ""
+
+    @field_validator("bias_instability_convention")
+    @classmethod
+    def _constant_bias_has_no_repeatability(cls, v: str, info) -> str:
+        # The columns above are validated first, so their values are in info.data.
+        if v in CONSTANT_BIAS_CONVENTIONS:
+            both = [c for c in ("gyro_bias_repeatability_deg_h", "accel_bias_repeatability_ug")
+                    if info.data.get(c) is not None]
+            if both:
+                raise ValueError(f"{v} says the bias columns already hold the turn-on bias, but "
+                                 f"{' and '.join(both)} is also given; leave it empty or use "
+                                 "adev_min / ieee_b for an in-run figure")
+        return v
 
     @field_validator("vendor", "model", "source", "notes")
     @classmethod
@@ -88,38 +125,68 @@ class PartSpec(BaseModel):
             raise ValueError("text starting with =, +, - or @ looks like a spreadsheet formula")
         return v
 
+    @property
+    def bias_is_constant(self) -> bool:
+        """True when the bias columns hold a turn-on / total 1σ constant (not flicker)."""
+        return self.bias_instability_convention in CONSTANT_BIAS_CONVENTIONS
+
+    def bias_figure(self, column: str) -> float | None:
+        """The bias column in its datasheet unit as compared with seed 004 (8)–(9): the figure as
+        given, except ``ieee_b`` → Allan minimum 0.664·B (the convention of in-run figures)."""
+        v = getattr(self, column)
+        if v is None:
+            return None
+        return float(v) * (FLICKER_FLOOR if self.bias_instability_convention == "ieee_b" else 1.0)
+
     def to_si(self) -> "ImuErrorsSI":
-        """SI error parameters (``None`` datasheet values become 0.0 and are listed in ``missing``)."""
+        """SI error parameters (``None`` datasheet values become 0.0 and are listed in ``missing``).
+
+        The bias convention decides where the bias figure goes: flicker B and its Allan floor
+        (``adev_min``, ``ieee_b``) or the per-trial turn-on constant (``total_1sigma``,
+        ``turn_on_1sigma``; the flicker terms are then 0).
+        """
+        conv = self.bias_instability_convention
+        # with a constant-bias convention the bias columns already are the turn-on bias
+        covered = (("gyro_bias_repeatability_deg_h", "accel_bias_repeatability_ug")
+                   if conv in CONSTANT_BIAS_CONVENTIONS else ())
         missing = tuple(k for k in PART_NUMERIC_COLUMNS
-                        if k not in ("mass_g", "price_usd") and getattr(self, k) is None)
+                        if k not in ("mass_g", "price_usd", *covered) and getattr(self, k) is None)
 
         def val(name: str) -> float:
             v = getattr(self, name)
             return 0.0 if v is None else float(v)
 
         def floor_and_b(raw_si: float) -> tuple[float, float]:
-            if self.bias_instability_convention == "adev_min":
+            if conv == "adev_min":
                 return raw_si, raw_si / FLICKER_FLOOR
-            return raw_si * FLICKER_FLOOR, raw_si
+            if conv == "ieee_b":
+                return raw_si * FLICKER_FLOOR, raw_si
+            return 0.0, 0.0
 
-        g_floor, g_b = floor_and_b(u.deg_h_to_rad_s(val("gyro_bias_instability_deg_h")))
-        a_floor, a_b = floor_and_b(u.ug_to_m_s2(val("accel_bias_instability_ug")))
+        g_bias = u.deg_h_to_rad_s(val("gyro_bias_instability_deg_h"))
+        a_bias = u.ug_to_m_s2(val("accel_bias_instability_ug"))
+        g_floor, g_b = floor_and_b(g_bias)
+        a_floor, a_b = floor_and_b(a_bias)
+        const = conv in CONSTANT_BIAS_CONVENTIONS
         return ImuErrorsSI(
             rate_hz=self.rate_hz,
             gyro_bias_instability_adev_rad_s=g_floor,
             gyro_bias_instability_b_rad_s=g_b,
-            gyro_turn_on_bias_rad_s=u.deg_h_to_rad_s(val("gyro_bias_repeatability_deg_h")),
+            gyro_turn_on_bias_rad_s=(g_bias if const else
+                                     u.deg_h_to_rad_s(val("gyro_bias_repeatability_deg_h"))),
             gyro_arw_rad_s_rt_hz=u.deg_rt_h_to_rad_s_rt_hz(val("gyro_arw_deg_rt_h")),
             gyro_rrw_rad_s_rt_s=u.deg_h_rt_h_to_rad_s_rt_s(val("gyro_rrw_deg_h_rt_h")),
             gyro_scale_factor=u.ppm_to_ratio(val("gyro_scale_factor_ppm")),
             gyro_misalignment_rad=u.mrad_to_rad(val("gyro_misalignment_mrad")),
             accel_bias_instability_adev_m_s2=a_floor,
             accel_bias_instability_b_m_s2=a_b,
-            accel_turn_on_bias_m_s2=u.ug_to_m_s2(val("accel_bias_repeatability_ug")),
+            accel_turn_on_bias_m_s2=(a_bias if const else
+                                     u.ug_to_m_s2(val("accel_bias_repeatability_ug"))),
             accel_vrw_m_s2_rt_hz=u.m_s_rt_h_to_m_s2_rt_hz(val("accel_vrw_m_s_rt_h")),
             accel_scale_factor=u.ppm_to_ratio(val("accel_scale_factor_ppm")),
             accel_misalignment_rad=u.mrad_to_rad(val("accel_misalignment_mrad")),
             missing=missing,
+            bias_convention=conv,
         )
 
 
@@ -129,7 +196,8 @@ class ImuErrorsSI:
 
     ``*_bias_instability_adev_*`` is the Allan-deviation floor; ``*_bias_instability_b_*`` the
     IEEE-952 flicker coefficient B (floor = 0.664·B). ``*_turn_on_bias_*`` is the 1σ
-    run-to-run bias (repeatability), drawn once per trial by the simulator.
+    run-to-run bias (repeatability, or the total 1σ bias of a ``total_1sigma`` row), drawn once
+    per trial by the simulator. ``bias_convention`` is the row's convention.
     """
 
     rate_hz: float | None
@@ -147,6 +215,7 @@ class ImuErrorsSI:
     accel_scale_factor: float
     accel_misalignment_rad: float
     missing: tuple[str, ...] = ()
+    bias_convention: str = "adev_min"
 
 
 class GradeSpec(BaseModel):

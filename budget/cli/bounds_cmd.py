@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bounds import compute_bounds, fast_phase_limits
+from ..bounds import LeverArmAssumptions, compute_bounds, fast_phase_limits, lever_arm_terms
 from ..errors import InputError
 from .common import add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
@@ -19,7 +19,13 @@ def add_parser(sub) -> None:
     p.add_argument("--wavelength", type=float, metavar="M",
                    help="wavelength in m (with --tc; needed by --mode no-autofocus)")
     add_scenario_options(p)
-    p.add_argument("--mode", choices=("paper", "derived", "no-autofocus"), default="paper")
+    p.add_argument("--mode", choices=("paper", "derived", "no-autofocus", "lever-arm"), default="paper",
+                   help="lever-arm: seed 004's bounds with attitude error × lever arm (which binds)")
+    p.add_argument("--lever-arm", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                   help="lever arm IMU → antenna in m (with --tc and --mode lever-arm; a scenario "
+                        "gives its own)")
+    p.add_argument("--platform-rate", type=float, default=0.0, metavar="DEG_S",
+                   help="platform turn rate during the aperture (with --tc and --mode lever-arm)")
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -39,17 +45,36 @@ def run(args) -> int:
         tc, dr, lam = np.array([s.tc_s]), s.range_resolution_m, s.wavelength_m
     if not np.all(np.isfinite(tc)) or np.any(tc <= 0):
         raise InputError("Tc must be finite and > 0", field="--tc", value=list(args.tc or []))
+    from ..scenario import PLAUSIBLE, PLAUSIBLE_TC_S  # the scenario's plausibility limits
+    if np.any(tc < PLAUSIBLE_TC_S[0]) or np.any(tc > PLAUSIBLE_TC_S[1]):
+        raise InputError("aperture time outside the physically plausible range", field="--tc",
+                         value=list(args.tc or []), expected=f"{PLAUSIBLE_TC_S[0]:g} … {PLAUSIBLE_TC_S[1]:g} s")
+    lo, hi, why = PLAUSIBLE["range_resolution_m"]
+    if np.isfinite(dr) and not lo <= dr <= hi:
+        raise InputError("range resolution outside the physically plausible range",
+                         field="--range-resolution", value=dr, expected=f"{lo:g} … {hi:g} m ({why})")
     if not (np.isfinite(dr) and dr > 0):
         raise InputError("range resolution must be finite and > 0", field="--range-resolution",
                          value=dr, expected="metres > 0")
-    if args.mode == "no-autofocus" and not lam:
-        raise InputError("no-autofocus bounds need the wavelength", field="--wavelength",
+    if args.mode in ("no-autofocus", "lever-arm") and not lam:
+        raise InputError(f"{args.mode} bounds need the wavelength", field="--wavelength",
                          expected="λ in m, or a scenario")
-    table = compute_bounds(tc, dr, args.mode, wavelength_m=lam)
+    lever = None
+    if args.mode == "lever-arm":
+        if args.tc:
+            lever = LeverArmAssumptions(lever_arm_m=tuple(args.lever_arm or (0.0, 0.0, 0.0)),
+                                        platform_rate_deg_s=max(args.platform_rate, 0.0))
+        else:
+            lever = LeverArmAssumptions.from_scenario(s)
+    table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=lever)
     if args.json:
         write_json(table.records(), args.json)
         return 0
     print(table.summary())
+    if lever is not None:
+        for t in np.atleast_1d(tc):
+            print(f"lever arm at Tc = {t:.4g} s (|d| = {lever.lever_m:.3g} m):")
+            print(lever_arm_terms(float(t), dr, lam, lever).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if lam:
         print(fast_phase_limits(lam).summary())
     return 0

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from ..catalog.io import get_part, load_catalog, read_parts, shipped_catalog_dir
+from ..catalog.io import count_valid_parts, get_part, load_catalog, shipped_catalog_dir
 from .common import add_catalog_option
-from .output import add_json_option, write_json
+from .output import add_json_option, printable, write_json
 
 
 def add_parser(sub) -> None:
@@ -26,8 +26,8 @@ def add_parser(sub) -> None:
 
 def run_validate(args) -> int:
     path = args.csv or shipped_catalog_dir() / "parts.csv"
-    parts = read_parts(path)
-    print(f"{path}: {len(parts)} parts valid")
+    n = count_valid_parts(path)  # vectorised check: a 50 MB catalog in seconds
+    print(f"{printable(path)}: {n} parts valid")
     return 0
 
 
@@ -37,7 +37,7 @@ def run_list(args) -> int:
         write_json([p.model_dump() for p in cat.values()], args.json)
         return 0
     for p in cat.values():
-        print(f"{p.part_id:<22}{p.grade:<14}{p.vendor} {p.model}")
+        print(f"{p.part_id:<22}{p.grade:<14}{printable(p.vendor, 60)} {printable(p.model, 60)}")
     return 0
 
 
@@ -47,5 +47,5 @@ def run_show(args) -> int:
         write_json(p.model_dump(), args.json)
         return 0
     for k, v in p.model_dump().items():
-        print(f"{k:<32}{'' if v is None else v}")
+        print(f"{k:<32}{'' if v is None else printable(v)}")
     return 0

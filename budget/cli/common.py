@@ -1,10 +1,23 @@
-"""Argument helpers shared by the sub-commands (scenario and catalog selection)."""
+"""Argument helpers shared by the sub-commands: scenario and catalog selection, and the check of
+output paths that runs *before* any computation."""
 
 from __future__ import annotations
 
-from ..errors import InputError
+import contextlib
+import os
+import tempfile
+from pathlib import Path
+
+from ..errors import InputError, OutputError
 from ..presets import PRESETS, get_preset
 from ..scenario import Scenario
+
+#: Argument names (argparse ``dest``) that name an output file; ``-`` means stdout.
+OUTPUT_FILE_OPTIONS = ("json", "out", "report", "out_model", "image", "csv_out", "html")
+#: Argument names that name a file a row is appended to (its folder must exist).
+APPEND_OPTIONS = ("append",)
+#: Argument names that name an output folder (created if missing).
+OUTPUT_DIR_OPTIONS = ("plots", "out_dir")
 
 
 def add_scenario_options(parser, required: bool = False) -> None:
@@ -26,3 +39,68 @@ def scenario_from_args(args, default_preset: str | None = None) -> Scenario:
 def add_catalog_option(parser) -> None:
     parser.add_argument("--catalog", metavar="CSV",
                         help="user catalog merged over the shipped one (default: $SAR_BUDGET_CATALOG)")
+
+
+def _probe_dir(folder: Path, option: str, target: Path) -> None:
+    """Create and delete a temporary file in ``folder``: the only reliable writability test
+    (``os.access`` says yes for root on /proc, read-only mounts, …)."""
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".sar-budget-probe-", suffix=".tmp", dir=folder)
+    except OSError as err:
+        raise OutputError(f"cannot write in {folder} ({err.strerror or type(err).__name__})",
+                          file=target, option=option) from None
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
+
+
+def check_output_path(path: str | os.PathLike, option: str, *, must_exist_dir: bool = False,
+                      directory: bool = False) -> Path | None:
+    """Check that ``path`` can be written (``-`` = stdout passes); raise :class:`OutputError`.
+
+    A symbolic link is judged by its target. ``must_exist_dir``: the folder must already exist
+    (appends); otherwise the nearest existing parent must be writable (folders are created
+    when the output is written). ``directory``: ``path`` is a folder to write files into.
+    """
+    if path is None or str(path) == "-":
+        return None
+    text = str(path)
+    if text.strip() == "" or "\x00" in text:
+        raise OutputError("empty or invalid path", file=repr(text), option=option)
+    target = Path(os.path.realpath(text))
+    if directory:
+        if target.exists() and not target.is_dir():
+            raise OutputError("exists and is not a folder", file=text, option=option)
+    else:
+        # an existing folder is left to the command (some take a folder for their files)
+        if target.exists() and not (target.is_file() or target.is_dir()):
+            raise OutputError("is not a regular file", file=text, option=option)
+    folder = target if directory or target.is_dir() else target.parent
+    if not folder.is_dir():
+        if must_exist_dir:
+            raise OutputError(f"folder {folder} does not exist", file=text, option=option)
+        while not folder.exists():
+            folder = folder.parent
+        if not folder.is_dir():
+            raise OutputError(f"{folder} is not a folder", file=text, option=option)
+    _probe_dir(folder, option, Path(text))
+    if target.is_file() and not os.access(target, os.W_OK):
+        raise OutputError("file is read-only", file=text, option=option)
+    return target
+
+
+def check_output_args(args) -> None:
+    """Check every output path among ``args`` (see :data:`OUTPUT_FILE_OPTIONS` …) before the
+    command runs; the CLI entry point calls this for every command."""
+    for name in OUTPUT_FILE_OPTIONS:
+        value = getattr(args, name, None)
+        if isinstance(value, (str, os.PathLike)):
+            check_output_path(value, "--" + name.replace("_", "-"))
+    for name in APPEND_OPTIONS:
+        value = getattr(args, name, None)
+        if isinstance(value, (str, os.PathLike)):
+            check_output_path(value, "--" + name, must_exist_dir=True)
+    for name in OUTPUT_DIR_OPTIONS:
+        value = getattr(args, name, None)
+        if isinstance(value, (str, os.PathLike)):
+            check_output_path(value, "--" + name.replace("_", "-"), directory=True)

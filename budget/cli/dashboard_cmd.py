@@ -20,8 +20,10 @@ from ..errors import InputError
 
 DEFAULT_PORT = 8501
 DEFAULT_ADDRESS = "127.0.0.1"
-#: Upload limit in MB for the Streamlit server (the catalog page also checks 5 MB itself).
-MAX_UPLOAD_MB = 5
+#: Upload limit in MB: the server's ``--server.maxUploadSize`` and the limit every log/Allan-table
+#: widget of the dashboard states and enforces (one constant; a real 10⁶-row log is ≈ 8 MB
+#: gzipped, ≈ 70 MB as plain CSV). The catalog page has its own smaller limit for parts CSVs.
+MAX_UPLOAD_MB = 200
 READY_TIMEOUT_S = 90.0
 
 
@@ -55,7 +57,8 @@ def free_port(address: str = DEFAULT_ADDRESS) -> int:
 
 
 def build_command(app: Path, port: int, address: str = DEFAULT_ADDRESS) -> list[str]:
-    """``streamlit run`` command line: headless, no usage statistics, uploads ≤ 5 MB, no tracebacks."""
+    """``streamlit run`` command line: headless, no usage statistics, uploads ≤ :data:`MAX_UPLOAD_MB`,
+    no tracebacks."""
     return [sys.executable, "-m", "streamlit", "run", str(app),
             "--server.headless=true", f"--server.port={port}", f"--server.address={address}",
             "--browser.gatherUsageStats=false", f"--server.maxUploadSize={MAX_UPLOAD_MB}",

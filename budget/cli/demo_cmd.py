@@ -10,7 +10,7 @@ from ..presets import PRESETS, get_preset
 
 def add_parser(sub) -> None:
     p = sub.add_parser("demo", help="print bounds and the part check for a preset scenario")
-    p.add_argument("--preset", choices=sorted(PRESETS), default="airborne_xband")
+    p.add_argument("--preset", choices=sorted(PRESETS), default="airborne_xband", help="preset scenario")
     p.set_defaults(func=run)
 
 
@@ -27,6 +27,12 @@ def run(args) -> int:
     res = check_parts(load_catalog().values(), s)
     print("Catalog check (paper bounds; margin = bound / spec):")
     print(res.summary())
+    flags = [r for r in res.records(0) if r.get("flag")]
+    if flags:
+        print("\nFlagged — seed 004's bounds pass but what PGA cannot remove (fast phase, lever arm) "
+              "fails; the Monte Carlo (`sar-budget mc`) simulates it:")
+        for r in flags:
+            print(f"  ! {r['part_id']}: {r['flag_reason']}")
     grades = list(load_grades().values())
     print()
     print(recommend_grade([1, 10, 25, 50, 100], 0.1, grades).summary())

@@ -17,10 +17,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from ..gap import run_gap
+from ..fileio import atomic_write_text, json_text
+from ..gap import cross_validate, run_gap
+from ..gap.effect_size import DEFAULT_TOLERANCE_DB
 from ..gap.workflow import DEFAULT_MAX_STEPS, DEFAULT_REALIZATIONS
 from ..noise import LogMapping
 from ..units import CHANNELS
+from .progress import add_quiet_option, working
 
 
 def add_parser(sub) -> None:
@@ -52,6 +55,13 @@ def add_parser(sub) -> None:
     p.add_argument("--no-tau-check", action="store_true",
                    help="accept a log shorter than the model's bias-instability floor needs")
     p.add_argument("--plots", metavar="DIR", help="write measured-vs-model figures (HTML) to DIR")
+    p.add_argument("--tolerance-db", type=float, default=DEFAULT_TOLERANCE_DB,
+                   help="smallest misfit beyond the model's spread worth naming an effect for, dB "
+                        f"(default {DEFAULT_TOLERANCE_DB})")
+    p.add_argument("--test-log", metavar="TEST.csv",
+                   help="cross-validate on a second log of the same part: effects that do not "
+                        "carry over are not named (--out-model then writes the validated model)")
+    add_quiet_option(p)
     p.set_defaults(func=run)
 
 
@@ -71,17 +81,30 @@ def run(args) -> int:
         raise InputError("--max-steps must be ≥ 0", field="--max-steps", value=args.max_steps)
     mapping = LogMapping.load(args.mapping) if args.mapping else None
     model = args.part if args.part else Path(args.model)
-    report = run_gap(args.measured, model, seed=args.seed,
-                     realizations=args.realizations, channels=_channels(args.channels),
-                     rate_hz=args.rate_hz, samples=args.samples, max_steps=args.max_steps,
-                     alpha=args.alpha, min_gain=args.min_gain, check_tau_range=not args.no_tau_check,
-                     catalog_csv=args.catalog, mapping=mapping, repair=args.repair,
-                     max_rows=args.max_rows, ci_level=args.ci_level)
-    report.save(args.report)
+    kw = dict(seed=args.seed, realizations=args.realizations, channels=_channels(args.channels),
+              max_steps=args.max_steps, alpha=args.alpha, min_gain=args.min_gain,
+              check_tau_range=not args.no_tau_check, catalog_csv=args.catalog, mapping=mapping,
+              repair=args.repair, max_rows=args.max_rows, tolerance_db=args.tolerance_db)
+    cv = None
+    with working(f"gap: {Path(args.measured).name} vs {args.part or Path(args.model).name}",
+                 quiet=args.quiet):
+        if args.test_log:
+            cv = cross_validate(args.measured, args.test_log, model, **kw)
+            report = cv.fit
+        else:
+            report = run_gap(args.measured, model, rate_hz=args.rate_hz, samples=args.samples,
+                             ci_level=args.ci_level, **kw)
+    if cv is None:
+        report.save(args.report)
+    else:
+        atomic_write_text(Path(args.report),
+                          json_text({**report.to_json(), "cross_validation": cv.to_dict()}))
     if args.out_model:
-        report.updated_model.save(args.out_model)
+        (report.updated_model if cv is None else cv.validated_model).save(args.out_model)
     if args.plots:
         from ..gap.plots import write_figures
         write_figures(report, Path(args.plots))
     print(report.summary())
+    if cv is not None:
+        print(cv.summary())
     return 0

@@ -1,17 +1,26 @@
-"""``sar-budget`` entry point.
+"""``sar-budget`` entry point and the CLI's error boundary.
 
 Each sub-command lives in its own module of this package with two functions:
 ``add_parser(subparsers)`` (registers arguments and sets ``func=run``) and ``run(args) -> int``.
-Bad input exits with status 2 and one line on stderr, never a traceback.
+
+Before a command runs, every output path it was given (``--json``, ``--out``, ``--report``,
+``--append``, ``--image`` …, see :func:`.common.check_output_args`) is checked, so an
+unwritable output fails in a second, not after the computation. Every failure ends as one line
+on stderr (:func:`budget.errors.describe_error`): exit status 2 for bad input, 1 for an
+environment problem (unwritable output, out of memory) or an unexpected error, 130 when
+cancelled. ``--debug`` (or ``SAR_BUDGET_DEBUG=1``) prints the traceback of unexpected errors.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import signal
 import sys
+import traceback
 
-from ..errors import InputError
+from ..errors import describe_error
 
 #: Modules of this package that provide sub-commands, in help order.
 COMMAND_MODULES = (
@@ -22,17 +31,26 @@ COMMAND_MODULES = (
     "catalog_cmd",
     "motion_cmd",
     "sar_cmd",
+    "focus_cmd",
     "noise_cmd",
     "mc_cmd",
     "gap_cmd",
+    "scenario_cmd",
+    "report_cmd",
 )
+
+DEBUG_ENV = "SAR_BUDGET_DEBUG"
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="sar-budget",
         description="IMU grade selection and error budgets for synthetic-aperture radar and sonar.")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    parser.add_argument("--debug", action="store_true",
+                        help=f"show the traceback of unexpected errors (or set {DEBUG_ENV}=1)")
+    from .help_format import DefaultsParser  # every sub-command's --help shows its defaults
+
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=DefaultsParser)
     for name in COMMAND_MODULES:
         try:
             mod = importlib.import_module(f"{__package__}.{name}")
@@ -44,22 +62,47 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _terminate(signum, frame):
+    # SIGTERM as an exception: `finally` blocks run, so temporary files are removed
+    raise KeyboardInterrupt
+
+
+def _debug_wanted(args) -> bool:
+    return bool(getattr(args, "debug", False)) or os.environ.get(DEBUG_ENV, "") not in ("", "0")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    label = f"sar-budget {args.command}"
     try:
+        previous = signal.signal(signal.SIGTERM, _terminate)
+    except ValueError:  # not the main thread: leave signals alone
+        previous = None
+    try:
+        from .common import check_output_args
+        check_output_args(args)
         return int(args.func(args) or 0)
-    except InputError as err:
-        print(f"sar-budget {args.command}: error: {err}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print(f"sar-budget {args.command}: cancelled", file=sys.stderr)
-        return 130
     except BrokenPipeError:
         return 0
+    except SystemExit:
+        raise
+    except BaseException as err:  # noqa: BLE001 — the error boundary: one line, never a traceback
+        msg = describe_error(err)
+        if msg.kind == "cancelled":
+            print(f"{label}: cancelled", file=sys.stderr)
+        else:
+            if msg.kind == "unexpected" and _debug_wanted(args):
+                traceback.print_exc()
+            from ..fileio import printable  # no terminal escapes from file contents
+            print(f"{label}: error: {printable(msg.text)}", file=sys.stderr)
+        return msg.exit_code
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -2,29 +2,22 @@
 
 from __future__ import annotations
 
-import sys
-
+from ..aiding_spec import AidingPlan
 from ..catalog.io import get_part, load_catalog
 from ..errors import InputError
 from ..imu.noise_model import NoiseModel
 from ..mc import McOptions, run_mc
 from ..mc.options import PREFILTERS
 from ..mc.sweep import cheapest_passing, sweep
+from ..noise.prefilter import prefilter_for
 from ..presets import get_preset
 from ..scenario import Scenario
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
 
 
-def _progress_bar(done: int, total: int) -> None:
-    if not sys.stderr.isatty():
-        return
-    width = 30
-    k = int(width * done / max(total, 1))
-    sys.stderr.write(f"\r[{'#' * k}{'.' * (width - k)}] {done}/{total} trials")
-    if done >= total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
+from ..mc.options import DEFAULT_SEED, DEFAULT_TRIALS, VERDICT_ACCEPTANCE
+from .progress import add_quiet_option, progress
 
 
 def _model(args):
@@ -39,7 +32,23 @@ def _options(args) -> McOptions:
         upd["max_residual_phase_rms_deg"] = None
     if getattr(args, "prefilter", "none") != "none":
         upd["prefilter"] = args.prefilter
-    return McOptions(**upd)
+    for name in ("scene", "clutter_to_target_db", "snr_db", "window"):
+        if getattr(args, name, None) is not None:
+            upd[name] = getattr(args, name)
+    if getattr(args, "acceptance", None):
+        import json
+        from pathlib import Path
+        try:
+            spec = json.loads(Path(args.acceptance).read_text())
+        except (OSError, ValueError) as err:
+            raise InputError(f"cannot read the acceptance spec: {err}", file=args.acceptance) from None
+        if not isinstance(spec, dict):
+            raise InputError("the acceptance spec must be a JSON object", file=args.acceptance)
+        verdict = {k: spec.pop(k) for k in ("max_range_migration_cells", "max_residual_phase_rms_deg")
+                   if k in spec}
+        upd.update(verdict)
+        upd["acceptance"] = {**VERDICT_ACCEPTANCE.model_dump(), **spec}
+    return McOptions.build(**upd)
 
 
 def _positive(name, v):
@@ -54,15 +63,27 @@ def add_parser(sub) -> None:
     g.add_argument("--part", metavar="ID", help="catalog part")
     g.add_argument("--model", metavar="M.json", help="noise-model JSON")
     add_catalog_option(p)
-    p.add_argument("--trials", type=int, default=256)
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="Monte Carlo trials")
+    p.add_argument("--seed", type=int, default=DEFAULT_SEED, help="random seed (same seed → same numbers)")
     p.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
     p.add_argument("--no-fast-phase", action="store_true",
-                   help="judge by the image alone (drop seed 004's 1° fast-phase criterion)")
+                   help="judge by the image alone (drop the 1° limit on what PGA cannot remove)")
+    p.add_argument("--scene", choices=("auto", "realistic", "points"), default=None,
+                   help="realistic: clutter + noise + many scatterers (default when available); "
+                        "points: five noise-free points")
+    p.add_argument("--clutter-db", dest="clutter_to_target_db", type=float, default=None,
+                   help="realistic scene: clutter-to-target ratio in dB (default −25)")
+    p.add_argument("--snr-db", dest="snr_db", type=float, default=None, help="receiver SNR in dB")
+    p.add_argument("--window", choices=("auto", "rect", "taylor"), default=None,
+                   help="image weighting (auto: Taylor −35 dB for radar)")
+    p.add_argument("--acceptance", metavar="A.json",
+                   help="acceptance spec: max_broadening, max_pslr_db, max_islr_db, "
+                        "max_peak_loss_db, max_range_migration_cells, max_residual_phase_rms_deg …")
     p.add_argument("--prefilter", choices=PREFILTERS, default="none",
                    help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
                         "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
     add_json_option(p)
+    add_quiet_option(p)
     p.set_defaults(func=run)
 
     s = sub.add_parser("sweep", help="trade study: parts × scenarios → CSV")
@@ -70,11 +91,12 @@ def add_parser(sub) -> None:
     s.add_argument("--preset", nargs="+", metavar="NAME", help="preset scenarios")
     s.add_argument("--part", nargs="+", metavar="ID", help="parts (default: every catalog part with specs)")
     add_catalog_option(s)
-    s.add_argument("--trials", type=int, default=128)
-    s.add_argument("--seed", type=int, default=0)
-    s.add_argument("--workers", type=int, default=1)
+    s.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="trials per part × scenario")
+    s.add_argument("--seed", type=int, default=DEFAULT_SEED, help="random seed (common to every cell)")
+    s.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
     s.add_argument("--target", type=float, default=0.9, help="P(pass after PGA) wanted")
     s.add_argument("--out", metavar="CSV", required=True, help="tidy result table (CSV)")
+    add_quiet_option(s)
     s.set_defaults(func=run_sweep)
 
 
@@ -84,13 +106,47 @@ def run(args) -> int:
     if args.seed < 0:
         raise InputError("seed must be ≥ 0", field="--seed", value=args.seed)
     scen = scenario_from_args(args)
-    res = run_mc(scen, _model(args), args.trials, args.seed, options=_options(args),
-                 workers=args.workers, progress=_progress_bar)
+    model = _model(args)
+    with progress(f"mc {getattr(model, 'part_id', None) or 'model'}", quiet=args.quiet) as bar:
+        res = run_mc(scen, model, args.trials, args.seed, options=_options(args),
+                     workers=args.workers, progress=bar)
+    opts = _options(args)
+    gains = None
+    if opts.prefilter != "none":  # the run refused a filter that rescales motion; report what passed
+        gains = prefilter_for(model, scen.imu_rate_hz, kind=opts.prefilter,
+                              samples=opts.prefilter_calibration_samples,
+                              seed=args.seed).dc_gains(scen.imu_rate_hz)
+    versus = _check_vs_mc(scen, model, res)
     if args.json:
-        write_json(res.to_json_dict(), args.json)
+        out = res.to_json_dict()
+        out["aiding"] = AidingPlan.from_scenario(scen).label()
+        if gains is not None:
+            out["prefilter_dc_gain"] = gains
+        if versus is not None:
+            out["check_vs_mc"] = versus
+        write_json(out, args.json)
     else:
         print(res.summary())
+        print(f"aiding: {AidingPlan.from_scenario(scen).label()}")
+        if gains is not None:
+            print("pre-filter DC gain: " + ", ".join(f"{ch} {g:.4f}" for ch, g in gains.items()))
+        if versus is not None and versus["agree"] is False:
+            print(f"check vs Monte Carlo: DISAGREE — {versus['reason']}")
+        elif versus is not None:
+            print(f"check vs Monte Carlo: {'agree' if versus['agree'] else versus['reason']} "
+                  f"(check {versus['check_verdict']}, MC {versus['mc_verdict']})")
     return 0
+
+
+def _check_vs_mc(scen, model, res):
+    """The analytic check of a catalog part beside its Monte Carlo verdict (None for a noise model)."""
+    from ..catalog.schema import PartSpec
+    from ..check import check_parts
+    from ..report import check_vs_mc
+
+    if not isinstance(model, PartSpec):
+        return None
+    return check_vs_mc(check_parts([model], scen).records(0)[0], res)
 
 
 def run_sweep(args) -> int:
@@ -101,9 +157,10 @@ def run_sweep(args) -> int:
     cat = load_catalog(args.catalog)
     parts = [get_part(pid, cat) for pid in args.part] if args.part else \
         [p for p in cat.values() if p.gyro_arw_deg_rt_h is not None or p.accel_vrw_m_s_rt_h is not None]
-    table = sweep(parts, scens, args.trials, args.seed, workers=args.workers,
-                  progress=lambda d, t: _progress_bar(d, t))
-    from ..fileio import atomic_write_text
-    atomic_write_text(args.out, table.to_csv(index=False))
+    with progress(f"sweep {len(parts)} parts × {len(scens)} scenarios", "cells",
+                  quiet=args.quiet) as bar:
+        table = sweep(parts, scens, args.trials, args.seed, workers=args.workers, progress=bar)
+    from .output import write_frame_csv  # text cells (scenario names …) spreadsheet-safe
+    write_frame_csv(table, args.out)
     print(cheapest_passing(table, args.target).to_string(index=False))
     return 0

@@ -6,13 +6,12 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError
-from ..noise import (ArmaKalman, LogMapping, characterize, check_series, frequency_response,
-                     preprocess, read_adev_table, read_log, select_arma)
-from ..noise.adev_table import looks_like_adev_table
+from ..noise import ImuLog, LogMapping, characterize, read_log
 from ..noise.arma import DEFAULT_ORDERS
+from ..noise.measurement import read_measurement
+from ..noise.pipeline import AIC_DEFINITION, ArmaOptions, analyse_arma  # noqa: F401
 from .output import add_json_option, write_json
-
-AIC_DEFINITION = "AIC = ln(sigma2) + 2k/n, FPE = sigma2 (n+k)/(n-k), k = p+q, n = residuals"
+from .progress import add_quiet_option, working
 
 
 def _log_options(p) -> None:
@@ -42,6 +41,7 @@ def add_parser(sub) -> None:
     c.add_argument("--replace", action="store_true", help="with --append: replace an existing id")
     _log_options(c)
     add_json_option(c)
+    add_quiet_option(c)
     c.set_defaults(func=run_characterize)
 
     a = nsub.add_parser("arma", help="preprocess, check, select an ARMA model, Kalman-filter a channel")
@@ -60,6 +60,7 @@ def add_parser(sub) -> None:
     a.add_argument("--rate-hz", type=float, help="sampling rate (if the log has no time column)")
     _log_options(a)
     add_json_option(a)
+    add_quiet_option(a)
     a.set_defaults(func=run_arma)
 
 
@@ -69,26 +70,20 @@ def _mapping(args) -> LogMapping | None:
 
 def run_characterize(args) -> int:
     path = Path(args.input)
-    if not path.is_file():
-        raise InputError("file not found", file=path)
     if args.append and not args.as_part:
         raise InputError("--append needs --as-part ID (the part_id of the new row)", field="--as-part")
-    if looks_like_adev_table(path):
-        if args.rate_hz is None or args.samples is None:
-            raise InputError("an Allan table needs the record's rate and length", file=path,
-                             expected="--rate-hz F --samples N")
-        data = read_adev_table(path, args.rate_hz, args.samples, ci_level=args.ci_level)
-    else:
-        if args.samples is not None:
-            raise InputError("--samples is for Allan tables; a log has its own length",
-                             field="--samples")
-        data = read_log(path, _mapping(args), args.repair, rate_hz=args.rate_hz,
-                        max_rows=args.max_rows, min_samples=16)
+    data = read_measurement(path, rate_hz=args.rate_hz, samples=args.samples, mapping=_mapping(args),
+                            repair=args.repair, max_rows=args.max_rows, ci_level=args.ci_level)
+    if isinstance(data, ImuLog):
         for issue in data.issues.issues:
             if issue.severity != "info":
                 print(f"note: {issue.text()}", file=sys.stderr)
-    result = characterize(data, part_id=args.as_part or "measured", grade=args.grade,
-                          vendor=args.vendor, model=args.model, taus=args.taus)
+    else:
+        for note in (n for t in data.values() for n in t.notes):
+            print(f"note: {note}", file=sys.stderr)
+    with working(f"noise characterize: {path.name}", quiet=args.quiet):
+        result = characterize(data, part_id=args.as_part or "measured", grade=args.grade,
+                              vendor=args.vendor, model=args.model, taus=args.taus)
     if args.append:
         from ..catalog.io import append_part
         append_part(args.append, result.part, replace=args.replace)
@@ -117,45 +112,15 @@ def _orders(text: list[str] | None):
 def run_arma(args) -> int:
     log = read_log(args.log, _mapping(args), args.repair, rate_hz=args.rate_hz,
                    channels=[args.channel], max_rows=args.max_rows, min_samples=100)
-    x = log.channels[args.channel]
-    pre = preprocess(x, pauta_k=None if args.no_outliers else args.pauta_k,
-                     replace=args.replace_with, detrend_order=args.detrend)
-    checks = check_series(pre.x)
-    for flag in checks.flags():
+    opts = ArmaOptions(orders=_orders(args.orders), method=args.method,
+                       pauta_k=None if args.no_outliers else args.pauta_k, replace=args.replace_with,
+                       detrend_order=args.detrend, process_noise=args.process_noise)
+    with working(f"noise arma: {args.channel}", quiet=getattr(args, "quiet", False)):
+        res = analyse_arma(log.channels[args.channel], log.rate_hz, channel=args.channel, options=opts)
+    for flag in res.checks.flags():
         print(f"warning: {args.channel}: {flag} — modelled anyway, see 'checks'", file=sys.stderr)
-    sel = select_arma(pre.x, _orders(args.orders), args.method, demean=False)
-    kf = ArmaKalman(sel.selected, process_noise=args.process_noise)
-    filt, smooth = kf.filter(pre.x), kf.smooth(pre.x)
-    resp = frequency_response(kf, log.rate_hz, [0.0, 0.1, 1.0, 10.0, log.rate_hz / 4])
-    unit = "(rad/s)^2" if args.channel.startswith("gyro") else "(m/s^2)^2"
-    out = {
-        "channel": args.channel, "rate_hz": log.rate_hz, "samples": int(x.size),
-        "preprocessing": list(pre.steps), "outliers": int(pre.outliers.size),
-        "checks": checks.to_dict(), "method": args.method, "criteria": AIC_DEFINITION,
-        "candidates": [{"order": c.name, "aic": c.aic, "fpe": c.fpe, "params": c.params(),
-                        "stationary": c.stationary, "invertible": c.invertible,
-                        "ar_root_max": c.ar_root_max, "ma_root_max": c.ma_root_max}
-                       for c in sel.candidates],
-        "selected": sel.selected.name, "selected_by_fpe": sel.by_fpe.name,
-        "variance_unit": unit,
-        "variance_before": filt.variance_before, "variance_after": filt.variance_after,
-        "variance_after_smoother": smooth.variance_after,
-        "filter": {"process_noise": args.process_noise, "R": kf.R, "Q_scale": sel.selected.sigma2,
-                   "steady_gain": kf.K_ss.tolist(), "transient_samples": kf.T,
-                   "response_freq_hz": resp.freq_hz.tolist(), "response_gain": resp.magnitude.tolist(),
-                   "warning": "the filter also attenuates real motion: see response_gain "
-                              "(1 = passed unchanged)"},
-        "notes": list(sel.notes),
-    }
     if args.json:
-        write_json(out, args.json)
+        write_json(res.to_dict(), args.json)
         return 0
-    print(f"{args.channel}: {x.size} samples at {log.rate_hz:g} Hz; " + pre.summary())
-    print("checks: " + checks.summary())
-    print(sel.summary())
-    print(kf.summary())
-    print(filt.summary() + f"; smoother → {smooth.variance_after:.4g} {unit}")
-    print("response to motion: " + ", ".join(f"{f:g} Hz ×{g:.3f}" for f, g in
-                                            zip(resp.freq_hz, resp.magnitude)))
+    print(res.summary())
     return 0
-

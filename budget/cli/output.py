@@ -1,17 +1,25 @@
-"""Output helpers shared by the sub-commands: JSON to a file or stdout, tables for humans."""
+"""Output helpers shared by the sub-commands: JSON to a file or stdout, CSV, printable text."""
 
 from __future__ import annotations
 
 import sys
 from pathlib import Path
 
-
-from ..fileio import atomic_write_text, json_text
+from ..fileio import atomic_write_text, frame_csv_text, json_text, printable  # noqa: F401
 
 
 def write_json(obj, dest: str) -> None:
     """Write ``obj`` as JSON to ``dest`` (a path, or ``-`` for stdout; files written atomically)."""
     text = json_text(obj)
+    if dest == "-":
+        sys.stdout.write(text)
+    else:
+        atomic_write_text(Path(dest), text)
+
+
+def write_frame_csv(frame, dest: str) -> None:
+    """Write a table as CSV, every text cell spreadsheet-safe (see ``budget.fileio.safe_csv_text``)."""
+    text = frame_csv_text(frame)
     if dest == "-":
         sys.stdout.write(text)
     else:

@@ -8,7 +8,8 @@ measured Allan-deviation table (CSV ``channel, tau_s, adev[, lci, uci]`` with th
 
 Rules (each violation is an :class:`~budget.errors.InputError`):
 
-* every compared channel must be in the measurement (default: all six);
+* every compared channel must be in the measurement (default: the channels the measurement
+  has — a single-gyro log is compared on that gyro, with a note);
 * the rates must agree within 0.1 %: a model's ``rate_hz`` is the rate it describes. A catalog
   part's ``rate_hz`` is the sensor's output rate, so a log recorded at a *lower* rate (output
   decimated by the logger) is accepted with a note — the noise densities do not depend on the
@@ -30,10 +31,11 @@ import numpy as np
 from ..catalog.schema import FLICKER_FLOOR, PartSpec
 from ..errors import InputError
 from ..imu import NoiseModel
-from ..noise import ImuLog, read_adev_table, read_log
-from ..noise.adev_table import looks_like_adev_table
+from ..imu.noise_model import channel_unit
+from ..noise import ImuLog
 from ..noise.allan import AllanResult
 from ..noise.log_checks import LogReport
+from ..noise.measurement import read_measurement
 from ..units import CHANNELS
 from .signatures import MIN_SAMPLES
 
@@ -74,7 +76,7 @@ def log_from_arrays(channels: dict[str, np.ndarray], rate_hz: float, temp_c=None
     for c, v in chans.items():
         if not np.all(np.isfinite(v)):
             raise InputError("series contains NaN or infinite values", field=c, expected="finite numbers")
-    units = {c: "rad/s" if c.startswith("gyro") else "m/s^2" for c in chans}
+    units = {c: channel_unit(c) for c in chans}
     temp = None if temp_c is None else np.asarray(temp_c, float)
     if temp is not None and temp.shape != next(iter(sizes)):
         raise InputError(f"temp_c has shape {temp.shape}", field="temp_c",
@@ -91,18 +93,12 @@ def load_measured(measured, *, rate_hz: float | None = None, samples: int | None
     if isinstance(measured, dict) and measured and all(isinstance(v, AllanResult) for v in measured.values()):
         return _from_tables(measured, str(next(iter(measured.values())).source))
     if isinstance(measured, (str, Path)):
-        path = Path(measured)
-        if not path.is_file():
-            raise InputError("file not found", file=path, expected="an IMU log CSV or an Allan table")
-        if looks_like_adev_table(path):
-            if rate_hz is None or samples is None:
-                raise InputError("an Allan table needs the record's rate and length", file=path,
-                                 expected="--rate-hz F --samples N")
-            return _from_tables(read_adev_table(path, rate_hz, samples, ci_level=ci_level), str(path))
-        if samples is not None:
-            raise InputError("--samples is for Allan tables; a log has its own length", field="samples")
-        return _from_log(read_log(path, mapping, repair, rate_hz=rate_hz, max_rows=max_rows,
-                                  min_samples=MIN_SAMPLES))
+        data = read_measurement(measured, rate_hz=rate_hz, samples=samples, mapping=mapping,
+                                repair=repair, max_rows=max_rows, ci_level=ci_level,
+                                min_samples=MIN_SAMPLES)
+        if isinstance(data, ImuLog):
+            return _from_log(data)
+        return _from_tables(data, str(measured))
     raise InputError(f"not a measurement: {type(measured).__name__}", field="measured",
                      expected="a log path, an ImuLog or {channel: AllanResult}")
 
@@ -138,6 +134,7 @@ def _from_tables(tables: dict[str, AllanResult], source: str) -> Measured:
     notes = ["measured Allan-deviation table: only the ADEV signature is available (no PSD, "
              "distribution, trend or temperature statistics; outliers and temperature effects "
              "cannot be named)"]
+    notes += [n for t in tables.values() for n in getattr(t, "notes", ())]
     return Measured("adev_table", source, float(first.rate_hz), int(first.samples),
                     tables=dict(tables), notes=notes)
 
@@ -163,6 +160,10 @@ def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,
                      channels, check_tau_range: bool) -> tuple[tuple[str, ...], list[str]]:
     """Apply the module's rules; → (channels to compare, notes)."""
     notes: list[str] = []
+    if channels is None and 0 < len(meas.channels) < len(CHANNELS):
+        notes.append(f"the measurement has {', '.join(meas.channels)} only: compared on "
+                     f"{'that channel' if len(meas.channels) == 1 else 'those channels'}")
+        channels = meas.channels
     wanted = tuple(CHANNELS if channels is None else channels)
     unknown = [c for c in wanted if c not in CHANNELS]
     if unknown:

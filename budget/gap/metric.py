@@ -43,7 +43,7 @@ from .theory import Increment
 
 #: Relative variance of one Welch bin (50 % overlap, Hann) per segment.
 WELCH_VAR = 1.056
-KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "slope", "temperature")
+KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "tails2", "slope", "temperature")
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,8 @@ class ModelSummary:
     sigma_r: float | None = None
     tails: float | None = None
     tails_disp: float = 1.0
+    tails2: float | None = None
+    tails2_disp: float = 1.0
     slope: float | None = None
     slope_var: float = 0.0
     temp_coef: float | None = None
@@ -76,6 +78,10 @@ class ModelSummary:
             c = np.array([s.tail_count for s in sigs], float)
             sl = np.array([s.slope for s in sigs])
             mu = c.mean()
+            c2 = np.array([s.tail2_count for s in sigs], float)
+            mu2 = c2.mean()
+            kw.update(tails2=float(mu2), tails2_disp=float(max(1.0, c2.var(ddof=1) / mu2))
+                      if S > 1 and mu2 > 0 else 1.0)
             kw.update(kurtosis=float(k.mean()), kurt_var=float(k.var(ddof=1)) if S > 1 else 0.0,
                       diff_var=float(np.mean([s.diff_var for s in sigs])),
                       sigma_r=float(np.mean([s.sigma_r for s in sigs])), tails=float(mu),
@@ -103,18 +109,24 @@ class ModelSummary:
                 kw["temp_coef"] = self.temp_coef + inc.temp
                 kw["temp_var"] = self.temp_var + inc.temp_var
             if inc.outliers is not None:
-                kw["tails"] = _tails_with_outliers(self, inc.outliers, grid)
+                kw["tails"] = _tails_with_outliers(self, inc.outliers, grid, 1.0)
+                kw["tails2"] = _tails_with_outliers(self, inc.outliers, grid, 2.0, self.tails2)
+            if inc.tails is not None:
+                kw["tails"], kw["tails2"] = inc.tails
         return replace(self, **kw)
 
 
-def _tails_with_outliers(model: ModelSummary, outl: tuple[float, float], grid: SignatureGrid) -> float:
-    """Expected exceedances when spikes of ±M hit a fraction p of samples (2 differences each)."""
+def _tails_with_outliers(model: ModelSummary, outl: tuple[float, float], grid: SignatureGrid,
+                         level: float = 1.0, base: float | None = None) -> float:
+    """Expected exceedances of ``level`` × the tail limit when spikes of ±M hit a fraction p of
+    samples (2 differences each); ``base``: the model's count at that level."""
     p, mag = outl
     p = min(p, 0.5)
     sd = math.sqrt(model.diff_var)
-    lim = grid.tail_k * model.sigma_r
+    lim = level * grid.tail_k * model.sigma_r
     hit = stats.norm.sf((lim - mag) / sd) + stats.norm.sf((lim + mag) / sd)
-    return model.tails * (1.0 - 2.0 * p) + 2.0 * p * (grid.n_samples - 1) * hit
+    base = model.tails if base is None else base
+    return base * (1.0 - 2.0 * p) + 2.0 * p * (grid.n_samples - 1) * hit
 
 
 @dataclass
@@ -193,12 +205,15 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
         zk = (meas.kurtosis - model.kurtosis) / math.sqrt(v_k * (1 + 1 / S))
         c, mu = meas.tail_count, max(model.tails, 0.0)
         zt = (math.sqrt(c) + math.sqrt(c + 1) - math.sqrt(4 * mu + 1)) / math.sqrt(model.tails_disp * (1 + 1 / S))
+        c2, mu2 = meas.tail2_count, max(model.tails2 or 0.0, 0.0)
+        zt2 = (math.sqrt(c2) + math.sqrt(c2 + 1) - math.sqrt(4 * mu2 + 1)) / math.sqrt(model.tails2_disp * (1 + 1 / S))
         zs = _t_to_z((meas.slope - model.slope) / math.sqrt(model.slope_var * (1 + 1 / S)), S - 1) \
             if model.slope_var > 0 else 0.0
-        z.append(np.array([zk, zt, zs]))
-        kinds += ["kurtosis", "tails", "slope"]
-        where += ["first differences", f"|Δx| > {grid.tail_k:.2f} σ", "trend over the record"]
-        locus.append(np.full(3, np.nan))
+        z.append(np.array([zk, zt, zt2, zs]))
+        kinds += ["kurtosis", "tails", "tails2", "slope"]
+        where += ["first differences", f"|Δx| > {grid.tail_k:.2f} σ", f"|Δx| > {2 * grid.tail_k:.2f} σ",
+                  "trend over the record"]
+        locus.append(np.full(4, np.nan))
         if meas.temp_coef is not None and model.temp_coef is not None:
             zc = _t_to_z((meas.temp_coef - model.temp_coef) / math.sqrt(model.temp_var * (1 + 1 / S)), S - 1) \
                 if model.temp_var > 0 else 0.0

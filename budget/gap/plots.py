@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import plotly.graph_objects as go
 
-from ..fileio import atomic_write_text
+from ..imu.noise_model import channel_unit
+from ..plots.export import write_html
 from .metric import adev_variance
 from .report import GapReport
 
@@ -26,7 +27,7 @@ AFTER = "#2ca02c"
 
 
 def _unit(channel: str) -> str:
-    return "rad/s" if channel.startswith("gyro") else "m/s²"
+    return channel_unit(channel)
 
 
 def adev_figure(report: GapReport, channel: str) -> go.Figure:
@@ -112,6 +113,7 @@ def write_figures(report: GapReport, directory: Path) -> list[Path]:
     out = []
     for name, fig in figs.items():
         path = directory / name
-        atomic_write_text(path, fig.to_html(include_plotlyjs="cdn", full_html=True))
+        # offline: plotly.min.js written once beside the figures, never loaded from a CDN
+        write_html(fig, path, plotlyjs="beside")
         out.append(path)
     return out

@@ -23,6 +23,7 @@ import pandas as pd
 
 from ..fileio import atomic_write_text, json_text
 from ..imu import NoiseModel
+from .effect_size import EffectSizeBand, Sizes
 from .metric import GapTerms, ModelSummary, NullModel
 from .signatures import Signature, SignatureGrid
 
@@ -54,13 +55,25 @@ class GapStep:
     improvement: float     # ΔΣz²/φ from the re-simulated model
     penalty: float         # χ²_p quantile it had to exceed
     n_params: int
+    sizes_before: Sizes | None = None  # the channel's effect sizes before/after the step
+    sizes_after: Sizes | None = None
+
+    @property
+    def effect_size_before_db(self) -> float:
+        return self.sizes_before.rms_db if self.sizes_before else float("nan")
+
+    @property
+    def effect_size_after_db(self) -> float:
+        return self.sizes_after.rms_db if self.sizes_after else float("nan")
 
     def to_json(self) -> dict:
         return {"name": self.name, "channel": self.channel, "params": dict(self.params),
                 "gap_before": self.gap_before, "gap_after": self.gap_after,
                 "overall_gap_before": self.overall_before, "overall_gap_after": self.overall_after,
                 "predicted_gap": self.predicted_gap, "improvement": self.improvement,
-                "penalty": self.penalty, "n_params": self.n_params}
+                "penalty": self.penalty, "n_params": self.n_params,
+                "effect_size_before": vars(self.sizes_before) if self.sizes_before else None,
+                "effect_size_after": vars(self.sizes_after) if self.sizes_after else None}
 
 
 def localize(terms: GapTerms) -> dict:
@@ -100,6 +113,17 @@ class ChannelResult:
     terms_after: GapTerms
     model_before: ModelSummary
     model_after: ModelSummary
+    sizes_before: Sizes | None = None
+    sizes_after: Sizes | None = None
+
+    @property
+    def effect_size_before_db(self) -> float:
+        """rms dB misfit beyond the model's spread, before the first step."""
+        return self.sizes_before.rms_db if self.sizes_before else float("nan")
+
+    @property
+    def effect_size_after_db(self) -> float:
+        return self.sizes_after.rms_db if self.sizes_after else float("nan")
 
     @property
     def gap_before(self) -> float:
@@ -133,6 +157,8 @@ class GapReport:
     stop_reason: str = ""
     base_model: NoiseModel | None = None
     updated_model: NoiseModel | None = None
+    band_before: EffectSizeBand | None = None
+    band_after: EffectSizeBand | None = None
 
     @property
     def effects(self) -> list[GapStep]:
@@ -147,6 +173,24 @@ class GapReport:
     def within_noise(self) -> bool:
         return all(c.gap_after <= self.null_after.channel_threshold(ch) for ch, c in self.channels.items())
 
+    @property
+    def effect_size_before_db(self) -> float:
+        """Overall effect size: rms of the channels' E before the first step (dB)."""
+        return float(np.sqrt(np.mean([c.effect_size_before_db ** 2 for c in self.channels.values()])))
+
+    @property
+    def effect_size_after_db(self) -> float:
+        return float(np.sqrt(np.mean([c.effect_size_after_db ** 2 for c in self.channels.values()])))
+
+    @property
+    def close_enough(self) -> bool:
+        """No channel worth working on any more: every peak misfit beyond the model's spread within
+        the tolerance and every kurtosis difference within its band."""
+        if self.band_after is None:
+            return self.within_noise
+        return all(not self.band_after.beyond(ch, c.sizes_after) for ch, c in self.channels.items()
+                   if c.sizes_after is not None)
+
     def to_json(self) -> dict:
         chans = {}
         for ch, c in self.channels.items():
@@ -155,6 +199,8 @@ class GapReport:
                          "threshold_after": self.null_after.channel_threshold(ch),
                          "within_noise_after": c.gap_after <= self.null_after.channel_threshold(ch),
                          "n_terms": c.terms_after.n_terms,
+                         "effect_size_before": vars(c.sizes_before) if c.sizes_before else None,
+                         "effect_size_after": vars(c.sizes_after) if c.sizes_after else None,
                          "localization_before": localize(c.terms_before),
                          "localization_after": localize(c.terms_after)}
         return {
@@ -164,6 +210,10 @@ class GapReport:
             "threshold_before": self.null_before.overall_threshold,
             "threshold_after": self.null_after.overall_threshold,
             "within_noise_after": self.within_noise,
+            "effect_size_db_before": self.effect_size_before_db,
+            "effect_size_db_after": self.effect_size_after_db,
+            "close_enough_after": self.close_enough,
+            "effect_size_definition": self.band_after.to_dict() if self.band_after else None,
             "input": {"source": self.source, "kind": self.kind, "rate_hz": self.rate_hz,
                       "samples": self.n_samples,
                       "signatures": "adev" if self.kind == "adev_table" else
@@ -173,6 +223,7 @@ class GapReport:
             "alpha": self.alpha, "gap_definition": GAP_DEFINITION,
             "null_before": self.null_before.to_dict(), "null_after": self.null_after.to_dict(),
             "rejected": self.rejected, "stop_reason": self.stop_reason, "notes": list(self.notes),
+            "tolerance_db": self.band_after.tolerance_db if self.band_after else None,
             "units": "parameters in SI channel units: rad/s-based (gyro), m/s^2-based (accel); s; Hz",
         }
 
@@ -203,12 +254,18 @@ class GapReport:
         for i, s in enumerate(self.steps, 1):
             par = ", ".join(f"{k}={v:.4g}" for k, v in s.params.items())
             lines.append(f"  {i}. {s.name} on {s.channel} ({par}): channel gap {s.gap_before:.3g} → "
-                         f"{s.gap_after:.3g}")
+                         f"{s.gap_after:.3g}, peak misfit {s.sizes_before.peak_db:.2f} → "
+                         f"{s.sizes_after.peak_db:.2f} dB" if s.sizes_before and s.sizes_after else "")
         for ch, c in self.channels.items():
             loc = localize(c.terms_after)["top"][:2]
             where = "; ".join(f"{t['statistic']} {t['where']} z={t['z']:+.1f}" for t in loc)
             flag = "ok" if c.gap_after <= thr[ch] else "GAP"
-            lines.append(f"  {ch:8s} {c.gap_before:9.3g} → {c.gap_after:9.3g}  {flag}" + (f"  [{where}]" if where else ""))
+            size = ""
+            if c.sizes_before and c.sizes_after:
+                size = (f"  E {c.sizes_before.rms_db:.2f} → {c.sizes_after.rms_db:.2f} dB, peak "
+                        f"{c.sizes_before.peak_db:.2f} → {c.sizes_after.peak_db:.2f} dB")
+            lines.append(f"  {ch:8s} {c.gap_before:9.3g} → {c.gap_after:9.3g}  {flag}{size}"
+                         + (f"  [{where}]" if where else ""))
         lines.append(f"stop: {self.stop_reason}")
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)

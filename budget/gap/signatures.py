@@ -6,19 +6,22 @@ time-slope and temperature statistics below have an intercept anyway). Then, on 
 x_k (rad/s or m/s²) at ``rate_hz``:
 
 * ``avar``: overlapping Allan variance at octave averaging factors m = 1, 2, 4, … ≤ N/4, by
-  the noise lab's estimator (NIST SP 1065 eq. (11) on the cumulative sum, as
-  :func:`budget.noise.allan_deviation`; :func:`overlapping_avar` repeats its few lines with
-  the final dot product done by ``einsum`` — OpenBLAS's threaded dot stalls for milliseconds
-  per call on a loaded two-core machine — and is tested equal to it);
+  the noise lab's estimator (:func:`budget.noise.allan.overlapping_avar`, NIST SP 1065 eq. (11)
+  on the cumulative sum, the package's one implementation);
 * ``psd``: Welch PSD (:func:`budget.noise.welch_psd`), Hann segments of L = 2^⌊log2(N/16)⌋
   samples (≥ 16 segments, ≤ 2¹⁶ samples), one-sided, unit²/Hz;
 * distribution of the first differences d_k = x_k − x_{k−1} (differences remove the slow
   terms that make the raw series non-Gaussian): excess kurtosis; robust scale
   σ_r = 1.4826·MAD; ``tail_count`` = #{|d − median| > k_N·σ_r} with k_N = Φ⁻¹(1 − 2.5/N),
-  i.e. 5 expected exceedances for Gaussian data of any length; isolated spikes (an exceedance
+  i.e. 5 expected exceedances for Gaussian data of any length, and ``tail2_count`` beyond
+  twice that limit (≈ 0 for Gaussian data: how the tail falls off tells heavy-tailed noise,
+  a power law, from spikes of one size); isolated spikes (an exceedance
   followed by one of opposite sign, Pauta-like) give ``spike_count`` and ``spike_magnitude``;
   ``diff_max`` is the largest |d − median|;
 * ``slope``: least-squares slope of x on time (unit/s);
+* ``lattice``: the step δ (unit of the channel) when every first difference is a whole multiple
+  of one step (raw counts, or an integrated output quantized to √12·Q = δ·dt), else ``None``;
+  tested on the first ``LATTICE_SAMPLES`` differences, |d/δ − round(d/δ)| < 0.02 for 99.9 %;
 * ``temp_coef``: least-squares coefficient of x on the temperature channel in a regression
   with intercept and linear time trend (unit/°C), when the log has one (a temperature that
   only rises linearly cannot be told from a rate ramp, and is not used).
@@ -37,7 +40,7 @@ from scipy import stats
 
 from ..errors import InputError
 from ..noise import welch_psd
-from ..noise.allan import AllanResult
+from ..noise.allan import AllanResult, overlapping_avar
 
 #: Fewest samples the workflow accepts (≥ 10 octave τ and a 256-point Welch segment).
 MIN_SAMPLES = 4096
@@ -48,6 +51,8 @@ TAIL_EXPECTED = 5.0
 #: Lowest Welch bin used (the first bins carry the segment-mean removal and window leakage).
 FIRST_BIN = 4
 MAX_NPERSEG = 1 << 16
+#: Differences examined by the lattice test (enough for a stable verdict, bounded time).
+LATTICE_SAMPLES = 200_000
 
 
 @dataclass(frozen=True)
@@ -145,16 +150,19 @@ class Signature:
     diff_var: float | None = None
     sigma_r: float | None = None
     tail_count: int | None = None
+    tail2_count: int | None = None
     spike_count: int | None = None
     spike_magnitude: float | None = None
     diff_max: float | None = None
     slope: float | None = None
     temp_coef: float | None = None
     edf: np.ndarray | None = None  # measured tables only: EDF behind the published interval
+    lattice: float | None = None
 
 
-def series_signature(x: np.ndarray, grid: SignatureGrid) -> Signature:
-    """All signatures of one rate series ``x`` (its mean is removed here)."""
+def series_signature(x: np.ndarray, grid: SignatureGrid, *, lattice: bool = False) -> Signature:
+    """All signatures of one rate series ``x`` (its mean is removed here); the lattice test
+    only when asked (a measured series: simulated ones are not read for it)."""
     x = np.asarray(x, dtype=np.float64)
     if x.shape != (grid.n_samples,):
         raise InputError(f"series has shape {x.shape}", expected=f"({grid.n_samples},)")
@@ -178,32 +186,32 @@ def series_signature(x: np.ndarray, grid: SignatureGrid) -> Signature:
     mag = float(np.median(0.5 * np.abs(d[:-1][spikes] - d[1:][spikes]))) if n_sp else 0.0
     slope = _dot(grid.time_w, x)
     temp = _dot(grid.temp_w, x) if grid.temp_w is not None else None
-    return Signature(avar, psd, kurt, m2, sigma_r, tails, n_sp, mag, float(dev.max()), slope, temp)
+    return Signature(avar, psd, kurt, m2, sigma_r, tails, int(np.count_nonzero(dev > 2.0 * limit)),
+                     n_sp, mag, float(dev.max()), slope, temp,
+                     lattice=lattice_step(d) if lattice else None)
+
+
+def lattice_step(d: np.ndarray) -> float | None:
+    """The common step δ of the first differences ``d`` if they all lie on a lattice kδ, else
+    ``None`` (continuous data, or a step below 10⁻⁹ of the largest difference)."""
+    d = np.asarray(d[:LATTICE_SAMPLES], float)
+    a = np.abs(d)
+    top = float(a.max()) if a.size else 0.0
+    nz = a[a > 1e-9 * top]
+    if nz.size < 10:
+        return None
+    step = float(nz.min())
+    near = nz[nz < 1.5 * step]
+    step = float(np.median(near))  # robust to round-off in a value printed in decimal
+    k = d / step
+    ok = np.abs(k - np.round(k)) < 0.02
+    if ok.mean() < 0.999 or np.unique(np.round(k[ok])).size > d.size / 10:
+        return None
+    return step
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.einsum("i,i->", a, b))
-
-
-def overlapping_avar(x: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """Overlapping Allan variance of rate samples at averaging factors ``m`` (NIST SP 1065
-    eq. (11)): Σ_k (S_{k+2m} − 2S_{k+m} + S_k)² / (2m²(N+1−2m)), S = cumsum with S_0 = 0."""
-    y = np.asarray(x, dtype=np.float64)
-    s = np.empty(y.size + 1)
-    s[0] = 0.0
-    np.cumsum(y - y.mean(), out=s[1:])
-    buf = np.empty(s.size)
-    out = np.empty(len(m))
-    for i, mj in enumerate(np.asarray(m, dtype=np.int64)):
-        k = s.size - 2 * mj
-        if k < 1:
-            raise InputError(f"averaging factor {mj} exceeds half the record", field="taus")
-        d = buf[:k]
-        np.subtract(s[2 * mj:], s[mj:mj + k], out=d)
-        d -= s[mj:mj + k]
-        d += s[:k]
-        out[i] = _dot(d, d) / (2.0 * mj * mj * k)
-    return out
 
 
 def table_signature(allan: AllanResult) -> Signature:

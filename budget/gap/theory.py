@@ -33,6 +33,11 @@ approximately), so its *expected* contribution adds to the model's signatures:
   is not additive: it multiplies the model's PSD, ΔS = S_model·(|H|² − 1), and the Allan
   variance and difference variance follow from ΔS through their discrete-time kernels
   (:func:`avar_from_psd`, :func:`diff_var_from_psd`).
+
+* ``vibration`` (resonator of rms σ): AVAR exact from its AR(2) autocorrelation, PSD σ² times
+  the resonator's, difference variance 2σ²(1 − ρ(1)); ``heavy_tailed`` (Student t of density
+  N): white-noise AVAR and PSD, difference variance 2N²/dt, fourth cumulant and tail counts of
+  the differences from the t distribution (:func:`student_t_cum4`, :func:`student_t_tails`).
 """
 
 from __future__ import annotations
@@ -42,7 +47,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy import signal
+from scipy import signal, special, stats
 
 from ..imu.flicker import flicker_bank
 
@@ -67,6 +72,7 @@ class Increment:
     slope_var: float = 0.0
     temp_var: float = 0.0
     outliers: tuple[float, float] | None = None
+    tails: tuple[float, float] | None = None   # predicted (tail count, tail2 count), if known
 
 
 # --- Allan variance shapes (amplitude 1) --------------------------------------------------
@@ -225,3 +231,61 @@ def diff_var_from_psd(psd: np.ndarray, freq_hz: np.ndarray, dt_s: float) -> floa
     f = np.asarray(freq_hz, float)
     return float(np.sum(np.asarray(psd) * 4.0 * np.sin(math.pi * f * dt_s) ** 2)
                  * _sum_weights(f, dt_s))
+
+
+# --- band-limited vibration and heavy-tailed white noise -----------------------------------
+
+def avar_vibration(m, dt_s: float, center_hz: float, width_hz: float) -> np.ndarray:
+    """AVAR of the unit-variance resonator (:func:`budget.imu.effects.vibration`), exact: its
+    autocorrelation is ρ(k) = Re(C·z^|k|) with z = r·e^(iω0), C = −i·e^(iψ)/sin ψ
+    (:func:`budget.imu.effects.vibration_acov`), and AVAR is linear in ρ, so it is Re(C·A(z))
+    with A the Gauss–Markov closed form of :func:`avar_gm` evaluated at the complex φ = z."""
+    m = np.asarray(m, dtype=float)
+    r = math.exp(-math.pi * width_hz * dt_s)
+    w0 = 2.0 * math.pi * center_hz * dt_s
+    psi = math.atan2((1.0 + r * r) * math.sin(w0), (1.0 - r * r) * math.cos(w0))
+    z = r * complex(math.cos(w0), math.sin(w0))
+    c = -1j * complex(math.cos(psi), math.sin(psi)) / math.sin(psi)
+    zm = z ** m
+    a = (m + (2.0 * z * (m * (1.0 - z) - (1.0 - zm)) - z * (1.0 - zm) ** 2) / (1.0 - z) ** 2) / m ** 2
+    return np.clip((c * a).real, 0.0, None)
+
+
+@lru_cache(maxsize=64)
+def _t_grid(nu: float) -> tuple[np.ndarray, np.ndarray]:
+    """Quadrature nodes v and weights pdf(v)·Δv of Student t(ν) on a sinh-spaced grid reaching
+    ±10⁶ (the tails matter: they are what is measured)."""
+    u = np.linspace(-16.0, 16.0, 4001)
+    v = np.sinh(u)
+    w = stats.t.pdf(v, nu) * np.cosh(u) * (u[1] - u[0])
+    v.setflags(write=False)
+    w.setflags(write=False)
+    return v, w
+
+
+def student_t_tails(nu: float, scale: float, base_var: float, limit: float) -> float:
+    """P(|d| > limit) for first differences d = g + s·(t₁ − t₂) of Student-t(ν) white noise of
+    scale s on Gaussian differences g of variance ``base_var``. A large difference comes from
+    one large t (sub-exponential tails), so P ≈ 2·P(|s·t₁ + y| > L) − P(|y′| > L): y ~ N(0, v₀)
+    stands for g − s·t₂ with the variance of its core, v₀ = base_var + (c_ν·s)² (c_ν: the
+    robust scale of t in σ units), and y′ ~ N(0, v₀ + (c_ν·s)²) is the case with no large t,
+    counted twice by the first term. The expectation over t₁ by quadrature (:func:`_t_grid`)."""
+    c_nu = float(stats.t.ppf(0.75, nu) / stats.norm.ppf(0.75))
+    core = (c_nu * scale) ** 2
+    sy = math.sqrt(base_var + core)
+    v, w = _t_grid(float(nu))
+    x = scale * v
+    one = float(np.dot(w, special.ndtr((x - limit) / sy) + special.ndtr((-limit - x) / sy)))
+    both = 2.0 * stats.norm.sf(limit / math.sqrt(base_var + 2.0 * core))
+    return float(min(max(2.0 * one - both, 0.0), 1.0))
+
+
+def student_t_cum4(nu: float, n_samples: int) -> float:
+    """Fourth cumulant of a unit-scale Student-t(ν) sample as a record of N samples sees it:
+    the fourth moment truncated at the expected largest |t| (t_ν quantile 1 − 1/(2N)), so ν ≤ 4
+    (infinite population kurtosis) still gives the finite value a record shows."""
+    top = float(stats.t.isf(0.5 / n_samples, nu))
+    v, w = _t_grid(float(nu))
+    m4 = float(np.dot(w, np.where(np.abs(v) <= top, v ** 4, 0.0)))
+    var = nu / (nu - 2.0)
+    return m4 - 3.0 * var * var

@@ -109,3 +109,49 @@ def lowpass(x: np.ndarray, cutoff_hz: float, dt_s: float) -> np.ndarray:
     (e.g. the averaging/decimation stage of a MEMS IMU) acting on its additive noise."""
     a = lowpass_coefficient(cutoff_hz, dt_s)
     return signal.lfilter([a], [1.0, a - 1.0], x, axis=-1, zi=(1.0 - a) * x[:, :1])[0]
+
+
+def resonator_coefficients(center_hz: float, width_hz: float, dt_s: float) -> tuple[float, float, float]:
+    """AR(2) resonator y_k = a1·y_{k−1} + a2·y_{k−2} + e_k with poles r·e^(±iω0),
+    r = e^(−π·w·dt), ω0 = 2π·f0·dt (−3 dB full width ≈ w for w ≪ f0). Returns (a1, a2, v) with
+    v = Var(y)/Var(e) = (1 − a2)/((1 + a2)((1 − a2)² − a1²)) (Box & Jenkins, AR(2) variance)."""
+    r = math.exp(-math.pi * width_hz * dt_s)
+    a1, a2 = 2.0 * r * math.cos(2.0 * math.pi * center_hz * dt_s), -r * r
+    return a1, a2, (1.0 - a2) / ((1.0 + a2) * ((1.0 - a2) ** 2 - a1 * a1))
+
+
+def vibration_acov(lags: np.ndarray, center_hz: float, width_hz: float, dt_s: float) -> np.ndarray:
+    """Autocorrelation of the unit-variance resonator at integer lags k:
+    ρ(k) = r^|k|·sin(ω0|k| + ψ)/sin ψ, tan ψ = (1 + r²)/(1 − r²)·tan ω0 (AR(2), complex poles)."""
+    k = np.abs(np.asarray(lags, dtype=float))
+    r = math.exp(-math.pi * width_hz * dt_s)
+    w0 = 2.0 * math.pi * center_hz * dt_s
+    psi = math.atan2((1.0 + r * r) * math.sin(w0), (1.0 - r * r) * math.cos(w0))
+    return r ** k * np.sin(w0 * k + psi) / math.sin(psi)
+
+
+def vibration_psd(freq_hz: np.ndarray, center_hz: float, width_hz: float, dt_s: float) -> np.ndarray:
+    """One-sided PSD of the unit-variance resonator: 2·dt/(v·|1 − a1·z⁻¹ − a2·z⁻²|²)."""
+    a1, a2, v = resonator_coefficients(center_hz, width_hz, dt_s)
+    z = np.exp(-2j * math.pi * np.asarray(freq_hz) * dt_s)
+    return 2.0 * dt_s / (v * np.abs(1.0 - a1 * z - a2 * z * z) ** 2)
+
+
+def vibration(n_trials: int, n_samples: int, center_hz: float, width_hz: float, sigma: float,
+              dt_s: float, rng: np.random.Generator) -> np.ndarray:
+    """Band-limited random vibration of rms ``sigma``: the resonator driven by white noise,
+    started from its stationary state (a burn-in of 10 time constants is discarded), (T, N)."""
+    a1, a2, v = resonator_coefficients(center_hz, width_hz, dt_s)
+    r = math.sqrt(-a2)
+    burn = int(math.ceil(10.0 / max(1.0 - r, 1e-6)))
+    e = rng.standard_normal((n_trials, n_samples + burn)) * (sigma / math.sqrt(v))
+    return signal.lfilter([1.0], [1.0, -a1, -a2], e, axis=-1)[:, burn:]
+
+
+def student_t_noise(n_trials: int, n_samples: int, density: float, dof: float, dt_s: float,
+                    rng: np.random.Generator) -> np.ndarray:
+    """White noise of density N (per-sample σ = N/√dt) with Student-t(ν) samples: the same
+    ADEV and PSD as Gaussian white noise of density N, heavier tails (excess kurtosis
+    6/(ν − 4) for ν > 4), (T, N)."""
+    scale = density / math.sqrt(dt_s) / math.sqrt(dof / (dof - 2.0))
+    return rng.standard_t(dof, (n_trials, n_samples)) * scale

@@ -1,6 +1,6 @@
 """IMU error generator: 3 gyros + 3 accelerometers, vectorised over trials.
 
-Sensor model per triad (DESIGN.md §3, seed 004 (3)–(4)): measured = (I + E)·true + b + n, with
+Sensor model per triad (seed 004 (3)–(4)): measured = (I + E)·true + b + n, with
 E = diag(scale factors) + M (off-diagonal misalignment / non-orthogonality, 6 independent small
 angles) and b + n the additive terms of every channel's effects. The generator returns
 *errors* = measured − true, shape (trials, samples, 3), in rad/s and m/s².
@@ -13,7 +13,8 @@ plus the explicit effects). Order of application: additive terms, the output low
 integrated output (which therefore sees the whole signal), and finally outliers (data glitches).
 Draw order is fixed (gyro triad, then accel triad; within a triad: constants, stationary
 Gaussian part (per axis with a coloured term), white noise of the other axes, random walk,
-sinusoids, quantization, outliers), so the same generator state gives the same errors.
+the registry's additive effects, quantization, outliers), so the same generator state gives the
+same errors.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from ..units import ACCEL_CHANNELS, CHANNELS, G0, GYRO_CHANNELS
 from . import effects as fx
 from .flicker import coloured_eigenvalues, flicker_bank, stationary_gaussian
 from .noise_model import NoiseModelSI, as_noise_model_si, check_rate
+from .registry import REGISTRY
 
 #: Hard limit on trials × samples × 6 channels held in memory at once (float64 elements).
 MAX_ELEMENTS = 400_000_000
@@ -143,16 +145,12 @@ def _triad(si: NoiseModelSI, triad: str, n_trials: int, n_samples: int, dt_s: fl
     if k_rrw.any():
         fx.add_random_walk(out, k_rrw, dt_s, rng)
 
-    # --- deterministic-in-time and sinusoidal terms -------------------------------------
+    # --- additive terms, each drawn by its registry entry (channel order: fixed draw order)
     for axis, effs in enumerate(per_axis):
         for f in effs:
-            if f.name == "rate_ramp" and f.param("R") != 0:
-                out[:, :, axis] += f.param("R") * time_s
-            elif f.name == "temperature_sensitivity" and f.param("coefficient") != 0:
-                out[:, :, axis] += f.param("coefficient") * (temp - temp[..., :1])
-            elif f.name == "sinusoid" and f.param("amplitude") > 0:
-                out[:, :, axis] += fx.sinusoid(n_trials, time_s, f.param("frequency_hz"),
-                                               f.param("amplitude"), rng)
+            spec = REGISTRY[f.name]
+            if spec.stage == "additive":
+                out[:, :, axis] += spec.simulate(f.params, n_trials, time_s, dt_s, rng, temp)
 
     # --- the sensor's output filter shapes its additive noise (not the true signal: its lag
     # of the motion is far below the bandwidths that matter here) ---------------------------

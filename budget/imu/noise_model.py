@@ -3,8 +3,8 @@
 A catalog part *is* a noise model: :class:`NoiseModel` reuses every numeric field of
 :class:`~budget.catalog.schema.PartSpec` (same names, units and limits; absent = 0) and converts
 them through :meth:`PartSpec.to_si`, so no conversion factor lives here. On top of the row it
-holds ``effects``: extra error terms from the shared vocabulary (DESIGN.md §7), each on one
-channel with parameters in SI channel units:
+holds ``effects``: extra error terms from the effect registry (:mod:`budget.imu.registry`),
+each on one channel with parameters in SI channel units:
 
 ==========================  ===========================================================
 effect                      parameters (gyro: rad/s-based; accelerometer: m/s²-based)
@@ -20,6 +20,10 @@ temperature_sensitivity     ``coefficient`` (channel unit/°C), signed
 outliers                    ``rate`` (fraction of samples, 0–1), ``magnitude`` (channel unit)
 lowpass                     ``cutoff_hz``: first-order output filter (1 − a)·y + a·x,
                             a = 1 − exp(−2π·f_c·dt), on the channel's additive noise
+vibration                   ``center_hz``, ``width_hz`` (−3 dB width), ``sigma`` (rms):
+                            band-limited random vibration (a noise-driven resonance)
+heavy_tailed                ``density`` (unit/√Hz), ``dof`` (Student-t ν > 2): white noise
+                            with heavy tails (distinct from sparse ``outliers``)
 ==========================  ===========================================================
 
 ``lowpass`` extends the shared vocabulary: real MEMS parts average or filter internally before
@@ -45,24 +49,14 @@ from ..catalog.schema import ImuErrorsSI, PartSpec
 from ..errors import InputError, from_validation_error
 from ..fileio import atomic_write_text, read_structured
 from ..units import ACCEL_CHANNELS, CHANNELS, GYRO_CHANNELS
+from .registry import REGISTRY
 
-#: Effect name → {parameter: (unit suffix for messages, lower bound, lower bound inclusive?)}.
-#: ``None`` as bound means any finite number (signed parameters).
+#: Effect name → {parameter: (unit suffix for messages, lower bound, lower bound inclusive?)},
+#: derived from the effect registry. ``None`` as bound means any finite number (signed).
 EFFECT_PARAMS: dict[str, dict[str, tuple[str, float | None, bool]]] = {
-    "white_noise": {"density": ("/√Hz", 0.0, True)},
-    "quantization": {"Q": ("·s", 0.0, True)},
-    "bias_instability": {"B": ("", 0.0, True)},
-    "rate_random_walk": {"K": ("/√s", 0.0, True)},
-    "rate_ramp": {"R": ("/s", None, True)},
-    "sinusoid": {"frequency_hz": ("Hz", 0.0, False), "amplitude": ("", 0.0, True)},
-    "gauss_markov": {"tau_s": ("s", 0.0, False), "sigma": ("", 0.0, True)},
-    "temperature_sensitivity": {"coefficient": ("/°C", None, True)},
-    "outliers": {"rate": ("fraction of samples", 0.0, True), "magnitude": ("", 0.0, True)},
-    "lowpass": {"cutoff_hz": ("Hz", 0.0, False)},
-}
+    name: {p: (ps.suffix, ps.low, ps.inclusive) for p, ps in spec.params.items()}
+    for name, spec in REGISTRY.items()}
 EFFECT_NAMES = tuple(EFFECT_PARAMS)
-#: Parameters measured in Hz or s, or dimensionless: their unit does not depend on the channel.
-_CHANNEL_FREE = {"frequency_hz", "tau_s", "rate", "cutoff_hz"}
 
 
 def channel_unit(channel: str) -> str:
@@ -72,12 +66,12 @@ def channel_unit(channel: str) -> str:
 
 def param_unit(name: str, param: str, channel: str) -> str:
     """Unit of one effect parameter on one channel (for messages, tables and docs)."""
-    suffix = EFFECT_PARAMS[name][param][0]
-    if param in _CHANNEL_FREE:
-        return suffix
+    spec = REGISTRY[name].params[param]
+    if spec.channel_free:
+        return spec.suffix
     if name == "quantization":
         return "rad" if channel.startswith("gyro") else "m/s"
-    return channel_unit(channel) + suffix
+    return channel_unit(channel) + spec.suffix
 
 
 class Effect(BaseModel):
@@ -121,8 +115,9 @@ class Effect(BaseModel):
             if low is not None and (v < low or (v == low and not inclusive)):
                 rel = "≥" if inclusive else ">"
                 raise ValueError(f"{self.name}.{p} must be {rel} {low:g} {unit} (got {v:g})")
-        if self.name == "outliers" and self.params["rate"] > 1.0:
-            raise ValueError(f"outliers.rate is a fraction of samples, at most 1 (got {self.params['rate']:g})")
+            high = REGISTRY[self.name].params[p].high
+            if high is not None and v > high:
+                raise ValueError(f"{self.name}.{p} must be at most {high:g} {unit} (got {v:g})")
         return self
 
     def param(self, key: str) -> float:

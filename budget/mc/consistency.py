@@ -2,18 +2,26 @@
 
 For a term (accel bias, gyro bias, VRW, ARW) a synthetic part carries only that term, at
 ``scale`` × the seed 004 bound for the scenario's Tc and δr (6)–(11). The table reports
-P(pass after PGA) per scale and the scale at which it crosses 50 % (log-interpolated): a
-crossing near 1 means the bound and the simulation agree; far from 1 says by how much they
-differ and in which direction.
+P(pass after PGA) per scale and the scale at which it crosses 50 %: a crossing near 1 means the
+bound and the simulation agree; far from 1 says by how much they differ and in which direction.
+
+The crossing comes from a probit fit P(pass) = Φ(a + b·log10 s) to the pass counts of every
+scale (binomial GLM, statsmodels), over a fine grid (default 0.1…10×, 8 points per decade):
+s50 = 10^(−a/b), with a 95 % interval from the delta method on −a/b. When the counts separate
+perfectly (no scale with both passes and failures) the fit has no finite slope: the crossing is
+then bracketed by the last scale that always passes and the first that always fails, and the
+interval is that bracket (``crossing_method`` says which).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
+from scipy.stats import norm
 
 from ..bounds import paper_bounds
 from ..imu.noise_model import NoiseModel
@@ -39,14 +47,21 @@ def single_term_model(scenario: Scenario, term: str, scale: float) -> NoiseModel
                       **{field: scale * bound * conv})
 
 
+#: Default grid: 0.1× … 10× the paper bound, 8 points per decade (17 scales).
+FINE_SCALES = np.logspace(-1.0, 1.0, 17)
+
+
 def consistency_table(scenario: Scenario, terms: Sequence[str] = tuple(TERMS),
-                      scales: Sequence[float] = (0.1, 1.0, 10.0), trials: int = 64, seed: int = 0,
+                      scales: Sequence[float] = tuple(FINE_SCALES), trials: int = 64, seed: int = 0,
                       options: McOptions | None = None, workers: int = 1) -> pd.DataFrame:
-    """P(pass after PGA) per term and scale, with the 50 % crossing scale per term."""
-    options = (options or McOptions()).model_copy(update={"keep_trial_metrics": False})
+    """P(pass after PGA) per term and scale, with the 50 % crossing scale per term (probit fit,
+    95 % interval ``crossing_lo`` … ``crossing_hi``; see the module docstring)."""
+    # a single-term model: its other terms are zero by construction, not unspecified
+    options = (options or McOptions()).model_copy(update={"keep_trial_metrics": False,
+                                                          "unspecified": "zero"})
     rows = []
     for term in terms:
-        ps = []
+        ps, ks, ns = [], [], []
         for sc in scales:
             r = run_mc(scenario, single_term_model(scenario, term, sc), trials, seed,
                        options=options, workers=workers)
@@ -54,9 +69,13 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = tuple(TERMS),
             rows.append({"term": term, "scale": sc, "p_pass_after": r.p_pass_after,
                          "ci_lo": r.ci_after[0], "ci_hi": r.ci_after[1], "reasons": reasons})
             ps.append(r.p_pass_after)
-        cross = crossing_scale(scales, ps)
+            ks.append(r.agg.pass_after)
+            ns.append(r.trials)
+        fit = probit_crossing(scales, ks, ns)
         for row in rows[-len(scales):]:
-            row["crossing_scale"] = cross
+            row["crossing_scale"] = fit["scale"]
+            row["crossing_lo"], row["crossing_hi"] = fit["lo"], fit["hi"]
+            row["crossing_method"] = fit["method"]
     return pd.DataFrame(rows)
 
 
@@ -71,3 +90,44 @@ def crossing_scale(scales: Sequence[float], p_pass: Sequence[float], level: floa
             f = (p[i - 1] - level) / (p[i - 1] - p[i])
             return float(math.exp(math.log(s[i - 1]) + f * (math.log(s[i]) - math.log(s[i - 1]))))
     return math.inf
+
+
+def probit_crossing(scales: Sequence[float], passes: Sequence[int], trials: Sequence[int],
+                    level: float = 0.5, confidence: float = 0.95) -> dict:
+    """Scale where P(pass) = ``level`` from a probit fit on log10(scale) (module docstring):
+    ``{"scale", "lo", "hi", "method"}``; nan when every scale fails, inf when every one passes."""
+    s = np.asarray(scales, float)
+    k = np.asarray(passes, float)
+    n = np.asarray(trials, float)
+    x = np.log10(s)
+    if np.all(k == 0):
+        return {"scale": math.nan, "lo": math.nan, "hi": math.nan, "method": "fails at every scale"}
+    if np.all(k == n):
+        return {"scale": math.inf, "lo": math.inf, "hi": math.inf, "method": "passes at every scale"}
+    mixed = (k > 0) & (k < n)
+    z = norm.ppf(level)
+    if mixed.any():
+        import statsmodels.api as sm
+        from statsmodels.genmod.families import Binomial
+        from statsmodels.genmod.families.links import Probit
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                res = sm.GLM(np.column_stack([k, n - k]), sm.add_constant(x),
+                             family=Binomial(link=Probit())).fit()
+            a, b = (float(v) for v in res.params)
+            cov = np.asarray(res.cov_params())
+            if b < 0 and np.all(np.isfinite(cov)):
+                x50 = (z - a) / b
+                grad = np.array([-1.0 / b, -(z - a) / b ** 2])  # d x50 / d(a, b)
+                se = float(math.sqrt(max(grad @ cov @ grad, 0.0)))
+                q = float(norm.ppf(0.5 + confidence / 2.0))
+                return {"scale": 10 ** x50, "lo": 10 ** (x50 - q * se), "hi": 10 ** (x50 + q * se),
+                        "method": "probit"}
+        except (np.linalg.LinAlgError, ValueError):
+            pass
+    # perfect separation (or a non-decreasing fit): bracket by the grid
+    last_pass = x[k == n].max() if np.any(k == n) else x.min()
+    first_fail = x[(k == 0) & (x > last_pass)].min() if np.any((k == 0) & (x > last_pass)) else x.max()
+    return {"scale": 10 ** (0.5 * (last_pass + first_fail)), "lo": 10 ** last_pass, "hi": 10 ** first_fail,
+            "method": "bracket (separated counts)"}

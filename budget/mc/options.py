@@ -1,43 +1,92 @@
-"""What a user sets for a Monte Carlo verdict (pydantic: validated, JSON-serialisable)."""
+"""What a user sets for a Monte Carlo verdict (pydantic: validated, JSON-serialisable).
+
+The acceptance spec (what "pass" means) is the user's image-quality requirement. Defaults and
+where they come from:
+
+* image (:class:`~budget.sar.acceptance.Acceptance`): 3 dB broadening ≤ 10 %, PSLR and ISLR ≤
+  the window's ideal + 3 dB (or absolute ``max_pslr_db`` / ``max_islr_db``), peak loss ≤ 1.5 dB
+  — engineering rules stated in :mod:`budget.sar.acceptance`; a peak *shift* is geolocation, not
+  focus (constant and linear phase only move the image), so it is not judged;
+* ``max_range_migration_cells`` = 1: seed 004 budgets every error within one range cell δr,
+  because PGA (an azimuth-phase correction) cannot undo range-cell migration;
+* ``max_residual_phase_rms_deg`` = 1°: seed 004's limit on random phase PGA cannot remove
+  (≤ 1° rms; it moves σ² ≈ −35 dB of the main-lobe energy into sidelobes), applied to the PGA
+  residual beyond its settled window (:mod:`budget.sar.residual`).
+"""
 
 from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from ..catalog.fill import DEFAULT_POLICY as UNSPECIFIED_DEFAULT, POLICIES as UNSPECIFIED_POLICIES
+from ..errors import from_validation_error
 from ..noise.prefilter import KINDS as PREFILTER_KINDS
 from ..sar.acceptance import Acceptance
+
+#: Default trials and seed of a verdict: the same in the CLI (``mc``, ``sweep``, ``report``), the
+#: dashboard and the top-level API, so one part gives one number everywhere. 64 trials = one
+#: chunk; the 95 % Wilson interval of P = 1 is then [0.94, 1].
+DEFAULT_TRIALS = 64
+DEFAULT_SEED = 1
 
 #: IMU pre-filter choices of the trial chain (``budget.noise.prefilter``).
 PREFILTERS = ("none", *PREFILTER_KINDS)
 
 #: Image acceptance for the verdict: as :class:`~budget.sar.acceptance.Acceptance`, except that a
-#: peak shift is not a focus failure (constant and linear phase only move the image, DESIGN.md §4).
+#: peak shift is not a focus failure (constant and linear phase only move the image).
 VERDICT_ACCEPTANCE = Acceptance(max_peak_shift_cells=1000.0)
+
+#: Realistic-scene defaults: clutter 25 dB below the strongest target (CTR 25 dB) and SNR 30 dB
+#: per image pixel, the levels issue 13 measured PGA against.
+REALISTIC_CLUTTER_DB = -25.0
+REALISTIC_SNR_DB = 30.0
 
 
 class McOptions(BaseModel):
     """Options of the trial chain and of the run.
 
     ``chunk_trials`` fixes the unit of work (a multiple of the motion engine's random-stream
-    block of 64 trials), so results do not depend on ``workers`` or the backend.
+    block of 64 trials), so results do not depend on ``workers`` or the backend. Build from user
+    input with :meth:`build` (errors become :class:`~budget.errors.InputError`).
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     acceptance: Acceptance = VERDICT_ACCEPTANCE
     max_range_migration_cells: float | None = Field(
-        1.0, gt=0, description="fail when the peak LOS error exceeds this many range cells δr "
-                               "(PGA cannot undo range migration); None disables")
+        1.0, gt=0, allow_inf_nan=False,
+        description="fail when the peak LOS error exceeds this many range cells δr "
+                    "(PGA cannot undo range migration); None disables")
     max_residual_phase_rms_deg: float | None = Field(
-        1.0, gt=0, description="fail when the fast phase error (beyond a smooth order-10 Legendre "
-                               "fit, which PGA removes) exceeds this rms (seed 004: ≤ 1°); None "
-                               "judges by the image alone")
+        1.0, gt=0, allow_inf_nan=False,
+        description="fail when what PGA cannot remove — (estimate − truth) beyond its settled "
+                    "window, budget.sar.residual — exceeds this rms (seed 004: ≤ 1°); None judges "
+                    "by the image alone")
+    scene: Literal["auto", "realistic", "points"] = Field(
+        "points", description="realistic: clutter + receiver noise + many dominant scatterers (PGA "
+                              "runs on it; the metrics on five clutter-free points focused with its "
+                              "estimate); points: five noise-free points (PGA's best case); auto: "
+                              "realistic when the scene builder is available, else points. The "
+                              "default stays 'points' while PGA's own estimation error on the "
+                              "realistic scene fails every part (README, Monte Carlo section)")
+    clutter_to_target_db: float = Field(REALISTIC_CLUTTER_DB, ge=-80, le=0, allow_inf_nan=False,
+                                        description="realistic scene: clutter pixel power over target peak")
+    snr_db: float | None = Field(None, ge=-20, le=150, allow_inf_nan=False,
+                                 description="receiver noise; None = 30 dB on the realistic scene, "
+                                             "noise-free on the points scene")
+    n_scatterers: int | None = Field(None, ge=1, le=200, description="dominant scatterers of the realistic "
+                                                                     "scene (None: one per 3 range cells, 16)")
+    scene_seed: int = Field(0, ge=0, description="seed of the realistic scene's layout and clutter "
+                                                 "(the same scene for every trial)")
+    window: Literal["auto", "rect", "taylor"] = Field(
+        "auto", description="azimuth/range weighting: auto = Taylor −35 dB, n̄ = 4 for radar (what an "
+                            "imaging radar uses), the scenario's own choice for sonar")
     pga_kernel: Literal["ml", "lumv"] = "ml"
     pga_max_iter: int = Field(30, ge=1, le=200)
-    pga_tol_rad: float = Field(0.005, gt=0, le=0.5, description="PGA stops when the estimate changes "
-                               "by less than this rms (tighter than the 1° verdict limit)")
+    pga_tol_rad: float | None = Field(None, gt=0, le=0.5, allow_inf_nan=False,
+                                      description="PGA stop tolerance; None = PGA's own default")
     image_method: Literal["rda", "backprojection"] = "rda"
     prefilter: Literal[PREFILTERS] = Field(
         "none", description="seed 000's ARMA-Kalman filtering of the IMU output before navigation: "
@@ -45,8 +94,24 @@ class McOptions(BaseModel):
                             "models are fitted on a simulated static record of the part")
     prefilter_calibration_samples: int = Field(16_384, ge=1024, le=1 << 20,
                                                description="length of that static record")
-    snr_db: float | None = Field(None, description="receiver noise; None = noise-free echoes")
+    unspecified: Literal[UNSPECIFIED_POLICIES] = Field(
+        UNSPECIFIED_DEFAULT, description="what to do with a part's empty datasheet terms "
+                                         "(budget.catalog.fill): fill_grade_typical, refuse or zero")
     chunk_trials: int = Field(64, ge=64, le=65536, multiple_of=64)
     keep_worst: int = Field(5, ge=0, le=100)
     keep_trial_metrics: bool = Field(True, description="keep per-trial metric lists (memory grows "
                                                        "with trials; sweeps turn it off)")
+
+    @classmethod
+    def build(cls, **kwargs) -> "McOptions":
+        """Validated construction raising :class:`~budget.errors.InputError` naming the field."""
+        try:
+            return cls(**kwargs)
+        except ValidationError as err:
+            raise from_validation_error(err) from None
+
+    def window_for(self, scenario) -> str | None:
+        """Window passed to the geometry (None: the scenario's own choice)."""
+        if self.window == "auto":
+            return "taylor" if scenario.medium == "radar" else None
+        return self.window

@@ -6,13 +6,19 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
+from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import TRIAL_METRICS
+from .options import McOptions
 from .stats import wilson_interval
+
+#: How decisions use P(pass): the lower 95 % Wilson bound, not the point estimate (at p̂ = 0.9
+#: with 64 trials the interval is [0.80, 0.95]).
+DECISION_RULE = "pass when the lower 95 % Wilson bound of P(pass after PGA) ≥ the target"
 
 #: Per-trial metrics in the CLI JSON (``metrics_after``).
 JSON_METRICS = ("azimuth_broadening", "range_broadening", "pslr_db", "islr_db", "residual_phase_rms_deg",
-                "peak_loss_db", "pga_error_rms_deg")
+                "peak_loss_db", "pga_error_rms_deg", "fast_phase_rms_deg")
 
 
 @dataclass
@@ -31,6 +37,9 @@ class McResult:
     agg: Aggregate
     cancelled: bool = False
     extra: dict = field(default_factory=dict)
+    options: McOptions | None = None
+    scenario: Scenario | None = None
+    judged_on: dict = field(default_factory=dict)
 
     @property
     def trials(self) -> int:
@@ -52,6 +61,10 @@ class McResult:
     def ci_after(self) -> tuple[float, float]:
         return wilson_interval(self.agg.pass_after, self.agg.n)
 
+    def meets(self, target: float) -> bool:
+        """Decision at P(pass after PGA) ≥ ``target`` on the lower Wilson bound (:data:`DECISION_RULE`)."""
+        return bool(self.ci_after[0] >= target)
+
     def percentiles(self, when: str = "after") -> dict[str, dict[str, float]]:
         q = self.agg.q_after if when == "after" else self.agg.q_before
         return {m: {"p50": q[m].quantile(0.5), "p95": q[m].quantile(0.95)} for m in TRIAL_METRICS}
@@ -70,17 +83,49 @@ class McResult:
                "pga_converged_fraction": self.agg.pga_converged / self.agg.n if self.agg.n else None,
                "worst_trials": [{"trial": o.trial, "reasons": o.reasons, "metrics_after": o.after,
                                  "peak_range_cells": o.peak_range_cells} for o in self.worst_trials()],
-               "cancelled": self.cancelled}
+               "cancelled": self.cancelled, "decision_rule": DECISION_RULE,
+               "judged_on": dict(self.judged_on),
+               "options": self.options.model_dump(mode="json") if self.options is not None else None,
+               "scenario_spec": self.scenario.model_dump(mode="json") if self.scenario is not None else None}
         if self.agg.keep_trial_metrics:
             out["metrics_after"] = {m: list(self.agg.trial_metrics.get(m, [])) for m in JSON_METRICS}
         out.update(self.extra)
         return out
+
+    def to_dict(self) -> dict:
+        """Everything of :meth:`to_json_dict` (JSON-ready, with the options and scenario)."""
+        return self.to_json_dict()
 
     def to_frame(self) -> pd.DataFrame:
         """One row per metric: p50/p95 before and after PGA."""
         b, a = self.percentiles("before"), self.percentiles("after")
         return pd.DataFrame([{"metric": m, "p50_before": b[m]["p50"], "p95_before": b[m]["p95"],
                               "p50_after": a[m]["p50"], "p95_after": a[m]["p95"]} for m in TRIAL_METRICS])
+
+    def _judged_line(self) -> str:
+        j = self.judged_on
+        if not j:
+            return ""
+        scene = j.get("scene")
+        if scene == "realistic":
+            scene = (f"realistic scene ({j.get('n_targets')} scatterers, clutter "
+                     f"{j.get('clutter_to_target_db'):g} dB, SNR {j.get('snr_db'):g} dB)")
+        return f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
+
+    def _unspecified_line(self) -> str:
+        text = self.unspecified_summary()
+        return text + "\n" if text else ""
+
+    def unspecified_summary(self) -> str:
+        """How the model's empty datasheet terms were resolved (``budget.catalog.fill``), or ''."""
+        u = self.extra.get("unspecified_terms") or {}
+        if not u.get("unspecified"):
+            return ""
+        fills = ", ".join(f"{f['column']} = {f['value']:.4g} {f['unit']}" for f in u.get("filled", []))
+        zero = ", ".join(u.get("zero", []))
+        text = (f"filled from the {u.get('grade')} grade's typical values: {fills}" if fills else "")
+        text += ("; " if fills and zero else "") + (f"taken as 0: {zero}" if zero else "")
+        return f"unspecified datasheet terms ({u.get('policy')}): {text}"
 
     def summary(self) -> str:
         lo, hi = self.ci_after
@@ -91,4 +136,4 @@ class McResult:
                 f"{', IMU pre-filter: ' + self.extra['prefilter'] if self.extra.get('prefilter') else ''}\n"
                 f"P(pass) before PGA {self.p_pass_before:.3f} [{lb:.3f}, {hb:.3f}], "
                 f"after PGA {self.p_pass_after:.3f} [{lo:.3f}, {hi:.3f}] (95 % Wilson)\n"
-                f"failure reasons: {reasons}\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+                f"failure reasons: {reasons}\n" + self._judged_line() + self._unspecified_line() + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}"))

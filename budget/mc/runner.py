@@ -20,6 +20,7 @@ from concurrent.futures import ProcessPoolExecutor
 from functools import lru_cache
 from typing import Callable
 
+from ..catalog.fill import resolve_unspecified
 from ..errors import InputError
 from ..scenario import Scenario
 from .aggregate import Aggregate
@@ -71,6 +72,9 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
                          expected="serial, processes or dask")
     if backend == "dask" and client is None:
         raise InputError("the dask backend needs a dask.distributed Client", field="client")
+    # No silent zeros: empty datasheet terms are filled, refused or stated zero (budget.catalog.fill)
+    resolution = resolve_unspecified(model, options.unspecified)
+    model = resolution.model
     scen_json, opt_json = scenario.model_dump_json(), options.model_dump_json()
     _cached_setup(scen_json, opt_json)  # fail early (e.g. a scenario beyond the simulation limits)
     step = options.chunk_trials
@@ -123,8 +127,11 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
             if pool is not None:
                 pool.shutdown(wait=True, cancel_futures=True)
     extra = {"prefilter": options.prefilter} if options.prefilter != "none" else {}
+    extra["unspecified_terms"] = resolution.to_dict()
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
-                    tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra)
+                    tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
+                    options=options, scenario=scenario,
+                    judged_on=_cached_setup(scen_json, opt_json).describe())
 
 
 def required_chunks(trials: int, options: McOptions) -> int:

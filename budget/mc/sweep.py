@@ -47,19 +47,43 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     return pd.DataFrame(rows)
 
 
-def cheapest_passing(table: pd.DataFrame, target: float = 0.9, *, use_lower_ci: bool = False) -> pd.DataFrame:
-    """Per scenario, the cheapest part with P(pass after PGA) ≥ ``target`` (by price, then by
-    grade rank — lower grades are cheaper — when prices are missing); ``None`` where none passes."""
+def cheapest_passing(table: pd.DataFrame, target: float = 0.9, *, use_lower_ci: bool = True) -> pd.DataFrame:
+    """Per scenario, the cheapest part with P(pass after PGA) ≥ ``target``; ``None`` where none passes.
+
+    "Cheapest" means the public list price (``price_usd``) when every passing part has one;
+    otherwise grade is the fallback — the lowest grade passes for the cheapest, list price
+    breaking ties within a grade (a part without a price after those with one). The ``basis``
+    column says which rule chose the row; ``cheapest_priced`` / ``cheapest_priced_usd`` name
+    the cheapest passing part that has a list price (if any), so a price is never hidden.
+
+    "Passes" is decided on the lower 95 % Wilson bound ``ci_after_lo`` by default (column
+    ``decided_on``): p̂ = 0.9 from 64 trials is only [0.80, 0.95]; with no failure, 64 trials give
+    a lower bound of 0.94, so a target of 0.9 needs ≥ 35 failure-free trials.
+    ``use_lower_ci=False`` decides on the point estimate p̂ (not advised).
+    """
     col = "ci_after_lo" if use_lower_ci else "p_pass_after"
     out = []
     for scen, g in table.groupby("scenario", sort=False):
         ok = g[g[col] >= target].copy()
         if ok.empty:
-            out.append({"scenario": scen, "part_id": None, "grade": None, "p_pass_after": None})
+            out.append({"scenario": scen, "part_id": None, "grade": None, "price_usd": None,
+                        "p_pass_after": None, "basis": f"no part reaches P(pass) ≥ {target:g}",
+                        "cheapest_priced": None, "cheapest_priced_usd": None,
+                        "ci_after_lo": None, "decided_on": col})
             continue
         ok["_rank"] = [-GRADE_RANK.get(x, 0) for x in ok["grade"]]
-        ok["_price"] = ok["price_usd"].fillna(float("inf"))
-        best = ok.sort_values(["_price", "_rank"]).iloc[0]
+        ok["_price"] = pd.to_numeric(ok["price_usd"], errors="coerce").fillna(float("inf"))
+        priced = ok[ok["_price"] < float("inf")].sort_values("_price")
+        if len(priced) == len(ok):
+            best, basis = priced.iloc[0], "price_usd (every passing part has a list price)"
+        else:
+            best = ok.sort_values(["_rank", "_price"], kind="stable").iloc[0]
+            basis = (f"grade (no list price for {len(ok) - len(priced)} of {len(ok)} passing parts); "
+                     "lowest grade passing, list price breaks ties")
         out.append({"scenario": scen, "part_id": best["part_id"], "grade": best["grade"],
-                    "p_pass_after": best["p_pass_after"]})
+                    "price_usd": None if best["_price"] == float("inf") else float(best["_price"]),
+                    "p_pass_after": best["p_pass_after"], "basis": basis,
+                    "cheapest_priced": priced.iloc[0]["part_id"] if len(priced) else None,
+                    "cheapest_priced_usd": float(priced.iloc[0]["_price"]) if len(priced) else None,
+                    "ci_after_lo": best["ci_after_lo"], "decided_on": col})
     return pd.DataFrame(out)

@@ -1,17 +1,30 @@
 """``simulate_motion``: IMU errors → antenna-phase-centre error → range and phase error, per trial.
 
-Pipeline per block of trials (DESIGN.md §3–4, seed 000 (2)–(10)):
+One path for free-inertial and aided navigation (seed 000 (2)–(10), seed 004 (3)–(4)):
 
-1. true platform motion over the aperture (:func:`budget.nav.platform.true_motion`);
-2. IMU errors for that motion (:func:`budget.imu.generator.generate_imu_errors`);
-3. flat-earth strapdown error propagation with lever arm (:func:`budget.nav.strapdown.propagate_errors`);
-4. range error to every scene point and phase 4πΔr/λ; Legendre decomposition.
+1. true platform motion (:func:`budget.nav.platform.true_motion`) over the span simulated —
+   the aperture, preceded by the aiding warm-up when the IMU is aided;
+2. IMU errors for that motion (:func:`budget.imu.generator.generate_imu_errors`: noise, bias,
+   scale factor and misalignment acting on the true rate and specific force);
+3. optionally seed 000's ARMA-Kalman pre-filter on the sensor output
+   (:class:`~budget.noise.prefilter.ImuPrefilter`);
+4. flat-earth strapdown error propagation (:func:`budget.nav.strapdown.propagate_errors`);
+5. optionally aiding: the filter's corrections in the chosen mode
+   (:func:`budget.aiding.correct_free_inertial`, modes of :mod:`budget.aiding_spec`);
+6. antenna phase centre through the lever arm, δp_APC = δp + (C·d) × φ (seed 000 (7));
+   range error to every scene point, phase 4πΔr/λ, Legendre decomposition.
+
+Free-inertial: the IMU is aligned at the aperture start (t = 0), as seed 004 assumes. Aided:
+the navigation starts ``warmup_s`` before the aperture with initial errors drawn from the
+filter's initial 1σ (or the caller's ``initial_errors``) and the APC error is reported relative
+to its value at the aperture start (a constant offset only moves the image). With no aiding
+sensor the aided path *is* the free-inertial path.
 
 Reproducibility: trials are processed in fixed blocks of :func:`block_trials` trials; the block
-starting at trial i draws from ``trial_generator(seed, i, stream)`` with one stream each for the
-IMU (``IMU_STREAM``), random disturbances and initial errors. A block is always generated
-whole, so trial i's numbers depend only on (seed, i, scenario, model) — not on the number of
-trials, the chunk size (rounded up to whole blocks) or the number of worker threads.
+starting at trial i draws from ``trial_generator(seed, i, stream)`` with the streams of
+:data:`budget.rng.STREAMS` (IMU, disturbance, initial errors, aiding). A block is always
+generated whole, so trial i's numbers depend only on (seed, i, scenario, model, options) —
+not on the number of trials, the chunk size (rounded up to whole blocks) or the worker threads.
 """
 
 from __future__ import annotations
@@ -22,18 +35,30 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from pydantic import ValidationError
 
+from ..aiding import InitialUncertainty, correct_free_inertial
+from ..aiding.flexure import antenna_flexure_error, simulate_flexure
+from ..aiding_spec import AidingPlan
 from ..errors import InputError, from_validation_error
 from ..imu.generator import generate_imu_errors
 from ..imu.noise_model import NoiseModel, NoiseModelSI, as_noise_model_si
 from ..nav.platform import Disturbance, true_motion
-from ..nav.strapdown import InitialErrors, propagate_errors
-from ..rng import trial_generator
+from ..nav.strapdown import InitialErrors, cross, propagate_errors
+from ..rng import STREAMS, trial_generator
 from ..scenario import Scenario
 from .geometry import range_error, scene_targets
 from .phase import decompose_phase
 from .result import METRICS, MotionResult
 
-IMU_STREAM, DISTURBANCE_STREAM, INITIAL_STREAM = 11, 12, 13
+IMU_STREAM = STREAMS["motion_imu"]
+DISTURBANCE_STREAM = STREAMS["motion_disturbance"]
+INITIAL_STREAM = STREAMS["motion_initial"]
+AIDING_STREAM = STREAMS["motion_aiding"]
+#: Initial errors of an aided run when the caller gives none: the filter's default 1σ at the
+#: start of the warm-up (a coarse alignment; the filter converges during the warm-up).
+AIDED_INITIAL = InitialErrors(position_sigma_m=(1.0, 1.0, 1.0), velocity_sigma_m_s=(0.1, 0.1, 0.1),
+                              attitude_sigma_rad=(1e-3, 1e-3, 1e-3))
+#: Feed-forward blend time when the scenario gives none, in apertures (5·Tc).
+BLEND_APERTURES = 5.0
 #: Default chunk (unit of work for a worker thread), in trials.
 DEFAULT_CHUNK = 1024
 #: Refuse to keep series larger than this (bytes); use keep_series=False.
@@ -41,10 +66,13 @@ MAX_SERIES_BYTES = 3_000_000_000
 MAX_SAMPLES = 2_000_000
 
 
-def block_trials(n_samples: int) -> int:
-    """Trials per random-stream block: 64, fewer (even, ≥ 2) for long apertures to bound memory."""
+def block_trials(n_samples: int, aided: bool = False) -> int:
+    """Trials per random-stream block: 64, fewer for long spans to bound memory — even and
+    ≥ 2 (free-inertial), a power of two so that it divides 64-trial chunks (aided)."""
     if n_samples <= 16_384:
         return 64
+    if aided:
+        return max(2, 1 << int(math.log2(max(1, (64 * 16_384) // n_samples))))
     return max(2, 2 * ((32 * 16_384) // n_samples))
 
 
@@ -69,29 +97,73 @@ class _Context:
     """Everything a block needs, computed once."""
 
     def __init__(self, scenario, model_si, seed, disturbance, targets, initial_errors, keep_series,
-                 prefilter=None):
+                 prefilter=None, plan: AidingPlan | None = None):
         self.scenario, self.si, self.seed = scenario, model_si, seed
         self.prefilter = prefilter
+        self.plan = plan if (plan is not None and plan.aiding) else None
         self.rate = scenario.imu_rate_hz
         self.dt = 1.0 / self.rate
         self.n = aperture_samples(scenario)
-        self.block = block_trials(self.n)
+        self.n_warm = int(round(self.plan.warmup_s * self.rate)) if self.plan else 0
+        self.n_total = self.n_warm + self.n
+        self.block = block_trials(self.n_total, aided=self.plan is not None) if self.plan \
+            else block_trials(self.n)
         self.time_s = np.arange(self.n) * self.dt
+        #: sample times of the whole span; 0 = aperture start
+        self.span_time_s = (np.arange(self.n_total) - self.n_warm) * self.dt
         self.disturbance = disturbance
         self.targets = targets
         self.initial = initial_errors
+        if self.plan is not None and initial_errors is None:
+            self.initial = AIDED_INITIAL
         self.keep = keep_series
         self.lever = np.asarray(scenario.lever_arm_m, dtype=float)
         self.wavelength = scenario.wavelength_m
         self.motion = None if (disturbance is not None and disturbance.is_random) else \
-            true_motion(scenario.platform_speed_m_s, self.time_s, disturbance)
+            true_motion(scenario.platform_speed_m_s, self.span_time_s, disturbance)
+        if self.plan is not None:
+            self.blend_time_s = self.plan.blend_time_s or BLEND_APERTURES * scenario.tc_s
+            self.filter_initial = InitialUncertainty(
+                position_m=np.asarray(self.initial.position_sigma_m),
+                velocity_m_s=np.asarray(self.initial.velocity_sigma_m_s),
+                attitude_rad=np.asarray(self.initial.attitude_sigma_rad))
 
     def motion_for(self, start: int):
         if self.motion is not None:
             return self.motion
         rng = trial_generator(self.seed, start, DISTURBANCE_STREAM)
-        return true_motion(self.scenario.platform_speed_m_s, self.time_s, self.disturbance,
+        return true_motion(self.scenario.platform_speed_m_s, self.span_time_s, self.disturbance,
                            n_trials=self.block, rng=rng)
+
+
+def _apc_error(ctx: _Context, start: int, motion, gyro, accel, init) -> np.ndarray:
+    """APC position error, computed − true, (T, N_aperture, 3)."""
+    moving = ctx.disturbance is not None
+    if ctx.plan is None:
+        nav = propagate_errors(gyro, accel, ctx.dt, force_n_m_s2=motion.force_n_m_s2 if moving else None,
+                               c_b_n=motion.c_b_n, lever_arm_b_m=ctx.lever, **init)
+        return nav.apc_position_m
+    nav = propagate_errors(gyro, accel, ctx.dt, force_n_m_s2=motion.force_n_m_s2 if moving else None,
+                           c_b_n=motion.c_b_n, keep_states=True, **init)
+    rng = trial_generator(ctx.seed, start, AIDING_STREAM)
+    pos, att = correct_free_inertial(
+        nav.position_m, nav.velocity_m_s, nav.attitude_rad, ctx.si.errors, ctx.plan.aiding, ctx.dt,
+        rng, mode=ctx.plan.mode, aperture_start=ctx.n_warm, blend_time_s=ctx.blend_time_s,
+        initial=ctx.filter_initial, imu_rate_hz=ctx.rate,
+        velocity_n_m_s=(ctx.scenario.platform_speed_m_s, 0.0, 0.0))
+    del nav
+    w = ctx.n_warm
+    apc = pos[:, w:].copy()
+    if np.any(ctx.lever):
+        c = motion.c_b_n
+        arm = ctx.lever if c is None else np.matmul(c[..., w:, :, :], ctx.lever)
+        apc += cross(arm, att[:, w:])
+    if ctx.plan.antenna_flexure is not None:
+        c = None if motion.c_b_n is None else motion.c_b_n[..., w:, :, :]
+        apc += antenna_flexure_error(simulate_flexure(ctx.plan.antenna_flexure, ctx.dt, ctx.n,
+                                                      apc.shape[0], rng).displacement_m, c)
+    apc -= apc[:, :1]  # relative to the aperture start: a constant offset only moves the image
+    return apc
 
 
 def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0) -> None:
@@ -100,7 +172,7 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
     motion = ctx.motion_for(start)
     moving = ctx.disturbance is not None
     rate_b = motion.rate_b_rad_s if (moving and np.any(motion.rate_b_rad_s)) else None
-    errs = generate_imu_errors(ctx.si, ctx.block, ctx.n, ctx.rate,
+    errs = generate_imu_errors(ctx.si, ctx.block, ctx.n_total, ctx.rate,
                                trial_generator(ctx.seed, start, IMU_STREAM),
                                true_rate_rad_s=rate_b, true_force_m_s2=motion.force_b_m_s2)
     init = ctx.initial.draw(ctx.block, trial_generator(ctx.seed, start, INITIAL_STREAM)) \
@@ -108,15 +180,18 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
     gyro, accel = errs.gyro_rad_s, errs.accel_m_s2
     if ctx.prefilter is not None:  # filter what the sensor outputs (true + error), keep the error
         gyro, accel = ctx.prefilter.apply(gyro, accel, rate_b, motion.force_b_m_s2)
-    nav = propagate_errors(gyro, accel, ctx.dt,
-                           force_n_m_s2=motion.force_n_m_s2 if moving else None,
-                           c_b_n=motion.c_b_n, lever_arm_b_m=ctx.lever, **init)
     del errs
-    err = nav.apc_position_m
+    err = _apc_error(ctx, start, motion, gyro, accel, init)
+    del gyro, accel
     np.negative(err, out=err)  # computed − true → true − measured (seed 000 (7))
-    apc_true = motion.position_m
+    w = ctx.n_warm
+    apc_true = motion.position_m[..., w:, :]
+    if w:  # re-centre the nominal along-track position on the aperture centre
+        apc_true = apc_true.copy()
+        apc_true[..., 0] += 0.5 * ctx.scenario.platform_speed_m_s * ctx.span_time_s[0]
     if np.any(ctx.lever):
-        apc_true = apc_true + (ctx.lever if motion.c_b_n is None else np.matmul(motion.c_b_n, ctx.lever))
+        c = motion.c_b_n
+        apc_true = apc_true + (ctx.lever if c is None else np.matmul(c[..., w:, :, :], ctx.lever))
     m = stop - start
     phase_scale = 4.0 * math.pi / ctx.wavelength
     for k, target in enumerate(ctx.targets):
@@ -138,20 +213,28 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
 def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chunk_size: int | None = None,
                     disturbance: Disturbance | dict | None = None, targets=None,
                     initial_errors: InitialErrors | dict | None = None, workers: int = 1,
-                    keep_series: bool = True, first_trial: int = 0, prefilter=None) -> MotionResult:
+                    keep_series: bool = True, first_trial: int = 0, prefilter=None,
+                    aiding: AidingPlan | dict | str | None = "scenario") -> MotionResult:
     """Monte Carlo of the motion error of ``n_trials`` apertures of ``scenario`` with IMU ``model``.
 
     ``model``: :class:`~budget.imu.noise_model.NoiseModel`, catalog ``PartSpec`` or
     ``NoiseModelSI``. ``disturbance``: platform motion (:class:`~budget.nav.platform.Disturbance`);
     ``targets``: scene points (K, 3) in m (default: the scene centre at slant range along the
-    LOS); ``initial_errors``: 1σ initial position/velocity/attitude errors (default none, as in
-    seed 004). The IMU is aligned at the aperture start (t = 0) and the scenario's lever arm
-    (body frame, IMU → APC) applies. ``keep_series`` keeps the APC error (T, N, 3) and range
+    LOS); ``initial_errors``: 1σ initial position/velocity/attitude errors (free-inertial:
+    default none, the IMU aligned at the aperture start t = 0, as in seed 004; aided: at the
+    warm-up start, default :data:`AIDED_INITIAL`, also the filter's initial 1σ). The
+    scenario's lever arm (body frame, IMU → APC) applies. ``keep_series`` keeps the APC error (T, N, 3) and range
     error (T, K, N) series. ``workers`` > 1 runs chunks on threads; results are identical.
     ``first_trial`` (a multiple of :func:`block_trials`) simulates trials ``first_trial …
     first_trial + n_trials − 1`` of the same seed, so a Monte Carlo can be cut into chunks.
     ``prefilter``: an :class:`~budget.noise.prefilter.ImuPrefilter` applied to the IMU output
-    before navigation (seed 000's ARMA-Kalman filtering), default none.
+    before navigation (seed 000's ARMA-Kalman filtering), default none; it must keep real
+    motion (DC gain within 1 %, :meth:`~budget.noise.prefilter.ImuPrefilter.check_dc_gain`).
+    ``aiding``: ``"scenario"`` (default) uses the scenario's aiding section
+    (:meth:`AidingPlan.from_scenario`); an :class:`~budget.aiding_spec.AidingPlan` (or its dict)
+    overrides it; ``None`` is free-inertial. An aided run simulates the warm-up before the
+    aperture and applies the corrections in the plan's mode (module docstring); with no sensor
+    it is the free-inertial run.
     """
     if not isinstance(scenario, Scenario):
         scenario = Scenario.from_dict(scenario) if isinstance(scenario, dict) else scenario
@@ -168,8 +251,19 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
             disturbance = Disturbance.model_validate(disturbance)
         if isinstance(initial_errors, dict):
             initial_errors = InitialErrors.model_validate(initial_errors)
+        if isinstance(aiding, str):
+            if aiding != "scenario":
+                raise InputError("unknown aiding option", field="aiding", value=aiding,
+                                 expected="'scenario', an AidingPlan or None")
+            aiding = AidingPlan.from_scenario(scenario)
+        elif isinstance(aiding, dict):
+            aiding = AidingPlan.model_validate(aiding)
     except ValidationError as err:
         raise from_validation_error(err) from None
+    if aiding is not None and not isinstance(aiding, AidingPlan):
+        raise InputError("aiding must be an AidingPlan, its dict, 'scenario' or None", field="aiding")
+    if prefilter is not None:
+        prefilter.check_dc_gain(scenario.imu_rate_hz)
     n = aperture_samples(scenario)
     if n < 5:
         raise InputError(f"the aperture spans only {n} IMU samples (Tc = {scenario.tc_s:.3g} s at "
@@ -187,7 +281,11 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                          f"{MAX_SERIES_BYTES / 1e9:g} GB", field="n_trials",
                          expected="fewer trials or keep_series=False")
 
-    ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series, prefilter)
+    warm = round(aiding.warmup_s * scenario.imu_rate_hz) if (aiding is not None and aiding.aiding) else 0
+    if n + warm > MAX_SAMPLES:
+        raise InputError(f"the warm-up and aperture span more than {MAX_SAMPLES:,} IMU samples",
+                         field="aiding_warmup_s", value=aiding.warmup_s, expected="a shorter warm-up")
+    ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series, prefilter, aiding)
     first = _positive_int("first_trial", first_trial, minimum=0)
     if first % ctx.block:
         raise InputError(f"first_trial must be a multiple of the {ctx.block}-trial random-stream block",
@@ -213,4 +311,6 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
             list(pool.map(run_chunk, starts))
     return MotionResult(scenario=scenario, model_label=_label(model), seed=seed, time_s=ctx.time_s,
                         targets_m=pts, position_error_m=out.pop("position_error_m", None),
-                        range_error_m=out.pop("range_error_m", None), **out)
+                        range_error_m=out.pop("range_error_m", None),
+                        aiding=ctx.plan.label() if ctx.plan else "none",
+                        prefilter=prefilter.kind if prefilter is not None else "none", **out)

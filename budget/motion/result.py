@@ -25,6 +25,9 @@ class MotionResult:
     in :mod:`budget.motion.phase`; ``peak_range_error_m`` = max |range error| over the aperture and
     ``peak_range_cells`` the same in range-resolution cells δr. ``time_s`` holds the IMU sample
     times (0 … (N−1)/rate, N = round(Tc·rate) + 1); ``tc_s`` is the scenario's Tc.
+    ``aiding`` says how the trajectory was aided (``none``: free-inertial; otherwise sensors,
+    correction mode and warm-up — the APC error is then relative to its aperture-start value)
+    and ``prefilter`` which IMU pre-filter ran (``none``, ``kalman``, ``rts``).
     """
 
     scenario: Scenario
@@ -41,6 +44,8 @@ class MotionResult:
     peak_range_cells: np.ndarray
     position_error_m: np.ndarray | None = None
     range_error_m: np.ndarray | None = None
+    aiding: str = "none"
+    prefilter: str = "none"
 
     @property
     def n_trials(self) -> int:
@@ -64,7 +69,8 @@ class MotionResult:
         """Trials, aperture and, per metric (scene point 0), rms, median and 95th percentile of |x|."""
         out = {"scenario": self.scenario.name, "model": self.model_label, "trials": self.n_trials,
                "seed": self.seed, "tc_s": self.tc_s, "n_samples": int(self.time_s.size),
-               "wavelength_m": self.wavelength_m, "range_resolution_m": self.scenario.range_resolution_m}
+               "wavelength_m": self.wavelength_m, "range_resolution_m": self.scenario.range_resolution_m,
+               "aiding": self.aiding, "prefilter": self.prefilter}
         for name in METRICS:
             a = np.abs(getattr(self, name)[:, 0])
             out[name] = {"rms": float(np.sqrt(np.mean(a**2))), "median": float(np.median(a)),
@@ -74,7 +80,8 @@ class MotionResult:
     def summary_text(self) -> str:
         s = self.summary()
         lines = [f"{s['scenario']} / {s['model']}: {s['trials']} trials, Tc = {s['tc_s']:.3g} s, "
-                 f"{s['n_samples']} samples, λ = {s['wavelength_m']:.4g} m (seed {s['seed']})",
+                 f"{s['n_samples']} samples, λ = {s['wavelength_m']:.4g} m (seed {s['seed']}); "
+                 f"aiding: {s['aiding']}; IMU pre-filter: {s['prefilter']}",
                  f"{'metric (|x|)':<22}{'rms':>12}{'median':>12}{'p95':>12}"]
         for name in METRICS:
             m = s[name]
@@ -93,6 +100,7 @@ class MotionResult:
         """The CLI's JSON: per-trial lists for scene point 0."""
         return {"trials": self.n_trials, "tc_s": self.tc_s, "seed": self.seed,
                 "scenario": self.scenario.name, "model": self.model_label,
+                "aiding": self.aiding, "prefilter": self.prefilter,
                 "n_samples": int(self.time_s.size), "wavelength_m": self.wavelength_m,
                 "peak_range_error_m": self.peak_range_error_m[:, 0].tolist(),
                 "peak_range_cells": self.peak_range_cells[:, 0].tolist(),

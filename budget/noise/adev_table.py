@@ -11,6 +11,11 @@ With ``lci``/``uci`` the EDF of each row is recovered by inverting the χ² inte
 from some tools go below zero at long τ). Without them it comes from
 :func:`~budget.noise.allan.edf_simple` with the noise type taken from the slope, and the
 interval is computed at ``ci_level``. Values are converted to SI (rad/s, m/s²).
+
+τ taken from measured time stamps is rarely a whole number of samples: within
+``TAU_TOLERANCE`` (15 %) of one, τ is set to the nearest whole m/rate and the ADEV (and its
+bounds) moved along the curve's local log-log slope, ADEV·(m/(τ·rate))^slope, and the result
+carries a note saying so (``AllanResult.notes``); farther off is an error (wrong ``rate_hz``).
 """
 
 from __future__ import annotations
@@ -26,9 +31,13 @@ from scipy import optimize, stats
 from .. import units as u
 from ..errors import InputError
 from ..fileio import read_text
+from ..imu.noise_model import channel_unit
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
 
 REQUIRED = ("channel", "tau_s", "adev")
+#: Largest relative distance of τ·rate from a whole number of samples that is accepted (tools
+#: that take τ from measured time stamps write τ·rate = 0.999999, 1.04, 1.10 …).
+TAU_TOLERANCE = 0.15
 OPTIONAL = ("lci", "uci")
 
 
@@ -133,13 +142,35 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
         i = int(np.flatnonzero(np.diff(tau) <= 0)[0]) + 1
         raise InputError("τ must increase within a channel", file=path, row=int(rows[i]) + 2,
                          field="tau_s", value=tau[i])
-    m = tau * rate_hz
-    off = np.flatnonzero(np.abs(m - np.rint(m)) > 1e-6 * np.maximum(m, 1.0))
+    m_raw = tau * rate_hz
+    m = np.maximum(np.rint(m_raw), 1.0)
+    rel = np.abs(m_raw - m) / m
+    off = np.flatnonzero(rel > TAU_TOLERANCE)
     if off.size:
         i = int(off[0])
-        raise InputError(f"τ·rate = {m[i]:.6g} is not a whole number of samples", file=path,
+        raise InputError(f"τ·rate = {m_raw[i]:.6g} is not a whole number of samples", file=path,
                          row=int(rows[i]) + 2, field="tau_s", value=tau[i],
-                         expected=f"τ a multiple of 1/rate = {1 / rate_hz:.6g} s (check --rate-hz)")
+                         expected=f"τ within {TAU_TOLERANCE:.0%} of a multiple of 1/rate = "
+                                  f"{1 / rate_hz:.6g} s (check --rate-hz)")
+    same = np.flatnonzero(np.diff(m) <= 0)
+    if same.size:
+        i = int(same[0]) + 1
+        raise InputError(f"two τ rows round to the same number of samples m = {int(m[i])}",
+                         file=path, row=int(rows[i]) + 2, field="tau_s", value=tau[i],
+                         expected=f"one row per whole multiple of 1/rate = {1 / rate_hz:.6g} s")
+    notes: tuple[str, ...] = ()
+    if np.any(rel > 1e-6):
+        slope = np.gradient(np.log(adev), np.log(tau)) if tau.size > 1 else np.zeros(1)
+        shift = (m / m_raw) ** slope
+        adev = adev * shift
+        if has_ci:
+            df = df.assign(lci=df["lci"].to_numpy(float) * shift, uci=df["uci"].to_numpy(float) * shift)
+        tau = m / rate_hz
+        k = int(np.count_nonzero(rel > 1e-6))
+        notes = (f"{ch}: τ·rate is not a whole number of samples on {k} row(s) (up to "
+                 f"{rel.max():.2%}, τ from measured time stamps?); τ set to the nearest whole "
+                 f"number of samples and the ADEV moved along the curve's local slope (by up to "
+                 f"{np.max(np.abs(shift - 1)):.2%})",)
     m = np.rint(m).astype(np.int64)
     n_phase = samples + 1
     too_long = np.flatnonzero(n_phase - 2 * m < 2)
@@ -149,7 +180,7 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
                          field="tau_s", value=tau[i],
                          expected=f"τ ≤ {(n_phase - 2) // 2 / rate_hz:.6g} s for --samples {samples}")
     factor = u.CHANNEL_UNIT_TO_SI[unit]
-    si_unit = "rad/s" if ch.startswith("gyro") else "m/s^2"
+    si_unit = channel_unit(ch)
     alpha = noise_type_from_slope(tau, adev)
     if has_ci:
         lo, hi = df["lci"].to_numpy(float), df["uci"].to_numpy(float)
@@ -164,4 +195,4 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
         lo, hi = confidence_interval(adev, edf, ci_level)
     return AllanResult(tau, adev * factor, lo * factor, hi * factor, edf,
                        (n_phase - 2 * m).astype(np.int64), float(rate_hz), int(samples), ch,
-                       si_unit, ci_level, alpha, f"table {path.name}")
+                       si_unit, ci_level, alpha, f"table {path.name}", notes)

@@ -50,6 +50,7 @@ class AllanResult:
     ci: float = ONE_SIGMA
     alpha: np.ndarray = field(default_factory=lambda: np.zeros(0))
     source: str = "computed"
+    notes: tuple[str, ...] = ()
 
     @property
     def m(self) -> np.ndarray:
@@ -153,8 +154,14 @@ def confidence_interval(adev: np.ndarray, edf: np.ndarray, ci: float = ONE_SIGMA
     return lo, hi
 
 
-def _oadev_sums(y: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """σ² for each m from the rate samples ``y`` (no τ0 factor needed: it cancels)."""
+def overlapping_avar(y: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """Overlapping Allan variance of rate samples ``y`` at averaging factors ``m`` (NIST SP 1065
+    eq. (11)): Σ_k (S_{k+2m} − 2S_{k+m} + S_k)² / (2m²(N+1−2m)), S = cumsum with S_0 = 0 (no
+    τ0 factor needed: it cancels). The one implementation of the package (the noise lab and the
+    model gap both call it); the final dot product by ``einsum``, since OpenBLAS's threaded dot
+    can stall for milliseconds per call on a loaded two-core machine."""
+    y = np.asarray(y, dtype=np.float64)
+    m = np.asarray(m, dtype=np.int64)
     s = np.empty(y.size + 1)
     s[0] = 0.0
     np.cumsum(y - y.mean(), out=s[1:])  # mean removed first: keeps the differences precise
@@ -162,11 +169,13 @@ def _oadev_sums(y: np.ndarray, m: np.ndarray) -> np.ndarray:
     var = np.empty(m.size)
     for i, mj in enumerate(m):
         k = s.size - 2 * mj
+        if k < 1:
+            raise InputError(f"averaging factor {mj} exceeds half the record", field="taus")
         d = buf[:k]
         np.subtract(s[2 * mj:], s[mj:mj + k], out=d)
         d -= s[mj:mj + k]
         d += s[:k]
-        var[i] = np.dot(d, d) / (2.0 * mj * mj * k)
+        var[i] = float(np.einsum("i,i->", d, d)) / (2.0 * mj * mj * k)
     return var
 
 
@@ -187,7 +196,7 @@ def allan_deviation(x, rate_hz: float, taus="octave", *, ci: float = ONE_SIGMA,
         raise InputError(f"{bad.size} non-finite sample(s), first at index {bad[0]}",
                          field=channel or "x", expected="finite values (repair the log first)")
     m = averaging_factors(y.size, rate_hz, taus)
-    adev = np.sqrt(_oadev_sums(y, m))
+    adev = np.sqrt(overlapping_avar(y, m))
     tau = m / float(rate_hz)
     alpha = noise_type_from_slope(tau, adev)
     edf = edf_simple(y.size + 1, m, alpha)

@@ -28,6 +28,7 @@ from pydantic import ValidationError
 from .. import units as u
 from ..catalog.schema import GRADES, PartSpec
 from ..errors import InputError, from_validation_error
+from ..imu.noise_model import channel_unit
 from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
 from .terms import TERMS, NoiseTerms, fit_noise_terms
@@ -137,7 +138,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
             if np.ptp(x) == 0:
                 notes.append(f"{ch}: constant channel skipped")
                 continue
-            unit = "rad/s" if ch.startswith("gyro") else "m/s^2"
+            unit = channel_unit(ch)
             allan[ch] = allan_deviation(x, data.rate_hz, taus, channel=ch, unit=unit)
         rate, origin = data.rate_hz, f"log {Path(data.source).name}"
         notes += [f"log repaired: {r}" for r in data.issues.repairs]

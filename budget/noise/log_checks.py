@@ -1,6 +1,7 @@
 """Integrity checks of an IMU log and the repairs a user may ask for.
 
-Checks (all vectorised over the whole log): non-finite values per column, duplicated rows,
+Checks (all vectorised over the whole log): non-finite values per column, implausible
+magnitudes (:data:`MAX_ABS_SI`: a single 1e300 sample is named with its row), duplicated rows,
 non-increasing or jittery time stamps, gaps, constant (stuck) channels, too few samples.
 Rows are reported as spreadsheet rows of the file (header = row 1, first sample = row 2; blank
 or comment lines shift this numbering).
@@ -9,7 +10,9 @@ Repairs happen only on request and every one is listed: exact duplicate rows are
 rows whose time does not increase are dropped (the first occurrence kept); rows without a time
 stamp are dropped; missing channel values are linearly interpolated between neighbours; and
 across gaps only the longest gap-free stretch is kept (interpolating across a gap would invent
-low-noise data and bias the Allan variance).
+low-noise data and bias the Allan variance). Implausible samples are treated as missing. A
+repair that would keep less than :data:`MIN_KEPT_FRACTION` of the rows, or interpolate more
+than 1 − :data:`MIN_KEPT_FRACTION` of a channel, is refused (ValueError naming the numbers).
 """
 
 from __future__ import annotations
@@ -19,6 +22,14 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+#: Largest plausible magnitude of a sample in SI: an angular rate (rad/s, ≈ 57 000 deg/s) and a
+#: specific force (m/s², ≈ 10 000 g); larger values are corrupt samples or a wrong unit.
+MAX_ABS_SI = {"gyro": 1e3, "accel": 1e5}
+#: A repair may drop or interpolate at most 1 − this fraction of the samples (per column);
+#: a log that needs more is refused rather than turned into a short or invented record.
+MIN_KEPT_FRACTION = 0.9
+#: Sampling rates (Hz) outside this range mean a misread time column (e.g. ns read as s).
+PLAUSIBLE_RATE_HZ = (1e-3, 1e6)
 #: A step longer than this many nominal periods is a gap.
 GAP_FACTOR = 1.5
 #: Relative RMS jitter of the sampling period above which a warning is raised.
@@ -100,6 +111,14 @@ def check_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
         if bad.size:
             issues.append(LogIssue("missing_value", "error", f"{bad.size} empty, NaN or infinite "
                                    "value(s)", int(bad.size), _rows(bad), name))
+    for ch, j in channel_index.items():
+        big = _implausible(data[:, j], ch)
+        if big.size:
+            issues.append(LogIssue("implausible_value", "error",
+                                   f"{big.size} sample(s) beyond ±{_limit(ch):g} "
+                                   f"{'rad/s' if ch.startswith('gyro') else 'm/s²'} (in SI), e.g. "
+                                   f"{data[big[0], j]:.3g} (corrupt sample or wrong unit?)",
+                                   int(big.size), _rows(big), names[j]))
     if time_index is not None:
         issues += _time_issues(data, time_index)
     for ch, j in channel_index.items():
@@ -110,6 +129,41 @@ def check_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
                                    f"all samples equal {fin[0]:.6g} (stuck or unused sensor); "
                                    "it carries no noise to analyse", int(fin.size), (), names[j]))
     return issues
+
+
+def _limit(channel: str) -> float:
+    return MAX_ABS_SI["gyro" if channel.startswith("gyro") else "accel"]
+
+
+def _implausible(col: np.ndarray, channel: str) -> np.ndarray:
+    """Indices of finite samples whose magnitude exceeds :data:`MAX_ABS_SI` for ``channel``."""
+    with np.errstate(invalid="ignore"):
+        return np.flatnonzero(np.isfinite(col) & (np.abs(col) > _limit(channel)))
+
+
+def check_header(names: list[str], path) -> list[str]:
+    """``names`` unchanged, or :class:`InputError` if the reader had to rename a repeated column
+    (pandas turns a second ``gyro_x_dps`` into ``gyro_x_dps.1``)."""
+    from ..errors import InputError
+
+    seen = set(names)
+    for n in names:
+        base, dot, num = n.rpartition(".")
+        if dot and num.isdigit() and base in seen:
+            raise InputError(f"column {base!r} appears more than once in the header", file=path,
+                             row=1, field=base, expected="each column name once")
+    return names
+
+
+def check_rate(rate_hz: float, source: str = "time stamps") -> str | None:
+    """Why ``rate_hz`` cannot be a sampling rate (None if it can): outside
+    :data:`PLAUSIBLE_RATE_HZ`, usually a time column in another unit than its name says."""
+    lo, hi = PLAUSIBLE_RATE_HZ
+    if lo <= rate_hz <= hi:
+        return None
+    return (f"the {source} give a sampling rate of {rate_hz:.3g} Hz, outside {lo:g} … {hi:g} Hz; "
+            "is the time column in another unit? name it time_s, time_ms, time_us or time_ns "
+            "after its unit")
 
 
 def _time_issues(data: np.ndarray, ti: int) -> list[LogIssue]:
@@ -154,7 +208,14 @@ def repair_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
                channel_index: dict[str, int]) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Apply the documented repairs; returns (data, kept original indices, what was done)."""
     done: list[str] = []
-    keep = np.arange(data.shape[0])
+    n_in = data.shape[0]
+    keep = np.arange(n_in)
+    data = np.array(data, float, copy=True)
+    for ch, j in channel_index.items():
+        big = _implausible(data[:, j], ch)
+        if big.size:
+            data[big, j] = np.nan  # corrupt samples: treated as missing (interpolated below)
+            done.append(f"treated {big.size} implausible sample(s) of {names[j]} as missing")
     if time_index is not None:
         t = data[:, time_index]
         same = np.zeros(data.shape[0], bool)
@@ -182,6 +243,10 @@ def repair_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
             good = np.flatnonzero(~bad)
             if good.size == 0:
                 raise ValueError(f"column {name} has no finite value to interpolate from")
+            if bad.sum() > (1.0 - MIN_KEPT_FRACTION) * col.size:
+                raise ValueError(f"column {name} would need {int(bad.sum())} of {col.size} values "
+                                 f"({100 * bad.mean():.3g} %) interpolated; a repair may invent at "
+                                 f"most {100 * (1 - MIN_KEPT_FRACTION):.0f} % of a channel")
             col[bad] = np.interp(np.flatnonzero(bad), good, col[good])
             done.append(f"interpolated {int(bad.sum())} missing value(s) in {name} linearly "
                         "between neighbouring samples")
@@ -198,4 +263,9 @@ def repair_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
                             f"{int(keep[b - 1]) + 2} ({b - a} of {t.size} samples), across "
                             f"{breaks.size} gap(s)")
                 data, keep = data[a:b], keep[a:b]
+    if data.shape[0] < MIN_KEPT_FRACTION * n_in:
+        raise ValueError(f"the repair would keep only {data.shape[0]:,} of {n_in:,} samples "
+                         f"({100 * data.shape[0] / max(n_in, 1):.3g} %), less than the "
+                         f"{100 * MIN_KEPT_FRACTION:.0f} % a repair may keep at least; fix the "
+                         "log or analyse its parts separately")
     return data, keep, done

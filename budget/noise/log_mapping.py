@@ -1,4 +1,4 @@
-"""Column/unit mapping of an IMU log CSV onto the canonical layout (DESIGN.md §7).
+"""Column/unit mapping of an IMU log CSV onto the canonical layout.
 
 Canonical columns: ``time_s, gyro_x_dps … accel_z_mps2[, temp_c]``. Any channel column may
 carry another unit tag (``gyro_x_rps``, ``accel_y_g`` …, see :data:`budget.units.CHANNEL_UNIT_TO_SI`),
@@ -35,7 +35,10 @@ class LogMapping(BaseModel):
     ``columns`` maps a source column to a canonical name, e.g.
     ``{"GyrX": "gyro_x_rps", "t": "time_ms", "AccZ": "accel_z_g"}``. Columns not listed keep
     their names (used if canonical, otherwise ignored and reported). ``rate_hz`` is needed
-    when the log has no time column.
+    when the log has no time column. ``skip_rows``: preamble lines before the header row (a
+    logger's settings). ``scale``: source column → factor that turns its raw value into the
+    unit of its canonical name, e.g. ``{"gx": 0.0076336}`` (1/131: counts → deg/s) with
+    ``"gx": "gyro_x_dps"`` — raw counts are read through a stated scale, never guessed.
     """
 
     model_config = ConfigDict(extra="forbid")
@@ -44,6 +47,16 @@ class LogMapping(BaseModel):
     rate_hz: float | None = Field(None, gt=0.0, le=1e7, allow_inf_nan=False)
     delimiter: str = Field(",", min_length=1, max_length=1)
     comment: str | None = Field(None, min_length=1, max_length=1)
+    skip_rows: int = Field(0, ge=0, le=10_000)
+    scale: dict[str, float] = Field(default_factory=dict)
+
+    @field_validator("scale")
+    @classmethod
+    def _scales_finite(cls, v: dict[str, float]) -> dict[str, float]:
+        for src, k in v.items():
+            if not (k == k and abs(k) < float("inf") and k != 0.0):
+                raise ValueError(f"scale for column {src!r} must be a finite non-zero number (got {k})")
+        return v
 
     @field_validator("columns")
     @classmethod
@@ -84,6 +97,7 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
     """Resolve the header against the mapping; raise :class:`InputError` on any ambiguity."""
     rename = dict(mapping.columns) if mapping else {}
     missing = [src for src in rename if src not in header]
+    missing += [src for src in (mapping.scale if mapping else {}) if src not in header and src not in missing]
     if missing:
         raise InputError(f"mapped column(s) not in the file: {', '.join(map(repr, missing))}",
                          file=path, expected=f"one of the header columns {header}")
@@ -121,7 +135,7 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
             continue
         sources.append(col)
         targets.append(name)
-        factors.append(factor)
+        factors.append(factor * (mapping.scale.get(col, 1.0) if mapping else 1.0))
     if not channel_index:
         raise InputError("no sensor channel column found", file=path, row=1,
                          expected="columns like gyro_x_dps … accel_z_mps2, or a --mapping that "

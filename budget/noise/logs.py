@@ -23,6 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..fileio import check_input_file
 from ..units import CHANNELS
 from . import log_checks as lc
 from .log_mapping import ColumnPlan, LogMapping, plan_columns
@@ -77,13 +78,14 @@ class ImuLog:
 def _header(path: Path, mapping: LogMapping | None) -> list[str]:
     try:
         head = pd.read_csv(path, sep=mapping.delimiter if mapping else ",", nrows=0,
-                           comment=mapping.comment if mapping else None, skipinitialspace=True)
+                           comment=mapping.comment if mapping else None, skipinitialspace=True,
+                           skiprows=mapping.skip_rows if mapping else 0)
     except pd.errors.EmptyDataError:
         raise InputError("file is empty (no header)", file=path,
                          expected="a CSV with a header row: time_s, gyro_x_dps, …") from None
     except (UnicodeDecodeError, OSError, pd.errors.ParserError) as err:
         raise InputError(f"not a readable CSV ({err.__class__.__name__})", file=path) from None
-    return [str(c).strip() for c in head.columns]
+    return lc.check_header([str(c).strip() for c in head.columns], path)
 
 
 def _estimate_rows(path: Path) -> int | None:
@@ -94,7 +96,7 @@ def _estimate_rows(path: Path) -> int | None:
             with open(path, "rb") as fh:  # gzip trailer: uncompressed size mod 2**32
                 fh.seek(-4, 2)
                 isize = int.from_bytes(fh.read(4), "little")
-            if isize < size:  # wrapped (> 4 GiB): unknown
+            if isize < size or isize > 64 * size:  # wrapped (> 4 GiB) or forged: unknown
                 return None
             size = isize
             opener = gzip.open
@@ -132,6 +134,7 @@ def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
     try:
         reader = pd.read_csv(path, sep=mapping.delimiter if mapping else ",",
                              comment=mapping.comment if mapping else None, skipinitialspace=True,
+                             skiprows=mapping.skip_rows if mapping else 0,
                              chunksize=chunk_rows, nrows=max_rows, index_col=False)
         for chunk in reader:
             chunk.columns = [str(c).strip() for c in chunk.columns]
@@ -174,6 +177,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
         raise InputError("file not found", file=path)
     if path.stat().st_size == 0:
         raise InputError("file is empty", file=path)
+    check_input_file(path)  # readable, complete, not an archive, size-limited when compressed
     if max_rows is not None and max_rows < 1:
         raise InputError("max_rows must be ≥ 1", field="max_rows", value=max_rows)
     plan = plan_columns(_header(path, mapping), mapping, str(path))
@@ -245,6 +249,8 @@ def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, 
                              file=path, expected="increasing time_s, or rate_hz")
         return float(given)
     rate = 1.0 / period
+    if lc.check_rate(rate) and given is None:
+        raise InputError(lc.check_rate(rate), file=path, field="time")
     if abs(rate - round(rate)) <= 1e-6 * rate:  # time stamps printed with finite decimals
         rate = float(round(rate))
     if given is not None:

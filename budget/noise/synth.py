@@ -1,14 +1,16 @@
 """Synthetic rate noise with known IEEE-952 coefficients, and ARMA series (seed 000 (11)).
 
-Used by the tests and the benchmarks to check that fits recover what was put in. Each term is
-generated so that its overlapping Allan variance follows IEEE Std 952 Annex C:
+Used by the tests, the benchmarks and the Noise lab's example log to check that fits recover
+what was put in. The rate terms N, B, K, R are drawn by the one IMU generator of the package
+(:func:`budget.imu.generate_imu_errors`, one channel; bias instability by its documented
+Gauss–Markov bank, :mod:`budget.imu.flicker`), so the Noise lab, the Monte Carlo and the model
+gap share one synthesiser and one flicker model. Allan variances (IEEE Std 952 Annex C):
 
-* Q: white *angle* noise of standard deviation Q, differentiated → 3Q²/τ²
-* N: white rate noise of standard deviation N·√fs → N²/τ
-* B: flicker rate noise by Kasdin's fractional-integration filter (Kasdin 1995, α = 1,
-  h₀ = 1, h_k = h_{k−1}(k − ½)/k) applied to white noise of standard deviation B, whose
-  two-sided PSD ≈ B²/(2πf) → (2 ln2/π)B² (low-frequency approximation)
-* K: random walk of the rate with steps of standard deviation K/√fs → K²τ/3
+* Q: white *angle* noise of standard deviation Q, differentiated → 3Q²/τ² (the idealised
+  quantization term of the standard, not the generator's quantizer of the integrated output)
+* N: white rate noise of density N → N²/τ
+* B: flicker rate noise of one-sided PSD B²/(π f) → (2 ln2/π)B² in the band
+* K: random walk of the rate → K²τ/3
 * R: deterministic ramp R·t → R²τ²/2
 """
 
@@ -18,28 +20,20 @@ import numpy as np
 from scipy import signal
 
 
-def flicker_noise(n: int, rng: np.random.Generator, sigma: float = 1.0) -> np.ndarray:
-    """Kasdin flicker (1/f) noise of length ``n`` (IEEE B = ``sigma``)."""
-    k = np.arange(1, n)
-    h = np.concatenate(([1.0], np.cumprod((k - 0.5) / k)))
-    w = rng.normal(0.0, sigma, n)
-    return signal.fftconvolve(w, h)[:n]
-
-
 def imu_noise(n: int, rate_hz: float, rng: np.random.Generator, *, Q: float = 0.0, N: float = 0.0,
               B: float = 0.0, K: float = 0.0, R: float = 0.0) -> np.ndarray:
     """Rate samples (unit of the coefficients) with the given IEEE-952 terms, zero mean start."""
+    from ..imu import NoiseModel, generate_imu_errors  # the one generator (imu sits below noise)
+    effects = [{"name": name, "channel": "gyro_x", "params": {key: val}}
+               for name, key, val in (("white_noise", "density", N), ("bias_instability", "B", B),
+                                      ("rate_random_walk", "K", K), ("rate_ramp", "R", R))
+               if val]
     y = np.zeros(n)
+    if effects:
+        model = NoiseModel(rate_hz=float(rate_hz), effects=tuple(effects))
+        y += generate_imu_errors(model, 1, n, float(rate_hz), rng).gyro_rad_s[0, :, 0]
     if Q:
         y += np.diff(rng.normal(0.0, Q, n + 1)) * rate_hz
-    if N:
-        y += rng.normal(0.0, N * np.sqrt(rate_hz), n)
-    if B:
-        y += flicker_noise(n, rng, B)
-    if K:
-        y += np.cumsum(rng.normal(0.0, K / np.sqrt(rate_hz), n))
-    if R:
-        y += R * np.arange(n) / rate_hz
     return y
 
 

@@ -18,28 +18,19 @@ from plotly.subplots import make_subplots
 
 from ..bounds import compute_bounds
 from ..catalog.schema import GRADE_RANK, GradeSpec
+from ..parameters import BOUNDS, PARAMETERS
 
-#: Datasheet key of a bound → axis label with its unit.
-BOUND_LABELS: dict[str, str] = {
-    "accel_bias_ug": "accel bias (µg)",
-    "accel_vrw_ug_rt_hz": "accel noise (µg/√Hz)",
-    "gyro_bias_deg_h": "gyro bias (deg/h)",
-    "gyro_arw_deg_rt_h": "gyro ARW (deg/√h)",
-    "accel_scale_factor_ppm": "accel scale factor β (ppm)",
-    "gyro_scale_factor_ppm": "gyro scale factor γ (ppm)",
-    "misalignment_mrad": "misalignment (mrad)",
-}
+#: Datasheet key of a bound → axis label with its unit (from :data:`budget.parameters.BOUNDS`;
+#: panels ordered bias, noise, scale factor, misalignment).
+BOUND_LABELS: dict[str, str] = {p.bound_key: p.bound_label
+                                 for fam in ("bias", "noise", "scale_factor", "misalignment")
+                                 for p in BOUNDS if p.family == fam}
 
-#: Bound key → the GradeSpec fields whose min/max give the grade's typical range (Tables 3–4).
+#: Bound key → the GradeSpec fields whose min/max give the grade's typical range (Tables 3–4);
+#: misalignment has one bound for both triads, so both grade columns.
 GRADE_FIELDS: dict[str, tuple[str, ...]] = {
-    "accel_bias_ug": ("accel_bias_ug_min", "accel_bias_ug_max"),
-    "accel_vrw_ug_rt_hz": ("accel_noise_ug_rt_hz_min", "accel_noise_ug_rt_hz_max"),
-    "gyro_bias_deg_h": ("gyro_bias_deg_h_min", "gyro_bias_deg_h_max"),
-    "gyro_arw_deg_rt_h": ("gyro_arw_deg_rt_h_min", "gyro_arw_deg_rt_h_max"),
-    "accel_scale_factor_ppm": ("accel_scale_factor_ppm_min", "accel_scale_factor_ppm_max"),
-    "gyro_scale_factor_ppm": ("gyro_scale_factor_ppm_min", "gyro_scale_factor_ppm_max"),
-    "misalignment_mrad": ("accel_misalignment_mrad", "gyro_misalignment_mrad"),
-}
+    key: tuple(dict.fromkeys(c for p in PARAMETERS if p.bound_key == key for c in p.grade_columns))
+    for key in BOUND_LABELS}
 
 GRADE_COLORS: dict[str, str] = {
     "strategic": "#6a3d9a",

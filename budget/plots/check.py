@@ -11,18 +11,10 @@ import numpy as np
 import plotly.graph_objects as go
 
 from ..check import CheckResult
+from ..parameters import PARAMETERS
 
-#: Check parameter (part column) → short label with the datasheet unit.
-PARAM_LABELS: dict[str, str] = {
-    "accel_scale_factor_ppm": "accel SF (ppm)",
-    "gyro_scale_factor_ppm": "gyro SF (ppm)",
-    "accel_misalignment_mrad": "accel misalign (mrad)",
-    "gyro_misalignment_mrad": "gyro misalign (mrad)",
-    "accel_bias_instability_ug": "accel bias inst. (µg)",
-    "gyro_bias_instability_deg_h": "gyro bias inst. (deg/h)",
-    "accel_vrw_m_s_rt_h": "accel VRW (m/s/√h)",
-    "gyro_arw_deg_rt_h": "gyro ARW (deg/√h)",
-}
+#: Check parameter (part column) → short label with the datasheet unit (from the parameter table).
+PARAM_LABELS: dict[str, str] = {p.column: p.label for p in PARAMETERS}
 
 #: Colour scale over log10(margin) ∈ [−3, 3]: red below 0 (fail), green above (pass).
 _SCALE = [[0.0, "#b2182b"], [0.45, "#f4a582"], [0.5, "#f7f7f7"], [0.55, "#a6dba0"], [1.0, "#1b7837"]]

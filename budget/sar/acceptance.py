@@ -4,8 +4,9 @@ Defaults (each configurable; the "ideal" values are the window's own, see
 :func:`budget.sar.windows.ideal_irf`, so a Taylor-weighted image is judged against Taylor):
 
 * 3 dB broadening ≤ 10 % in azimuth and range;
-* PSLR ≤ ideal + 3 dB (rect: −10.3 dB; Taylor −35: ≈ −32 dB);
-* ISLR ≤ ideal + 3 dB (same extents as the measurement);
+* PSLR ≤ ideal + 3 dB (rect: −10.3 dB; Taylor −35: ≈ −32 dB), or an absolute ``max_pslr_db``
+  (< 0 dB) when the user's spec gives one;
+* ISLR ≤ ideal + 3 dB (same extents as the measurement), or an absolute ``max_islr_db``;
 * |peak shift| ≤ 1 resolution cell;
 * peak loss ≤ 1.5 dB (a quadratic phase error of π/2 at the aperture edge costs ≈ 0.97 dB
   unweighted, one of π ≈ 4.0 dB).
@@ -32,6 +33,10 @@ class Acceptance(BaseModel):
     islr_margin_db: float = Field(3.0, ge=0, le=40, allow_inf_nan=False, description="allowed ISLR above ideal")
     max_peak_shift_cells: float = Field(1.0, ge=0, le=1000, allow_inf_nan=False)
     max_peak_loss_db: float = Field(1.5, ge=0, le=60, allow_inf_nan=False)
+    max_pslr_db: float | None = Field(None, lt=0, ge=-80, allow_inf_nan=False,
+                                      description="absolute PSLR limit (dB, < 0); replaces ideal + margin")
+    max_islr_db: float | None = Field(None, lt=0, ge=-80, allow_inf_nan=False,
+                                      description="absolute ISLR limit (dB, < 0); replaces ideal + margin")
     axes: tuple[str, ...] = ("azimuth", "range")
 
 
@@ -73,7 +78,9 @@ def evaluate(metrics: TargetMetricsTable, acceptance: Acceptance | None = None) 
         for ax in acc.axes:
             m = getattr(t, ax)
             check(t, ax, "broadening", m.broadening, acc.max_broadening)
-            check(t, ax, "pslr_db", m.pslr_db, m.ideal_pslr_db + acc.pslr_margin_db)
-            check(t, ax, "islr_db", m.islr_db, m.ideal_islr_db + acc.islr_margin_db)
+            check(t, ax, "pslr_db", m.pslr_db, m.ideal_pslr_db + acc.pslr_margin_db
+                  if acc.max_pslr_db is None else acc.max_pslr_db)
+            check(t, ax, "islr_db", m.islr_db, m.ideal_islr_db + acc.islr_margin_db
+                  if acc.max_islr_db is None else acc.max_islr_db)
             check(t, ax, "abs_peak_shift_cells", abs(m.peak_shift_m) / m.cell_m, acc.max_peak_shift_cells)
     return Evaluation(passed=not reasons, reasons=reasons, checks=pd.DataFrame(rows))

@@ -67,10 +67,20 @@ def dashboard_url():
         proc.wait(timeout=30)
 
 
+#: Generous waits: the browser tests wait on what the page shows, never on fixed sleeps, and a
+#: loaded 2-core machine (other jobs, the Monte Carlo itself) may take minutes for a real log.
+WAIT_MS = 180_000
+
+
 @pytest.fixture
 def page(browser):
+    from playwright.sync_api import expect
+
     ARTIFACTS.mkdir(exist_ok=True)
-    pg = browser.new_page(viewport={"width": 1500, "height": 2000})
-    pg.set_default_timeout(60_000)
+    expect.set_options(timeout=WAIT_MS)  # Playwright's default for expect() is 5 s
+    ctx = browser.new_context(viewport={"width": 1500, "height": 2000}, accept_downloads=True)
+    pg = ctx.new_page()
+    pg.set_default_timeout(WAIT_MS)
     yield pg
-    pg.close()
+    ctx.close()
+

@@ -1,0 +1,122 @@
+"""Page: real SAR data — focus a recorded phase history (AFRL format) on a ground grid, autofocus
+it, and show the image before/after and the estimated vs recorded phase error. Every number from
+``budget.sar.focus_pga``; this page only collects the inputs and draws."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import streamlit as st
+
+from budget.errors import InputError
+from budget.fileio import json_safe
+from budget.sar.afrl import read_afrl
+from budget.sar.focus import FocusOptions
+from budget.sar.focus_pga import AUTOFOCUS_MODES, focus
+from budget.sar.focus_plots import image_pair_figure, phase_figure
+
+from page_frame import run_page
+
+SOURCES = ("directory of .mat files", "upload .mat files")
+MAX_UPLOAD_MB = 50
+#: Environment variable naming a default directory of phase-history files.
+DATA_ENV = "SAR_BUDGET_SAR_DATA"
+
+
+def _files_in(directory: str) -> list[Path]:
+    d = Path(directory).expanduser()
+    if not d.is_dir():
+        raise InputError("directory not found", file=d, expected="a directory holding AFRL .mat files")
+    files = sorted(d.glob("*.mat"))
+    if not files:
+        raise InputError("no .mat files", file=d, expected="AFRL phase-history .mat files")
+    return files
+
+
+@st.cache_data(show_spinner="Backprojecting and autofocusing …", max_entries=4)
+def _run_paths(paths: tuple[str, ...], options_json: str, autofocus: str):
+    return focus(read_afrl(list(paths)), FocusOptions.model_validate_json(options_json), autofocus)
+
+
+@st.cache_data(show_spinner="Backprojecting and autofocusing …", max_entries=2)
+def _run_uploads(blobs: tuple[tuple[str, bytes], ...], options_json: str, autofocus: str):
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = []
+        for name, data in blobs:
+            path = Path(tmp) / Path(name).name
+            with open(path, "wb") as fh:
+                fh.write(data)
+            paths.append(str(path))
+        try:
+            ph = read_afrl(paths)
+        except InputError as err:
+            if err.file and tmp in err.file:
+                err.rename_file(err.file.replace(tmp + os.sep, ""))
+            raise
+    return focus(ph, FocusOptions.model_validate_json(options_json), autofocus)
+
+
+def _options() -> FocusOptions:
+    a, b, c2, d = st.columns(4)
+    rng = a.number_input("ground-range extent (m)", 5.0, 1000.0, 100.0, 5.0, key="focus_range_extent")
+    az = b.number_input("cross-range extent (m)", 5.0, 1000.0, 100.0, 5.0, key="focus_azimuth_extent")
+    sp = c2.number_input("pixel spacing (m)", 0.05, 5.0, 0.25, 0.05, key="focus_spacing")
+    win = d.selectbox("window (range and azimuth)", ("taylor-35-4", "rect", "taylor-25-3"), key="focus_window")
+    return FocusOptions.build(range_extent_m=rng, azimuth_extent_m=az, spacing_m=sp, range_window=win,
+                              azimuth_window=win)
+
+
+def render() -> None:
+    st.title("Real SAR data")
+    st.caption("Backprojection of a recorded phase history onto a ground grid, phase gradient autofocus on "
+               "the real image, and the comparison with the data provider's own autofocus solution.")
+    src = st.radio("phase history", SOURCES, horizontal=True, key="focus_source")
+    autofocus = st.radio("autofocus", AUTOFOCUS_MODES, horizontal=True, key="focus_mode")
+    options = _options()
+    if src == SOURCES[0]:
+        directory = st.text_input("directory (all its .mat files, in name order, form one aperture)",
+                                  os.environ.get(DATA_ENV, ""), key="focus_dir")
+        if not directory:
+            st.info(f"Name a directory of AFRL .mat files (or set {DATA_ENV}), or upload files.")
+            return
+        run = st.button("Focus", type="primary", key="focus_run")
+        if not run and "focus_last" not in st.session_state:
+            return
+        result = _run_paths(tuple(str(p) for p in _files_in(directory)), options.model_dump_json(), autofocus)
+    else:
+        ups = st.file_uploader(f"AFRL .mat files (at most {MAX_UPLOAD_MB} MB each)", type=["mat"],
+                               accept_multiple_files=True, key="focus_upload", max_upload_size=MAX_UPLOAD_MB)
+        if not ups:
+            st.info("Upload one or more AFRL .mat files (they are concatenated in name order).")
+            return
+        run = st.button("Focus", type="primary", key="focus_run")
+        if not run and "focus_last" not in st.session_state:
+            return
+        blobs = tuple(sorted((u.name, u.getvalue()) for u in ups))
+        result = _run_uploads(blobs, options.model_dump_json(), autofocus)
+    st.session_state["focus_last"] = True
+    s = result.summary()
+    m1, m2, m3, m4 = st.columns(4)
+    m1.metric("pulses", s["pulses"])
+    m2.metric("entropy before", f"{s['entropy_before']:.5g}")
+    m3.metric("entropy after", f"{s['entropy_after']:.5g}", delta=f"{s['entropy_after'] - s['entropy_before']:+.3g}",
+              delta_color="inverse")
+    diff = s["recorded_af_rms_diff_rad"]
+    m4.metric("rms diff. from recorded (rad)", "—" if diff is None else f"{diff:.3g}")
+    st.plotly_chart(image_pair_figure(result), key="focus_images")
+    st.plotly_chart(phase_figure(result), key="focus_phase")
+    if result.comparison:
+        st.dataframe([{"quantity": k, "value": v} for k, v in result.comparison.items()], hide_index=True,
+                     key="focus_comparison")
+    if result.pga:
+        st.caption(f"PGA: {result.pga.get('reason')}")
+    for note in result.notes:
+        st.caption(note)
+    st.download_button("Download FOCUS.json", json.dumps(json_safe(result.to_dict()), indent=2), "focus.json",
+                       mime="application/json", key="focus_dl")
+
+
+run_page(render)

@@ -1,0 +1,77 @@
+"""Uploaded logs and Allan tables: one size limit, and Allan tables read like the CLI reads them.
+
+``UPLOAD_LIMIT_MB`` is the limit the server is started with (``sar-budget dashboard`` passes
+it as ``--server.maxUploadSize``) and the one every log widget states and enforces. An upload is
+written to a private temporary copy (suffix kept, so .gz streams through the same chunked
+reader as the CLI) and read by the library; it is never executed or unpickled.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import tempfile
+from pathlib import Path
+
+import streamlit as st
+
+from budget.cli.dashboard_cmd import MAX_UPLOAD_MB as UPLOAD_LIMIT_MB
+from budget.errors import InputError
+from budget.noise import AllanResult, read_adev_table
+from budget.noise.adev_table import looks_like_adev_table
+
+LOG_TYPES = ["csv", "gz", "bz2", "xz", "zip"]
+
+
+def upload_label(what: str) -> str:
+    """Widget label stating the real limit, e.g. ``IMU log or Allan table (at most 200 MB)``."""
+    return f"{what} (at most {UPLOAD_LIMIT_MB} MB)"
+
+
+def check_size(data: bytes, name: str) -> None:
+    """Refuse an upload above the limit with a message (the widget refuses it first, normally)."""
+    if len(data) > UPLOAD_LIMIT_MB * 1024 * 1024:
+        raise InputError(f"file is {len(data) / 1e6:.1f} MB", file=name,
+                         expected=f"at most {UPLOAD_LIMIT_MB} MB")
+
+
+def _with_temp(data: bytes, name: str, read):
+    suffix = "".join(Path(name).suffixes[-2:]) or ".csv"
+    fd, tmp = tempfile.mkstemp(suffix=suffix)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        return read(tmp)
+    except InputError as err:
+        if err.file == tmp:
+            err.rename_file(name)
+        raise
+    finally:
+        os.unlink(tmp)
+
+
+@st.cache_data(show_spinner=False, max_entries=8)
+def is_adev_table(data: bytes, name: str) -> bool:
+    """True when the upload has the Allan-table columns (``channel, tau_s, adev[, lci, uci]``)."""
+    if name.lower().endswith((".gz", ".bz2", ".xz", ".zip")):
+        return False  # compressed uploads are logs; Allan tables are small text files
+    return _with_temp(data, name, looks_like_adev_table)
+
+
+@st.cache_data(show_spinner="Reading the Allan table …", max_entries=4)
+def read_uploaded_adev(data: bytes, name: str, rate_hz: float, samples: int,
+                       ci_level: float = 0.95) -> dict[str, AllanResult]:
+    """The uploaded Allan table as ``{channel: AllanResult}`` (SI), as ``sar-budget noise
+    characterize TABLE --rate-hz F --samples N`` reads it."""
+    tables = _with_temp(data, name, lambda p: read_adev_table(p, rate_hz, samples, ci_level=ci_level))
+    return {ch: dataclasses.replace(r, source=name) for ch, r in tables.items()}
+
+
+def adev_inputs(prefix: str, container=st) -> tuple[float, int]:
+    """Rate and record length behind an Allan table (not in the table itself)."""
+    left, right = container.columns(2)
+    rate = float(left.number_input("sampling rate of the record (Hz)", min_value=0.001, value=100.0,
+                                   format="%g", key=f"{prefix}_adev_rate"))
+    samples = int(right.number_input("samples in the record", min_value=16, value=1_000_000, step=1000,
+                                     key=f"{prefix}_adev_samples"))
+    return rate, samples

@@ -1,0 +1,169 @@
+"""The package's top-level API: what a script or notebook calls as ``budget.<name>``.
+
+Each function takes the objects of the library *or* their names — a preset name where a
+:class:`~budget.scenario.Scenario` is expected, a catalog ``part_id`` where a part is expected, a
+path to a scenario file — and resolves them first, so a wrong type or name is an
+:class:`~budget.errors.InputError` naming the argument and what it accepts, never an
+``AttributeError`` from deep inside. The work itself is done by the library modules named in
+each docstring; these are thin front doors.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+
+from .errors import InputError
+
+#: Default Monte Carlo trials and seed of the top-level API (the CLI and the dashboard use the
+#: same ones, from :mod:`budget.mc.options`).
+from .mc.options import DEFAULT_SEED, DEFAULT_TRIALS
+
+
+def load_scenario(source) -> "Scenario":  # noqa: F821 — imported lazily below
+    """A scenario from a :class:`Scenario`, a preset name, a JSON/YAML path or a mapping of keys."""
+    from .presets import PRESETS, get_preset
+    from .scenario import Scenario
+
+    if isinstance(source, Scenario):
+        return source
+    if isinstance(source, Mapping):
+        return Scenario.from_dict(dict(source), source="scenario mapping")
+    if isinstance(source, Path) or (isinstance(source, str) and source not in PRESETS
+                                     and Path(source).suffix.lower() in (".json", ".yaml", ".yml")):
+        return Scenario.load(source)
+    if isinstance(source, str):
+        return get_preset(source)
+    raise InputError(f"cannot use a {type(source).__name__} as a scenario", field="scenario",
+                     expected="a Scenario, a preset name (" + ", ".join(sorted(PRESETS)) +
+                              "), a .json/.yaml path or a mapping of scenario keys")
+
+
+def load_scenarios(sources) -> list:
+    """:func:`load_scenario` for one source or a sequence of them."""
+    from pydantic import BaseModel
+
+    # a Scenario (a pydantic model, itself iterable over its fields) is one source, not many
+    if isinstance(sources, (str, Path, Mapping, BaseModel)) or not isinstance(sources, Iterable):
+        sources = [sources]
+    return [load_scenario(s) for s in sources]
+
+
+def load_catalog(user_csv: str | Path | None = None) -> dict:
+    """Shipped parts merged with a user CSV (``part_id`` → :class:`PartSpec`);
+    :func:`budget.catalog.io.load_catalog`."""
+    from .catalog.io import load_catalog as _load
+
+    return _load(user_csv)
+
+
+def load_part(part, catalog: Mapping | None = None):
+    """A part from a :class:`PartSpec` / noise model (returned as is) or a catalog ``part_id``."""
+    from .catalog.io import get_part
+
+    if isinstance(part, str):
+        return get_part(part, catalog)
+    if hasattr(part, "part_id") or hasattr(part, "gyro_arw_deg_rt_h"):
+        return part
+    raise InputError(f"cannot use a {type(part).__name__} as a part", field="part",
+                     expected="a PartSpec, a NoiseModel or a catalog part_id")
+
+
+def load_parts(parts=None, catalog: Mapping | None = None) -> list:
+    """Parts from ids/objects; ``None`` = every catalog part with a noise figure (as the CLI's sweep)."""
+    if parts is None:
+        cat = catalog if catalog is not None else load_catalog()
+        return [p for p in cat.values()
+                if p.gyro_arw_deg_rt_h is not None or p.accel_vrw_m_s_rt_h is not None]
+    from pydantic import BaseModel
+
+    if isinstance(parts, (str, BaseModel)) or not isinstance(parts, Iterable):
+        parts = [parts]
+    cat = catalog
+    if cat is None and any(isinstance(p, str) for p in parts):
+        cat = load_catalog()
+    return [load_part(p, cat) for p in parts]
+
+
+def check_parts(parts=None, scenarios="airborne_xband", mode: str = "paper", assumptions=None):
+    """Analytic check of parts × scenarios against the seed 004 bounds (:func:`budget.check.check_parts`).
+
+    ``parts``: ids or objects (``None`` = the whole catalog); ``scenarios``: one or several
+    scenarios, preset names or files.
+    """
+    from .check import check_parts as _check
+
+    cat = load_catalog()
+    plist = list(cat.values()) if parts is None else load_parts(parts, cat)
+    return _check(plist, load_scenarios(scenarios), mode, assumptions)
+
+
+def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED, **kwargs):
+    """Monte Carlo verdict of one part on one scenario (:func:`budget.mc.runner.run_mc`).
+
+    ``scenario`` and ``part`` may be names; keyword arguments (``options``, ``workers``,
+    ``progress``, ``keep_detail`` …) are passed on.
+    """
+    from .mc.runner import run_mc as _run
+
+    return _run(load_scenario(scenario), load_part(part), trials, seed, **kwargs)
+
+
+def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int = DEFAULT_TRIALS,
+          seed: int = DEFAULT_SEED, **kwargs):
+    """Trade study parts × scenarios → tidy :class:`pandas.DataFrame`, one row per pair
+    (:func:`budget.mc.sweep.sweep`; columns ``scenario, part_id, grade, p_pass_after, ci_after_lo,
+    ci_after_hi`` …). Names are accepted for parts and scenarios."""
+    from .mc.sweep import sweep as _sweep
+
+    return _sweep(load_parts(parts), load_scenarios(scenarios), trials, seed, **kwargs)
+
+
+def cheapest_passing(table, target: float = 0.9, **kwargs):
+    """Per scenario, the cheapest part of a :func:`sweep` table with P(pass after PGA) ≥ ``target``."""
+    from .mc.sweep import cheapest_passing as _cheapest
+
+    return _cheapest(table, target, **kwargs)
+
+
+def compute_bounds(scenario, mode: str = "paper", assumptions=None):
+    """The bounds of one scenario (or preset name) at its Tc (:func:`budget.bounds.compute_bounds`)."""
+    from .bounds import compute_bounds as _bounds
+
+    s = load_scenario(scenario)
+    return _bounds([s.tc_s], s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
+                   assumptions=assumptions)
+
+
+#: Scenario quantities a trade study may vary (``vary_scenario``), with their axis labels.
+VARIABLE_FIELDS = {"slant_range_m": "slant range R (m)", "platform_speed_m_s": "platform speed V (m/s)",
+                   "azimuth_resolution_m": "azimuth resolution δℓ (m)",
+                   "carrier_frequency_hz": "carrier frequency f0 (Hz)"}
+
+
+def vary_scenario(base, field: str, values) -> list:
+    """Copies of ``base`` (scenario or preset name) with ``field`` set to each of ``values``,
+    named ``<base>@<field>=<value>``; each is validated (Tc follows, seed 004 (5))."""
+    from .scenario import Scenario
+
+    s = load_scenario(base)
+    if field not in Scenario.model_fields or field in ("name", "medium"):
+        raise InputError(f"cannot vary {field!r}", field="field",
+                         expected="a numeric scenario key, e.g. " + ", ".join(VARIABLE_FIELDS))
+    out = []
+    for v in values:
+        data = {**s.model_dump(), field: float(v), "name": f"{s.name}@{field}={float(v):g}"}
+        out.append(Scenario.from_dict(data, source=f"{field}={v}"))
+    return out
+
+
+def sweep_over(parts, base, field: str, values, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED,
+               **kwargs):
+    """:func:`sweep` over :func:`vary_scenario` copies; the table gains a ``field`` column (and
+    has ``tc_s``), ready for P(pass) vs slant range, speed or Tc."""
+    scens = vary_scenario(base, field, values)
+    table = sweep(parts, scens, trials, seed, **kwargs)
+    by_name = {sc.name: getattr(sc, field) for sc in scens}
+    if len(table):
+        table.insert(1, field, table["scenario"].map(by_name))
+    return table

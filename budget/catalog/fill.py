@@ -1,0 +1,177 @@
+"""No silent zeros: what a Monte Carlo does with a part's unspecified error terms.
+
+An empty catalog cell means "the datasheet does not say" (never "zero error"). Before a Monte
+Carlo the eight checked quantities of :data:`budget.parameters.PARAMETERS` are resolved by a
+policy (``McOptions.unspecified``):
+
+* ``fill_grade_typical`` (default): each empty one gets its grade's typical value from
+  ``catalog/grades.csv`` (seed 004 Tables 3–4), the geometric mean of the grade's min–max range
+  (:func:`budget.parameters.grade_value`); the filled values are recorded in the result;
+* ``refuse``: an :class:`~budget.errors.InputError` naming the empty columns;
+* ``zero``: the user states that the absent terms are zero (synthetic single-term models);
+  recorded as such.
+
+A grade's bias (Tables 3–4) is a total / turn-on figure (STIM300: in-run 50 µg but on/off
+750 µg), so for the bias the *turn-on* term is what a grade can fill: the repeatability column
+of an ``adev_min`` / ``ieee_b`` row (in-run and turn-on are two terms there; an empty in-run
+figure has no grade value and is listed as taken as 0), the bias column of a ``total_1sigma`` /
+``turn_on_1sigma`` row. A noise model whose ``effects`` already carry white noise or a bias
+process on a triad has that term specified. Rate random walk has no grade value; it stays 0
+when empty and is listed under ``not_modelled``. A model without a grade cannot be filled:
+``fill_grade_typical`` then records its empty terms as zero (and says so).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from ..errors import InputError
+from ..parameters import PARAMETERS, Parameter, grade_value
+from .schema import CONSTANT_BIAS_CONVENTIONS, GradeSpec, PartSpec
+
+POLICIES = ("fill_grade_typical", "refuse", "zero")
+DEFAULT_POLICY = "fill_grade_typical"
+
+#: Effects of a noise model that carry a quantity's family on a triad.
+_EFFECTS_FOR = {"noise": ("white_noise", "heavy_tailed"),
+                "bias": ("bias_instability", "gauss_markov", "rate_random_walk")}
+#: Columns without a grade value (left at 0 when empty, and listed).
+_NO_GRADE_VALUE = ("gyro_rrw_deg_h_rt_h",)
+_REPEATABILITY = {"gyro": "gyro_bias_repeatability_deg_h", "accel": "accel_bias_repeatability_ug"}
+
+
+@dataclass(frozen=True)
+class Fill:
+    """One filled value: ``column`` set to ``value`` (datasheet ``unit``) for the empty ``quantity``."""
+
+    quantity: str
+    column: str
+    value: float
+    unit: str
+    source: str
+
+    def to_dict(self) -> dict:
+        return {"quantity": self.quantity, "column": self.column, "value": self.value,
+                "unit": self.unit, "source": self.source}
+
+
+@dataclass(frozen=True)
+class Resolution:
+    """What was unspecified in a model and how it was resolved (recorded in the MC result)."""
+
+    model: object
+    policy: str
+    grade: str | None
+    unspecified: tuple[str, ...] = ()
+    filled: tuple[Fill, ...] = ()
+    zeroed: tuple[str, ...] = ()
+    not_modelled: tuple[str, ...] = ()
+    notes: tuple[str, ...] = field(default=())
+
+    def to_dict(self) -> dict:
+        return {"policy": self.policy, "grade": self.grade, "unspecified": list(self.unspecified),
+                "filled": [f.to_dict() for f in self.filled], "zero": list(self.zeroed),
+                "not_modelled": list(self.not_modelled), "notes": list(self.notes)}
+
+    def summary(self) -> str:
+        """One line for result summaries ('' when nothing was unspecified)."""
+        if not self.unspecified:
+            return ""
+        parts = []
+        if self.filled:
+            parts.append("filled from the " + (self.grade or "?") + " grade's typical values: "
+                         + ", ".join(f"{f.column} = {f.value:.4g} {f.unit}" for f in self.filled))
+        if self.zeroed:
+            parts.append("taken as 0: " + ", ".join(self.zeroed))
+        return f"unspecified datasheet terms ({self.policy}): " + "; ".join(parts)
+
+
+def _effect_triads(model, names: tuple[str, ...]) -> set[str]:
+    return {f.channel.split("_")[0] for f in getattr(model, "effects", ()) if f.name in names}
+
+
+def _has_effect(model, prm: Parameter) -> bool:
+    names = _EFFECTS_FOR.get(prm.family)
+    return bool(names) and prm.triad in _effect_triads(model, names)
+
+
+def unspecified_quantities(model) -> tuple[str, ...]:
+    """Columns ``model`` leaves unspecified among the eight checked quantities — where, for the
+    bias of an ``adev_min`` / ``ieee_b`` row, the in-run column and the turn-on (repeatability)
+    column are two separate terms."""
+    if not isinstance(model, PartSpec):
+        return ()
+    out = []
+    for prm in PARAMETERS:
+        if prm.family == "bias" and not model.bias_is_constant:
+            if getattr(model, prm.column) is None and not _has_effect(model, prm):
+                out.append(prm.column)
+            if getattr(model, _REPEATABILITY[prm.triad]) is None:
+                out.append(_REPEATABILITY[prm.triad])
+        elif getattr(model, prm.column) is None and not _has_effect(model, prm):
+            out.append(prm.column)
+    return tuple(out)
+
+
+def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
+                        grades: Mapping[str, GradeSpec] | None = None) -> Resolution:
+    """Resolve the unspecified terms of ``model`` (a catalog ``PartSpec`` or a ``NoiseModel``).
+
+    Returns a :class:`Resolution` whose ``model`` is the model to simulate (a validated copy
+    with the filled columns, or the model itself). Models in SI (``NoiseModelSI``) are taken
+    as given. ``grades`` defaults to the shipped ``catalog/grades.csv``.
+    """
+    if policy not in POLICIES:
+        raise InputError("unknown policy for unspecified terms", field="unspecified", value=policy,
+                         expected=", ".join(POLICIES))
+    if not isinstance(model, PartSpec):
+        return Resolution(model=model, policy=policy, grade=None,
+                          notes=("an SI noise model is taken as given",))
+    grade = model.grade
+    missing = unspecified_quantities(model)
+    not_modelled = tuple(c for c in _NO_GRADE_VALUE if getattr(model, c) is None)
+    label = model.part_id or "the noise model"
+    if not missing:
+        return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled)
+    if policy == "refuse":
+        raise InputError(f"{label} leaves {', '.join(missing)} unspecified", field="unspecified",
+                         value=policy, expected="the datasheet values in the catalog row, or "
+                         "unspecified = 'fill_grade_typical' (grade typical values, recorded) or "
+                         "'zero' (stated zero)")
+    if policy == "zero" or grade is None:
+        note = ("stated zero (policy 'zero')" if policy == "zero" else
+                "no grade to fill from: taken as 0 (give the model a grade, or use 'refuse')")
+        return Resolution(model=model, policy=policy, grade=grade, unspecified=missing,
+                          zeroed=missing, not_modelled=not_modelled, notes=(note,))
+    if grades is None:
+        from .io import load_grades
+        grades = load_grades()
+    if grade not in grades:
+        raise InputError(f"grade {grade!r} is not in the grades table", field="grade", value=grade,
+                         expected=", ".join(grades))
+    g = grades[grade]
+    update: dict[str, float] = {}
+    fills, zeroed = [], []
+    for prm in PARAMETERS:
+        targets = [c for c in missing if c in (prm.column, _REPEATABILITY[prm.triad])] \
+            if prm.family == "bias" else [c for c in missing if c == prm.column]
+        for column in targets:
+            if prm.family == "bias" and not model.bias_is_constant and column == prm.column:
+                zeroed.append(column)  # no grade value for an in-run (flicker) figure
+                continue
+            value = grade_value(g, prm, "typical")
+            lo, hi = sorted(float(getattr(g, c)) for c in prm.grade_columns)
+            span = f"{lo:g}" if lo == hi else f"geometric mean of {lo:g}–{hi:g}"
+            what = " as the turn-on bias" if column != prm.column else ""
+            fills.append(Fill(prm.column, column, value, prm.unit,
+                              f"{grade} grade{what}, seed 004 Tables 3–4 ({span} {prm.grade_unit})"))
+            update[column] = value
+    notes = (("in-run bias instability has no grade value (grade biases are turn-on / total "
+              "figures): " + ", ".join(zeroed) + " not modelled"),) if zeroed else ()
+    data = model.model_dump()
+    data.update(update)
+    filled_model = type(model).model_validate(data)
+    return Resolution(model=filled_model, policy=policy, grade=grade, unspecified=missing,
+                      filled=tuple(fills), zeroed=tuple(zeroed),
+                      not_modelled=tuple(c for c in not_modelled if c not in update), notes=notes)

@@ -1,0 +1,432 @@
+"""Validation of catalog CSV text: reading it safely, then checking every cell column by column.
+
+:func:`validate_parts_table` is the single validator of parts CSV files: for a large regular
+file pandas' C reader parses the text and every column is checked as a whole (numbers finite,
+≥ 0 and ≤ the plausible maximum of :data:`~budget.catalog.schema.PART_NUMERIC_COLUMNS`; ids,
+grades, conventions; formula-looking text, OWASP's leading ``= + - @`` tab CR; control
+characters; duplicate ids; the bias-convention rule); smaller or irregular files go through the
+exact record-by-record path, which gives the same result (tests/test_fuzz_readers.py checks
+both agree cell for cell). The first bad cell raises :class:`~budget.errors.InputError` naming
+file, row, column, value and what was expected.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import re
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from .. import units as u
+from ..errors import InputError
+from ..fileio import FORMULA_START, looks_like_formula, read_bytes
+from .schema import (BIAS_CONVENTIONS, CONSTANT_BIAS_CONVENTIONS, GRADES, PART_COLUMNS,
+                     PART_NUMERIC_COLUMNS, PART_REQUIRED, VERIFIED_STATES)
+
+#: Largest catalog file read (bytes) and longest cell (characters).
+MAX_BYTES = 64_000_000
+MAX_CELL_CHARS = 10_000
+_CHUNK = 20_000
+#: Files from this size on are parsed by pandas' C reader (smaller ones faster without it).
+FAST_PATH_CHARS = 1_000_000
+
+#: Alternative header → (canonical column, conversion to the canonical unit; all linear).
+ALT_UNIT_COLUMNS: dict[str, tuple[str, callable]] = {
+    "gyro_bias_instability_deg_s": ("gyro_bias_instability_deg_h", lambda v: v * 3600.0),
+    "gyro_bias_repeatability_deg_s": ("gyro_bias_repeatability_deg_h", lambda v: v * 3600.0),
+    "gyro_arw_deg_s_rt_hz": ("gyro_arw_deg_rt_h", lambda v: v * 60.0),
+    "gyro_arw_rad_s_rt_hz": ("gyro_arw_deg_rt_h", u.rad_s_rt_hz_to_deg_rt_h),
+    "gyro_scale_factor_pct": ("gyro_scale_factor_ppm", lambda v: v * 1e4),
+    "gyro_misalignment_deg": ("gyro_misalignment_mrad", lambda v: u.rad_to_mrad(u.deg_to_rad(v))),
+    "accel_bias_instability_mg": ("accel_bias_instability_ug", lambda v: v * 1e3),
+    "accel_bias_repeatability_mg": ("accel_bias_repeatability_ug", lambda v: v * 1e3),
+    "accel_vrw_ug_rt_hz": ("accel_vrw_m_s_rt_h", u.ug_rt_hz_to_m_s_rt_h),
+    "accel_vrw_m_s2_rt_hz": ("accel_vrw_m_s_rt_h", u.m_s2_rt_hz_to_m_s_rt_h),
+    "accel_scale_factor_pct": ("accel_scale_factor_ppm", lambda v: v * 1e4),
+    "accel_misalignment_deg": ("accel_misalignment_mrad", lambda v: u.rad_to_mrad(u.deg_to_rad(v))),
+}
+
+_PART_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._\-]{0,63}")
+_BAD_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
+_BOOL_CELL = re.compile(r'(?im)(^|,)[ \t"]*(true|false)[ \t"]*(,|\r?$)')
+_TEXT_COLUMNS = tuple(c for c in PART_COLUMNS if c not in PART_NUMERIC_COLUMNS)
+
+
+# --- reading -----------------------------------------------------------------------------------
+
+def _read_text(path: Path) -> str:
+    if not path.exists():
+        raise InputError("file not found", file=path, expected="a catalog CSV file")
+    if not path.is_file():
+        raise InputError("is not a regular file", file=path, expected="a catalog CSV file")
+    if path.stat().st_size == 0:
+        raise InputError("file is empty", file=path, expected="a header row and at least one part")
+    if path.stat().st_size > MAX_BYTES:
+        raise InputError(f"file is {path.stat().st_size} bytes", file=path,
+                         expected=f"at most {MAX_BYTES} bytes")
+    raw = read_bytes(path, MAX_BYTES)
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        raise InputError(f"not UTF-8 text (byte {err.start})", file=path,
+                         expected="a UTF-8 encoded CSV") from None
+    if "\x00" in text:
+        raise InputError("contains NUL bytes (binary file?)", file=path, expected="a UTF-8 CSV")
+    return text
+
+
+def _iter_rows(path: Path, text: str):
+    """(spreadsheet row, stripped cells) of every non-blank record; the first is the header."""
+    csv.field_size_limit(max(MAX_CELL_CHARS * 4, 131072))
+    reader = csv.reader(io.StringIO(text, newline=""))
+    number = 0
+    while True:
+        try:
+            r = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as err:
+            raise InputError(f"malformed CSV near line {reader.line_num}: {err}", file=path,
+                             row=number + 1, expected=f"cells of at most {MAX_CELL_CHARS:,} "
+                             "characters, quotes closed") from None
+        cells = [c.strip() for c in r]
+        if not any(cells):
+            continue
+        number += 1
+        yield number, cells
+
+
+def _read_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
+    """Header and rows as dicts of stripped text (small files: the grades table)."""
+    rows = _iter_rows(path, _read_text(path))
+    first = next(rows, None)
+    if first is None:
+        raise InputError("file has no header", file=path, expected="a header row")
+    header = first[1]
+    out = []
+    for i, r in rows:
+        _check_length(r, header, path, i)
+        out.append(dict(zip(header, r)))
+    return header, out
+
+
+def _check_length(r: list[str], header: list[str], path: Path, i: int) -> None:
+    if len(r) != len(header):
+        raise InputError(f"has {len(r)} cells but the header has {len(header)}", file=path, row=i,
+                         expected="one cell per header column (quote cells that contain commas)")
+    if max(map(len, r), default=0) > MAX_CELL_CHARS:
+        j = max(range(len(r)), key=lambda k: len(r[k]))
+        raise InputError(f"cell of {len(r[j]):,} characters", file=path, row=i, field=header[j],
+                         value=r[j], expected=f"at most {MAX_CELL_CHARS:,} characters")
+
+
+def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], required: tuple[str, ...],
+                alt: Mapping[str, tuple[str, callable]]) -> dict[str, str]:
+    """Header column → canonical column; raises on unknown, duplicate or missing columns."""
+    mapping: dict[str, str] = {}
+    seen: dict[str, str] = {}
+    for col in header:
+        if col == "":
+            raise InputError("empty column name in the header", file=path, row=1)
+        if col in allowed:
+            canon = col
+        elif col in alt:
+            canon = alt[col][0]
+        else:
+            raise InputError("unknown column", file=path, row=1, field=col,
+                             expected=f"one of {', '.join(allowed)}"
+                             + (f" or an alternative-unit column ({', '.join(alt)})" if alt else ""))
+        if col in mapping:
+            raise InputError("duplicate column", file=path, row=1, field=col)
+        if canon in seen:
+            raise InputError(f"gives {canon} twice (as {seen[canon]!r} and {col!r})", file=path,
+                             row=1, field=col, expected="one column per quantity")
+        mapping[col] = canon
+        seen[canon] = col
+    missing = [c for c in required if c not in seen]
+    if missing:
+        raise InputError(f"missing required column(s) {', '.join(missing)}", file=path, row=1)
+    return mapping
+
+
+def _numbers(cells: tuple[str, ...], rows: list[int], path: Path, col: str, canon: str) -> np.ndarray:
+    """One numeric column → float array in the canonical unit (NaN = empty cell), checked."""
+    unit = PART_NUMERIC_COLUMNS[canon][0] if col == canon else col.rsplit("_", 1)[-1]
+    empty = np.fromiter((c == "" for c in cells), bool, len(cells))
+    try:
+        vals = np.fromiter((float(c) if c else 0.0 for c in cells), float, len(cells))
+    except ValueError:
+        k = next(k for k, c in enumerate(cells) if c and not _is_float(c))
+        raise InputError("not a number", file=path, row=rows[k], field=col, value=cells[k],
+                         expected=f"a number in {unit} (or an empty cell if unknown)") from None
+    return _check_numbers(vals, empty, rows, path, col, canon, lambda k: cells[k])
+
+
+def _check_numbers(vals: np.ndarray, empty: np.ndarray, rows: list[int], path: Path, col: str,
+                   canon: str, cell) -> np.ndarray:
+    """Finite, in range (after conversion to the canonical unit); NaN where the cell is empty."""
+    unit = PART_NUMERIC_COLUMNS[canon][0] if col == canon else col.rsplit("_", 1)[-1]
+    bad = ~np.isfinite(vals) & ~empty
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise InputError("not a finite number", file=path, row=rows[k], field=col, value=cell(k),
+                         expected=f"a finite number in {unit}")
+    if col != canon:
+        vals = np.asarray(ALT_UNIT_COLUMNS[col][1](vals), float)
+    lim = PART_NUMERIC_COLUMNS[canon][1]
+    with np.errstate(invalid="ignore"):
+        low = (vals <= 0) if canon == "rate_hz" else (vals < 0)
+        high = vals > lim
+    for mask, msg in ((low & ~empty, "Input should be greater than " + ("0" if canon == "rate_hz" else
+                                                                         "or equal to 0")),
+                      (high & ~empty, f"Input should be less than or equal to {lim:g}")):
+        if mask.any():
+            k = int(np.argmax(mask))
+            raise InputError(msg, file=path, row=rows[k], field=col, value=cell(k),
+                             expected=_expected_text(canon, unit))
+    vals = np.array(vals, float)
+    vals[empty] = np.nan
+    return vals
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _check_text(cells: tuple[str, ...], rows: list[int], path: Path, col: str) -> None:
+    """Formula guard and control characters, for every text cell of one column."""
+    for k, c in enumerate(cells):
+        if c and (c[0] in FORMULA_START and looks_like_formula(c)):
+            raise InputError("text starting with =, +, -, @, tab or CR looks like a spreadsheet "
+                             "formula", file=path, row=rows[k], field=col, value=c,
+                             expected="plain text (start it with a letter, digit or quote)")
+        if c and _BAD_CONTROL.search(c):
+            raise InputError("contains control characters or terminal escape sequences", file=path,
+                             row=rows[k], field=col, value=c, expected="printable text")
+
+
+def _check_choice(cells, rows, path, col, canon, ok, required: bool) -> None:
+    for k, c in enumerate(cells):
+        if not ok(c) and (c != "" or required):
+            raise InputError(_choice_message(canon, c), file=path, row=rows[k], field=col,
+                             value=c, expected=_expected_text(canon, ""))
+
+
+def _choice_message(canon: str, value: str) -> str:
+    if value == "":
+        return "Field required" if canon != "source" else "String should have at least 1 character"
+    if canon == "part_id":
+        return "String should match pattern '^[A-Za-z0-9][A-Za-z0-9._\\-]{0,63}$'"
+    return "Input should be one of the allowed values"
+
+
+_CHOICES = {
+    "part_id": lambda c: bool(_PART_ID.fullmatch(c)),
+    "grade": lambda c: c in GRADES,
+    "source": lambda c: c != "",
+    "bias_instability_convention": lambda c: c in BIAS_CONVENTIONS,
+    "verified": lambda c: c in VERIFIED_STATES,
+}
+
+
+def validate_parts_table(path: str | Path) -> tuple[dict[str, object], list[int]]:
+    """Validate a parts CSV column by column (vectorised; no model per row).
+
+    Returns (canonical column → values, spreadsheet row numbers): numeric columns as float
+    arrays in the canonical unit (NaN = empty cell), text columns as tuples of str. The first
+    bad cell raises :class:`InputError` naming file, row, column, value and what was expected.
+    A large regular file (every record as long as the header, numbers parseable) is parsed by
+    pandas' C reader; anything else goes through the exact record-by-record path (both give
+    the same result: tests/test_fuzz_readers.py).
+    """
+    path = Path(path)
+    text = _read_text(path)
+    fast = _table_fast(path, text) if len(text) >= FAST_PATH_CHARS else None
+    return fast if fast is not None else _table_row_by_row(path, text)
+
+
+def _table_fast(path: Path, text: str):
+    import pandas as pd
+
+    first = next(_iter_rows(path, text), None)
+    if first is None:
+        raise InputError("file has no header", file=path, expected="a header row")
+    header = first[1]
+    mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
+    if '"' not in text and "\r" not in text:  # no quoting: a record is a line
+        lens = np.fromiter((line.count(",") + 1 if line else 0 for line in text.split("\n")), int)
+    else:
+        lens = np.fromiter(map(len, csv.reader(io.StringIO(text, newline=""))), int)
+    lens = lens[lens > 0]
+    if lens.size < 2 or np.any(lens != len(header)):
+        return None  # blank-looking, short or long records: let the exact path name them
+    numeric = [c for c in header if mapping[c] in PART_NUMERIC_COLUMNS]
+    if numeric and _BOOL_CELL.search(text):
+        return None  # pandas would read TRUE/FALSE in a number column as 1/0; float() refuses
+    try:
+        df = pd.read_csv(io.StringIO(text), header=0, names=header, dtype={c: (np.float64 if c in numeric else str)
+                                                                  for c in header},
+                         keep_default_na=False, na_values={c: [""] for c in numeric},
+                         skipinitialspace=True, skip_blank_lines=True, engine="c")
+    except (ValueError, pd.errors.ParserError, csv.Error):
+        return None  # a cell that is not a number (or odd quoting): the exact path names it
+    if len(df) != lens.size - 1:
+        return None
+    text_cols = {c: df[c].str.strip() for c in header if c not in numeric}
+    blank = np.ones(len(df), bool)
+    for c in numeric:
+        blank &= df[c].isna().to_numpy()
+    for c in text_cols.values():
+        blank &= (c == "").to_numpy()
+    if blank.any():
+        return None  # rows of empty cells are skipped by the exact path
+    rows = list(range(2, len(df) + 2))
+    table: dict[str, object] = {}
+    for col in header:
+        canon = mapping[col]
+        if canon in PART_NUMERIC_COLUMNS:
+            vals = df[col].to_numpy(dtype=np.float64, copy=True)
+            table[canon] = _check_numbers(vals, np.isnan(vals), rows, path, col, canon,
+                                          lambda k, c=col: df[c].iloc[k])
+        else:
+            s = text_cols[col]
+            long = (s.str.len() > MAX_CELL_CHARS).to_numpy(dtype=bool)
+            if long.any():
+                k = int(np.argmax(long))
+                raise InputError(f"cell of {len(s.iloc[k]):,} characters", file=path, row=rows[k],
+                                 field=col, value=s.iloc[k],
+                                 expected=f"at most {MAX_CELL_CHARS:,} characters")
+            _check_text_fast(s, rows, path, col)
+            if canon in _CHOICES:
+                ok = np.array(_choice_mask(s, canon), bool)
+                if canon not in PART_REQUIRED:
+                    ok |= (s == "").to_numpy()
+                if not ok.all():
+                    k = int(np.argmax(~ok))
+                    v = s.iloc[k]
+                    raise InputError(_choice_message(canon, v), file=path, row=rows[k], field=col,
+                                     value=v, expected=_expected_text(canon, ""))
+            table[canon] = tuple(s.tolist())
+    _check_rows(table, rows, path, {mapping[c]: c for c in header})
+    return table, rows
+
+
+def _choice_mask(s, canon: str) -> np.ndarray:
+    if canon == "part_id":
+        return s.str.fullmatch(_PART_ID.pattern).to_numpy(dtype=bool)
+    if canon == "source":
+        return (s != "").to_numpy()
+    allowed = {"grade": GRADES, "bias_instability_convention": BIAS_CONVENTIONS,
+               "verified": VERIFIED_STATES}[canon]
+    return s.isin(allowed).to_numpy()
+
+
+def _check_text_fast(s, rows: list[int], path: Path, col: str) -> None:
+    cand = s.str[:1].isin(FORMULA_START).to_numpy() | s.str.contains(
+        _BAD_CONTROL.pattern, regex=True).to_numpy(dtype=bool)
+    if cand.any():
+        idx = np.flatnonzero(cand)
+        _check_text(tuple(s.iloc[idx]), [rows[k] for k in idx], path, col)
+
+
+def _table_row_by_row(path: Path, text: str) -> tuple[dict[str, object], list[int]]:
+    """The exact path (any CSV layout: blank, short or multi-line rows): records in chunks,
+    each chunk checked column by column; used when the fast path cannot be sure."""
+    records = _iter_rows(path, text)
+    first = next(records, None)
+    if first is None:
+        raise InputError("file has no header", file=path, expected="a header row")
+    header = first[1]
+    mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
+    columns: dict[str, list] = {mapping[c]: [] for c in header}
+    row_numbers: list[int] = []
+    chunk: list[list[str]] = []
+    rows_chunk: list[int] = []
+
+    def flush() -> None:
+        if not chunk:
+            return
+        cols = list(zip(*chunk))
+        for j, col in enumerate(header):
+            canon = mapping[col]
+            if canon in PART_NUMERIC_COLUMNS:
+                columns[canon].append(_numbers(cols[j], rows_chunk, path, col, canon))
+            else:
+                _check_text(cols[j], rows_chunk, path, col)
+                if canon in _CHOICES:
+                    _check_choice(cols[j], rows_chunk, path, col, canon, _CHOICES[canon],
+                                  canon in PART_REQUIRED)
+                columns[canon].append(cols[j])
+        row_numbers.extend(rows_chunk)
+        chunk.clear()
+        rows_chunk.clear()
+
+    for i, r in records:
+        _check_length(r, header, path, i)
+        chunk.append(r)
+        rows_chunk.append(i)
+        if len(chunk) >= _CHUNK:
+            flush()
+    flush()
+    if not row_numbers:
+        raise InputError("has a header but no parts", file=path, expected="at least one data row")
+    table = {c: (np.concatenate(v) if c in PART_NUMERIC_COLUMNS else
+                 tuple(x for part in v for x in part)) for c, v in columns.items()}
+    _check_rows(table, row_numbers, path, {mapping[c]: c for c in header})
+    return table, row_numbers
+
+
+def _check_rows(table: dict, rows: list[int], path: Path, header_of: dict[str, str]) -> None:
+    """Checks across columns: unique part_id; no repeatability with a constant-bias convention."""
+    import pandas as pd
+
+    ids = pd.Series(table["part_id"], dtype=object)
+    dup = ids.duplicated().to_numpy()
+    if dup.any():
+        k = int(np.argmax(dup))
+        raise InputError("duplicate part_id", file=path, row=rows[k], field="part_id", value=ids[k],
+                         expected="each part_id once per file")
+    conv = table.get("bias_instability_convention")
+    if conv is None:
+        return
+    const = pd.Series(conv, dtype=object).isin(CONSTANT_BIAS_CONVENTIONS).to_numpy()
+    for rep in ("gyro_bias_repeatability_deg_h", "accel_bias_repeatability_ug"):
+        if rep in table:
+            bad = const & np.isfinite(table[rep])
+            if bad.any():
+                k = int(np.argmax(bad))
+                raise InputError(f"{conv[k]} says the bias columns already hold the turn-on bias, "
+                                 f"but {rep} is also given; leave it empty or use adev_min / ieee_b "
+                                 "for an in-run figure", file=path, row=rows[k],
+                                 field=header_of.get("bias_instability_convention"), value=conv[k],
+                                 expected=_expected_text("bias_instability_convention", ""))
+
+
+def count_valid_parts(path: str | Path) -> int:
+    """Number of parts of a valid parts CSV (fast: no models built); raises on the first bad cell."""
+    return len(validate_parts_table(path)[1])
+
+
+def _expected_text(canon: str | None, unit: str) -> str | None:
+    if canon == "grade":
+        return "one of " + ", ".join(GRADES)
+    if canon == "part_id":
+        return "letters, digits, '.', '_' or '-' (1-64 characters, starting with a letter or digit)"
+    if canon in PART_NUMERIC_COLUMNS:
+        lim = PART_NUMERIC_COLUMNS[canon][1]
+        return f"a number in {unit}, 0 … {lim:g}" + (" (> 0)" if canon == "rate_hz" else "")
+    if canon == "bias_instability_convention":
+        return ("one of " + ", ".join(BIAS_CONVENTIONS) + " (empty = adev_min); total_1sigma and "
+                "turn_on_1sigma leave the repeatability columns empty")
+    if canon == "verified":
+        return "one of " + ", ".join(VERIFIED_STATES) + " (or empty)"
+    if canon == "source":
+        return "the datasheet (with revision) the numbers come from"
+    return None

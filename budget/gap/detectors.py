@@ -1,0 +1,31 @@
+"""Direct detectors: effects whose presence the measured values show without any fit.
+
+* **Lattice → quantization.** When every first difference of a channel is a whole multiple of
+  one step δ (:func:`budget.gap.signatures.lattice_step`), the output is quantized. If the
+  integrated output (angle, velocity) is floored to a quantum q, the output rate moves in steps
+  of q/dt, so q = δ·dt and the IEEE-952 coefficient is Q = q/√12 = δ·dt/√12 (ADEV √3·Q/τ,
+  IEEE Std 952 Annex C). The closed-form signature of quantization assumes an accumulator that
+  crosses many quanta per sample; a static sensor whose noise moves it by less than a quantum
+  per sample gives a correlated error the closed form does not describe, so the effect is
+  proposed at the measured Q and judged by *simulation* (the generator floors the integral the
+  same way). A lattice of raw counts far finer than the noise is proposed too; its simulated
+  improvement is then negligible and it is rejected, as it should be.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..imu import Effect, NoiseModel
+from .signatures import Signature, SignatureGrid
+
+
+def direct_proposals(model: NoiseModel, channel: str, meas: Signature,
+                     grid: SignatureGrid) -> list[Effect]:
+    """Effects the values of ``channel`` show directly (see module docstring)."""
+    out = []
+    have = {f.name for f in model.to_si().channel_effects(channel)}
+    if meas.lattice is not None and "quantization" not in have:
+        q_coeff = meas.lattice * grid.dt_s / math.sqrt(12.0)
+        out.append(Effect(name="quantization", channel=channel, params={"Q": q_coeff}))
+    return out

@@ -1,0 +1,108 @@
+"""The effect registry: every error effect of a channel declared once.
+
+Each :class:`EffectSpec` gives the effect's parameters (unit suffix after the channel unit,
+lower bound), the **stage** where the generator applies it, and — for the additive effects —
+its sample generator. The noise model's validation (:mod:`budget.imu.noise_model`), the
+generator (:mod:`budget.imu.generator`, which walks the registry stage by stage) and the
+model-gap vocabulary (:mod:`budget.gap.candidates`, one candidate per registered effect with
+its closed-form signature in :mod:`budget.gap.theory`) all derive from this table; a test ties
+them. Adding an effect: one entry here (plus its generator in :mod:`budget.imu.effects` if it
+is additive) and one candidate in the gap library.
+
+Stages, in the generator's order:
+
+1. ``gaussian`` — the stationary Gaussian part drawn jointly and exactly (white noise, the
+   flicker bank of bias instability, Gauss–Markov terms; then the rate random walk);
+2. ``additive`` — independent additive terms, each drawn by its ``simulate``;
+3. ``filter`` — the sensor's output filter on the sum of the additive terms;
+4. ``output`` — quantization of the integrated output (sees the true signal too);
+5. ``glitch`` — data glitches (outliers), last.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import effects as fx
+
+STAGES = ("gaussian", "additive", "filter", "output", "glitch")
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One parameter: unit suffix (after the channel unit unless ``channel_free``), lower
+    bound (``None``: signed, any finite number) and whether the bound is allowed."""
+
+    suffix: str
+    low: float | None = 0.0
+    inclusive: bool = True
+    channel_free: bool = False
+    high: float | None = None
+
+
+@dataclass(frozen=True)
+class EffectSpec:
+    """An effect: parameters, stage, one-line signature, and (additive stage) its generator
+    ``simulate(params, n_trials, time_s, dt_s, rng, temp) -> (T, N)``."""
+
+    name: str
+    params: dict[str, ParamSpec]
+    stage: str
+    signature: str
+    simulate: Callable | None = field(default=None, compare=False)
+
+
+def _ramp(p, n_trials, time_s, dt_s, rng, temp):
+    return np.broadcast_to(p["R"] * time_s, (n_trials, time_s.size))
+
+
+def _temperature(p, n_trials, time_s, dt_s, rng, temp):
+    return np.broadcast_to(p["coefficient"] * (temp - temp[..., :1]), (n_trials, time_s.size))
+
+
+def _sinusoid(p, n_trials, time_s, dt_s, rng, temp):
+    return fx.sinusoid(n_trials, time_s, p["frequency_hz"], p["amplitude"], rng)
+
+
+def _vibration(p, n_trials, time_s, dt_s, rng, temp):
+    return fx.vibration(n_trials, time_s.size, p["center_hz"], p["width_hz"], p["sigma"], dt_s, rng)
+
+
+def _heavy(p, n_trials, time_s, dt_s, rng, temp):
+    return fx.student_t_noise(n_trials, time_s.size, p["density"], p["dof"], dt_s, rng)
+
+
+_HZ = ParamSpec("Hz", 0.0, False, True)
+
+REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
+    EffectSpec("white_noise", {"density": ParamSpec("/√Hz")}, "gaussian", "ADEV N/√τ"),
+    EffectSpec("quantization", {"Q": ParamSpec("·s")}, "output",
+               "ADEV √3·Q/τ (IEEE-952); output values on a lattice of step √12·Q/dt"),
+    EffectSpec("bias_instability", {"B": ParamSpec("")}, "gaussian", "flat ADEV 0.664·B"),
+    EffectSpec("rate_random_walk", {"K": ParamSpec("/√s")}, "gaussian", "ADEV K·√(τ/3)"),
+    EffectSpec("rate_ramp", {"R": ParamSpec("/s", None)}, "additive", "ADEV R·τ/√2; slope R",
+               _ramp),
+    EffectSpec("sinusoid", {"frequency_hz": _HZ, "amplitude": ParamSpec("")}, "additive",
+               "PSD line A²/2 at f; ADEV A·sin²(πfτ)/(πfτ)", _sinusoid),
+    EffectSpec("gauss_markov", {"tau_s": ParamSpec("s", 0.0, False, True), "sigma": ParamSpec("")},
+               "gaussian", "ADEV hump near τ ≈ 1.9·τc"),
+    EffectSpec("temperature_sensitivity", {"coefficient": ParamSpec("/°C", None)}, "additive",
+               "regression on the temperature column", _temperature),
+    EffectSpec("outliers", {"rate": ParamSpec("fraction of samples", 0.0, True, True, 1.0),
+                            "magnitude": ParamSpec("")}, "glitch",
+               "isolated spikes of one magnitude in the first differences"),
+    EffectSpec("lowpass", {"cutoff_hz": _HZ}, "filter",
+               "PSD falls towards Nyquist; ADEV at the shortest τ below the white line"),
+    EffectSpec("vibration", {"center_hz": _HZ, "width_hz": _HZ, "sigma": ParamSpec("")},
+               "additive", "PSD peak of −3 dB width w at f0 (a resonance driven by noise)",
+               _vibration),
+    EffectSpec("heavy_tailed", {"density": ParamSpec("/√Hz"),
+                                "dof": ParamSpec("", 2.0, False, True, 1000.0)},
+               "additive", "white ADEV; many large first differences of all sizes (Student t)",
+               _heavy),
+)}
+
+EFFECT_NAMES = tuple(REGISTRY)

@@ -1,0 +1,37 @@
+"""One reader for "a measurement": an IMU log or a measured Allan-deviation table.
+
+The noise lab's ``characterize`` and the model-gap workflow take either; the choice is made
+here once, by the file's header (``channel, tau_s, adev`` → table, see
+:func:`~budget.noise.adev_table.looks_like_adev_table`), with the same rules for both: a table
+needs the record's ``rate_hz`` and ``samples``; ``samples`` is refused for a log (a log has its
+own length).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import InputError
+from .adev_table import looks_like_adev_table, read_adev_table
+from .allan import AllanResult
+from .log_mapping import LogMapping
+from .logs import ImuLog, read_log
+
+
+def read_measurement(path: str | Path, *, rate_hz: float | None = None, samples: int | None = None,
+                     mapping: LogMapping | None = None, repair: bool = False,
+                     max_rows: int | None = None, ci_level: float = 0.95,
+                     min_samples: int = 16) -> ImuLog | dict[str, AllanResult]:
+    """An :class:`ImuLog` (SI channels) or ``{channel: AllanResult}`` from ``path``."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("file not found", file=path, expected="an IMU log CSV or an Allan table")
+    if looks_like_adev_table(path):
+        if rate_hz is None or samples is None:
+            raise InputError("an Allan table needs the record's rate and length", file=path,
+                             expected="--rate-hz F --samples N")
+        return read_adev_table(path, rate_hz, samples, ci_level=ci_level)
+    if samples is not None:
+        raise InputError("--samples is for Allan tables; a log has its own length", field="samples")
+    return read_log(path, mapping, repair, rate_hz=rate_hz, max_rows=max_rows,
+                    min_samples=min_samples)

@@ -1,0 +1,215 @@
+"""What a report holds: scenario, bounds in every mode, the analytic check, Monte Carlo P(pass)
+with intervals, the check-vs-MC comparison, figures, and provenance (version, seed, options).
+
+:func:`build_report` computes what is not given (the check always; the Monte Carlo per part
+unless ``mc_results`` are passed, e.g. by the dashboard which already ran them).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import platform
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+
+#: P(pass after PGA) at or above which a part counts as passing the Monte Carlo verdict when the
+#: two verdicts are compared (the sweep's default target).
+MC_PASS_TARGET = 0.9
+BOUND_MODES = ("paper", "derived", "no-autofocus")
+
+
+def mc_dict(result) -> dict:
+    """JSON-safe dict of an :class:`~budget.mc.McResult` (whatever its method is named)."""
+    fn = getattr(result, "to_dict", None) or getattr(result, "to_json_dict")
+    return fn()
+
+
+def check_vs_mc(record: Mapping, mc, target: float = MC_PASS_TARGET) -> dict:
+    """Does the analytic verdict (a :meth:`CheckResult.records` entry) agree with the Monte Carlo?
+
+    Compares the check's ``pass``/``fail`` with P(pass after PGA) ≥ ``target`` and its 95 %
+    interval: a disagreement is stated only when the interval lies wholly on the other side of
+    ``target``. The check's own flag (its seed 004 verdict differs from its fast-phase /
+    lever-arm verdict, ``flag``/``flag_reason``) is carried as ``check_flag`` and
+    ``check_flag_reason``: it predicts such a disagreement without a simulation.
+    """
+    analytic = record.get("verdict")
+    p, (lo, hi) = mc.p_pass_after, mc.ci_after
+    mc_verdict = "pass" if lo >= target else "fail" if hi < target else "undecided"
+    out = {"part_id": record.get("part_id"), "check_verdict": analytic, "mc_p_pass_after": p,
+           "mc_ci_after": [lo, hi], "mc_verdict": mc_verdict, "target": target,
+           "check_flag": bool(record.get("flag", False)), "check_flag_reason": record.get("flag_reason")}
+    if analytic not in ("pass", "fail") or mc_verdict == "undecided":
+        out.update(agree=None, reason="not comparable (check unknown or MC interval straddles the target)")
+    elif analytic == mc_verdict:
+        out.update(agree=True, reason="")
+    else:
+        reasons = mc.agg.failure_reasons() if hasattr(mc, "agg") else {}
+        top = max(reasons, key=reasons.get) if reasons and max(reasons.values()) > 0 else None
+        why = (f"the Monte Carlo fails mostly on {top} ({reasons[top]} of {mc.trials} trials)"
+               if top and analytic == "pass" else "the simulated chain passes where a bound fails")
+        flag = (f" The check flags it too: {record['flag_reason']}." if record.get("flag")
+                else " The seed 004 bounds ignore the fast phase error that PGA cannot remove.")
+        out.update(agree=False, reason=f"analytic check says {analytic}, Monte Carlo P(pass after PGA) = "
+                                       f"{p:.2f} [{lo:.2f}, {hi:.2f}] (target {target:g}): {why}.{flag}")
+    return out
+
+
+@dataclass
+class Report:
+    """A report's content; :meth:`html` renders it (:mod:`budget.report.html`)."""
+
+    scenario: object
+    mode: str
+    bounds: pd.DataFrame
+    check: object
+    mc: dict = field(default_factory=dict)
+    comparisons: list = field(default_factory=list)
+    figures: dict = field(default_factory=dict)
+    provenance: dict = field(default_factory=dict)
+
+    def check_frame(self) -> pd.DataFrame:
+        recs = self.check.records(0)
+        return pd.DataFrame([{"part_id": r["part_id"], "grade": r["grade"], "verdict": r["verdict"],
+                              "binding": r["binding"], **r["margins"],
+                              "flag (seed 004 vs fast phase / lever arm)": r.get("flag_reason") or ""}
+                             for r in recs])
+
+    def mc_frame(self) -> pd.DataFrame:
+        return pd.DataFrame([{"part_id": pid, "trials": r.trials, "p_pass_before": r.p_pass_before,
+                              "ci_before_lo": r.ci_before[0], "ci_before_hi": r.ci_before[1],
+                              "p_pass_after": r.p_pass_after, "ci_after_lo": r.ci_after[0],
+                              "ci_after_hi": r.ci_after[1], **{f"fail_{k}": v for k, v in
+                                                               r.agg.failure_reasons().items()}}
+                             for pid, r in self.mc.items()])
+
+    def to_frame(self) -> pd.DataFrame:
+        """Check and Monte Carlo side by side, one row per part."""
+        check = self.check_frame()[["part_id", "grade", "verdict", "binding"]]
+        if not self.mc:
+            return check
+        return check.merge(self.mc_frame(), on="part_id", how="left")
+
+    def to_dict(self) -> dict:
+        return {"scenario": self.scenario.model_dump(mode="json"), "derived": self.scenario.derived(),
+                "mode": self.mode, "bounds": self.bounds.to_dict(orient="records"),
+                "check": self.check.records(0), "mc": {pid: mc_dict(r) for pid, r in self.mc.items()},
+                "check_vs_mc": self.comparisons, "provenance": self.provenance}
+
+    def summary(self) -> str:
+        s = self.scenario
+        lines = [f"report: scenario {s.name} (Tc = {s.tc_s:.4g} s), {len(self.check.part_ids)} parts, "
+                 f"{self.mode} bounds, Monte Carlo on {len(self.mc)} part(s)"]
+        lines += [f"  {c['part_id']}: check {c['check_verdict']}, MC P(pass) {c['mc_p_pass_after']:.2f} — "
+                  + ("agree" if c["agree"] else "DISAGREE: " + c["reason"] if c["agree"] is False
+                     else c["reason"]) for c in self.comparisons]
+        return "\n".join(lines)
+
+    def html(self) -> str:
+        from .html import render_html
+
+        return render_html(self)
+
+    def save(self, path) -> None:
+        """Write the HTML (opens offline: plotly.js is embedded), atomically."""
+        from ..fileio import atomic_write_text
+
+        atomic_write_text(path, self.html())
+
+
+def bounds_frame(scenario, assumptions: Mapping | None = None) -> pd.DataFrame:
+    """One row per bound, one column per mode (datasheet units), at the scenario's Tc."""
+    from ..bounds import BOUND_FIELDS, compute_bounds
+    from ..plots.bounds import BOUND_LABELS
+
+    data = {"parameter": [BOUND_LABELS[k] for k in BOUND_FIELDS], "key": list(BOUND_FIELDS)}
+    for m in BOUND_MODES:
+        t = compute_bounds(np.array([scenario.tc_s]), scenario.range_resolution_m, m,
+                           wavelength_m=scenario.wavelength_m, assumptions=(assumptions or {}).get(m))
+        ds = t.datasheet()
+        data[m] = [float(np.ravel(ds[k])[0]) for k in BOUND_FIELDS]
+    return pd.DataFrame(data)
+
+
+def provenance(trials: int | None, seed: int | None, options=None, extra: Mapping | None = None) -> dict:
+    """Version, seed, trials, options and platform: what is needed to reproduce the numbers."""
+    import numpy
+    import scipy
+
+    from .. import __version__
+
+    out = {"sar_imu_budget_version": __version__, "created_utc": _dt.datetime.now(_dt.timezone.utc)
+           .strftime("%Y-%m-%d %H:%M:%S"), "seed": seed, "trials": trials,
+           "mc_options": None if options is None else options.model_dump(mode="json"),
+           "python": platform.python_version(), "numpy": numpy.__version__, "scipy": scipy.__version__,
+           "platform": platform.platform(terse=True)}
+    out.update(extra or {})
+    return out
+
+
+def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence | None = None,
+                 trials: int | None = None, seed: int | None = None, options=None, mode: str = "paper",
+                 assumptions: Mapping | None = None, mc_results: Mapping | None = None,
+                 progress: Callable[[str], Callable[[int, int], None] | None] | None = None) -> Report:
+    """Assemble a :class:`Report` for ``scenario`` (object or preset name).
+
+    ``parts``: checked analytically (ids or objects; default the whole catalog). ``mc_parts``:
+    parts run through the Monte Carlo (default: none unless ``mc_results`` are given);
+    ``mc_results``: already computed ``{part_id: McResult}`` (not re-run). ``progress(part_id)``
+    may return a ``progress(done, total)`` callback for each Monte Carlo run.
+    """
+    from ..api import load_catalog, load_part, load_parts, load_scenario
+    from ..check import check_parts
+    from ..mc.options import DEFAULT_SEED, DEFAULT_TRIALS, McOptions
+    from ..mc.runner import run_mc
+
+    s = load_scenario(scenario)
+    if mode not in BOUND_MODES:
+        raise InputError("unknown bounds mode", field="mode", value=mode, expected=", ".join(BOUND_MODES))
+    cat = load_catalog()
+    plist = list(cat.values()) if parts is None else load_parts(parts, cat)
+    check = check_parts(plist, s, mode, (assumptions or {}).get(mode))
+    trials = DEFAULT_TRIALS if trials is None else trials
+    seed = DEFAULT_SEED if seed is None else seed
+    options = options or McOptions()
+    mc = dict(mc_results or {})
+    for p in mc_parts or ():
+        part = load_part(p, cat)
+        pid = getattr(part, "part_id", None) or "model"
+        if pid not in mc:
+            cb = progress(pid) if progress else None
+            mc[pid] = run_mc(s, part, trials, seed, options=options, progress=cb)
+    if mc:
+        first = next(iter(mc.values()))
+        trials, seed = first.trials, first.seed
+    recs = {r["part_id"]: r for r in check.records(0)}
+    comparisons = [check_vs_mc(recs.get(pid, {"part_id": pid, "verdict": "not checked"}), r)
+                   for pid, r in mc.items()]
+    rep = Report(scenario=s, mode=mode, bounds=bounds_frame(s, assumptions), check=check, mc=mc,
+                 comparisons=comparisons,
+                 provenance=provenance(trials if mc else None, seed if mc else None, options if mc else None))
+    rep.figures = _figures(rep)
+    return rep
+
+
+def _figures(rep: Report) -> dict:
+    from ..catalog.io import load_grades
+    from ..plots.bounds import bounds_vs_tc_figure
+    from ..plots.check import margin_heatmap_figure
+
+    s = rep.scenario
+    tc_range = (min(0.1, s.tc_s / 2), max(100.0, 2 * s.tc_s))
+    figs = {"bounds vs Tc": bounds_vs_tc_figure(s.range_resolution_m, load_grades(), modes=BOUND_MODES,
+                                                tc_range_s=tc_range, current_tc_s=s.tc_s,
+                                                wavelength_m=s.wavelength_m),
+            "check margins": margin_heatmap_figure(rep.check)}
+    if rep.mc:
+        from ..plots.mc import pass_probability_figure
+
+        figs["P(pass) before/after PGA"] = pass_probability_figure(rep.mc)
+    return figs

@@ -1,0 +1,146 @@
+"""Reader for AFRL Gotcha-format phase-history files (MATLAB ``.mat``, one struct ``data``).
+
+Fields (one file = one degree of azimuth of one pass and polarisation): ``fp`` (n_freq, P)
+complex phase history, deramped to the scene centre; ``freq`` (n_freq, 1) Hz; ``x``, ``y``, ``z``
+(1, P) antenna phase centre, m, scene-centred frame; ``r0`` (1, P) range to the scene centre, m;
+``th``, ``phi`` (1, P) azimuth and elevation, deg (optional here); ``af`` (optional) the provider's
+autofocus solution with ``r_correct`` (m) and ``ph_correct`` (rad) per pulse. See
+:mod:`budget.sar.phase_history` for the phase convention.
+
+Several files are concatenated along the aperture in the order given; they must share the
+frequency axis. Every problem raises :class:`~budget.errors.InputError` naming the file and field.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .phase_history import PhaseHistory
+
+_REQUIRED = ("fp", "freq", "x", "y", "z", "r0")
+MAX_FILE_BYTES = 2_000_000_000
+
+
+def _field(rec, names: tuple[str, ...], name: str, path: Path, required: bool = True):
+    if name not in names:
+        if required:
+            raise InputError("missing field", file=path, field=f"data.{name}",
+                             expected=f"an AFRL phase-history struct with fields {', '.join(_REQUIRED)}")
+        return None
+    return rec[name]
+
+
+def _row(value, n: int, name: str, path: Path) -> np.ndarray:
+    arr = np.asarray(value)
+    if arr.dtype == object or arr.size != n or (arr.ndim == 2 and min(arr.shape) != 1) or arr.ndim > 2:
+        raise InputError(f"shape {arr.shape} does not match {n} pulses", file=path, field=f"data.{name}",
+                         expected=f"(1, {n}) values")
+    try:
+        out = arr.astype(float).ravel()
+    except (TypeError, ValueError):
+        raise InputError("not numeric", file=path, field=f"data.{name}") from None
+    if not np.all(np.isfinite(out)):
+        raise InputError("holds NaN or infinite values", file=path, field=f"data.{name}", expected="finite values")
+    return out
+
+
+def _load_struct(path: Path):
+    import scipy.io as sio
+
+    if not path.is_file():
+        raise InputError("file not found", file=path, expected="an AFRL phase-history .mat file")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise InputError(f"file is {path.stat().st_size} bytes", file=path,
+                         expected=f"at most {MAX_FILE_BYTES} bytes")
+    try:
+        mat = sio.loadmat(str(path))
+    except Exception as err:  # noqa: BLE001 — any failure to parse an untrusted file is bad input
+        raise InputError(f"not a readable MATLAB file ({str(err).splitlines()[0] if str(err) else type(err).__name__})",
+                         file=path, expected="a MATLAB v5/v7 .mat file") from None
+    if "data" not in mat:
+        raise InputError("missing variable", file=path, field="data", expected="a struct named 'data'")
+    data = mat["data"]
+    if data.dtype.names is None or data.size < 1:
+        raise InputError("is not a struct", file=path, field="data", expected="a MATLAB struct")
+    return data.flat[0], tuple(data.dtype.names)
+
+
+def read_afrl_file(path: str | Path) -> dict:
+    """One file's arrays: samples (P, n_freq) complex64, frequency_hz, antenna_m (P, 3), r0_m and
+    the optional azimuth/elevation and recorded autofocus (``None`` when absent)."""
+    path = Path(path)
+    rec, names = _load_struct(path)
+    fp = np.asarray(_field(rec, names, "fp", path))
+    if fp.ndim != 2 or not np.iscomplexobj(fp) or min(fp.shape) < 2:
+        raise InputError(f"shape {fp.shape}, dtype {fp.dtype}", file=path, field="data.fp",
+                         expected="a complex (n_freq, n_pulses) array")
+    k, n = fp.shape
+    freq = np.asarray(_field(rec, names, "freq", path))
+    if freq.size != k or (freq.ndim == 2 and min(freq.shape) != 1):
+        raise InputError(f"shape {freq.shape} does not match {k} frequency samples of data.fp", file=path,
+                         field="data.freq", expected=f"({k}, 1) frequencies in Hz")
+    freq = _row(freq, k, "freq", path)
+    if not np.all(np.isfinite(fp)):
+        bad = np.argwhere(~np.isfinite(fp))[0]
+        raise InputError(f"non-finite sample at frequency {bad[0]}, pulse {bad[1]}", file=path, field="data.fp",
+                         expected="finite complex samples")
+    pos = np.stack([_row(_field(rec, names, c, path), n, c, path) for c in ("x", "y", "z")], axis=1)
+    out = {"samples": fp.T.astype(np.complex64), "frequency_hz": freq, "antenna_m": pos,
+           "r0_m": _row(_field(rec, names, "r0", path), n, "r0", path)}
+    for c, key in (("th", "azimuth_deg"), ("phi", "elevation_deg")):
+        v = _field(rec, names, c, path, required=False)
+        out[key] = None if v is None else _row(v, n, c, path)
+    out["r_correct_m"] = out["ph_correct_rad"] = None
+    af = _field(rec, names, "af", path, required=False)
+    if af is not None:
+        af = np.asarray(af)
+        af_names = af.dtype.names or ()
+        if af.size < 1 or "r_correct" not in af_names or "ph_correct" not in af_names:
+            raise InputError("autofocus struct lacks r_correct/ph_correct", file=path, field="data.af",
+                             expected="a struct with r_correct (m) and ph_correct (rad) per pulse")
+        a0 = af.flat[0]
+        out["r_correct_m"] = _row(a0["r_correct"], n, "af.r_correct", path)
+        out["ph_correct_rad"] = _row(a0["ph_correct"], n, "af.ph_correct", path)
+    return out
+
+
+def read_afrl(paths) -> PhaseHistory:
+    """Read and concatenate AFRL files along the aperture (order as given) into a :class:`PhaseHistory`.
+
+    The files must share the frequency axis (to 1 Hz). The recorded autofocus solution is kept only
+    when every file has one (a note says when it was dropped)."""
+    paths = [Path(p) for p in ([paths] if isinstance(paths, (str, Path)) else list(paths))]
+    if not paths:
+        raise InputError("no phase-history file given", field="FILE", expected="one or more .mat files")
+    parts = [read_afrl_file(p) for p in paths]
+    f0 = parts[0]["frequency_hz"]
+    for p, part in zip(paths[1:], parts[1:]):
+        f = part["frequency_hz"]
+        if f.size != f0.size or np.max(np.abs(f - f0)) > 1.0:
+            raise InputError(f"frequency axis differs from that of {paths[0].name}", file=p, field="data.freq",
+                             expected=f"the same {f0.size} frequencies in every file")
+    notes = []
+    has_af = all(part["r_correct_m"] is not None for part in parts)
+    if not has_af and any(part["r_correct_m"] is not None for part in parts):
+        notes.append("recorded autofocus dropped: not every file has one")
+
+    def cat(key):
+        if any(part[key] is None for part in parts):
+            return None
+        return np.concatenate([part[key] for part in parts])
+
+    try:
+        ph = PhaseHistory(
+            samples=np.concatenate([part["samples"] for part in parts]), frequency_hz=f0,
+            antenna_m=np.concatenate([part["antenna_m"] for part in parts]),
+            scene_range_m=np.concatenate([part["r0_m"] for part in parts]),
+            pulse_source=np.concatenate([[p.name] * part["samples"].shape[0] for p, part in zip(paths, parts)]),
+            recorded_range_correction_m=cat("r_correct_m") if has_af else None,
+            recorded_phase_correction_rad=cat("ph_correct_rad") if has_af else None,
+            azimuth_deg=cat("azimuth_deg"), elevation_deg=cat("elevation_deg"), notes=notes)
+    except InputError as err:
+        raise err.rename_file(paths[0] if len(paths) == 1 else ", ".join(p.name for p in paths)) from None
+    return ph

@@ -1,0 +1,175 @@
+"""A recorded SAR phase history: samples per pulse and frequency, with the antenna track.
+
+Convention (spotlight data deramped to the scene centre, as the AFRL Gotcha release): a point
+scatterer of complex reflectivity a at ground position p contributes to pulse n, frequency f
+
+    S(n, f) = a · exp(−j 4π f / c · (|A_n − p| − R0_n)),                                  (1)
+
+with A_n the antenna phase centre and R0_n the recorded range to the scene centre. An image is
+formed by backprojection with the conjugate phase (:mod:`budget.sar.focus`). A per-pulse phase
+error ψ_n multiplies pulse n by exp(jψ_n); a correction by exp(−jψ_n).
+
+The provider's autofocus solution (when recorded) is a range correction ΔR_n (added to R0_n) and a
+phase correction χ_n (each pulse multiplied by exp(jχ_n)). By (1), replacing R0_n with R0_n + ΔR_n
+multiplies pulse n by exp(−j 4π f ΔR_n / c), so the net correction at frequency f is
+χ_n − 4π f ΔR_n / c, and the phase error it implies is its negative.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+
+C_M_S = 299_792_458.0
+
+
+@dataclass
+class PhaseHistory:
+    """Complex ``samples`` (n_pulses, n_freq), pulses along axis 0, in the convention (1) above.
+
+    ``antenna_m`` (n_pulses, 3) and the ground plane z = 0 are in the scene-centred local frame.
+    ``pulse_source`` names the file of each pulse (several files are concatenated in order).
+    """
+
+    samples: np.ndarray = field(repr=False)
+    frequency_hz: np.ndarray = field(repr=False)
+    antenna_m: np.ndarray = field(repr=False)
+    scene_range_m: np.ndarray = field(repr=False)
+    pulse_source: np.ndarray = field(repr=False)
+    recorded_range_correction_m: np.ndarray | None = field(default=None, repr=False)
+    recorded_phase_correction_rad: np.ndarray | None = field(default=None, repr=False)
+    azimuth_deg: np.ndarray | None = field(default=None, repr=False)
+    elevation_deg: np.ndarray | None = field(default=None, repr=False)
+    notes: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        s = np.asarray(self.samples)
+        if s.ndim != 2 or s.shape[0] < 2 or s.shape[1] < 2 or not np.iscomplexobj(s):
+            raise InputError(f"samples have shape {s.shape}", field="samples",
+                             expected="a complex (n_pulses ≥ 2, n_freq ≥ 2) array")
+        n, k = s.shape
+        f = np.asarray(self.frequency_hz, dtype=float).ravel()
+        if f.size != k:
+            raise InputError(f"{f.size} frequencies for {k} samples per pulse", field="frequency_hz")
+        if not np.all(np.isfinite(f)) or np.any(f <= 0):
+            raise InputError("frequencies must be finite and > 0", field="frequency_hz")
+        step = np.diff(f)
+        if np.any(step <= 0) or np.ptp(step) > 1e-3 * abs(step.mean()):
+            raise InputError("frequencies must increase in equal steps", field="frequency_hz",
+                             expected="a uniform, increasing frequency axis")
+        a = np.asarray(self.antenna_m, dtype=float)
+        if a.shape != (n, 3) or not np.all(np.isfinite(a)):
+            raise InputError(f"antenna positions have shape {a.shape}", field="antenna_m",
+                             expected=f"finite ({n}, 3) positions in m")
+        r = np.asarray(self.scene_range_m, dtype=float).ravel()
+        if r.size != n or not np.all(np.isfinite(r)) or np.any(r <= 0):
+            raise InputError("scene ranges must be finite, > 0, one per pulse", field="scene_range_m")
+        if not np.all(np.isfinite(s)):
+            raise InputError("samples hold NaN or infinite values", field="samples", expected="finite values")
+        self.samples, self.frequency_hz, self.antenna_m, self.scene_range_m = s, f, a, r
+        self.pulse_source = np.asarray(self.pulse_source, dtype=object).ravel()
+        if self.pulse_source.size != n:
+            raise InputError("one source name per pulse expected", field="pulse_source")
+        for name in ("recorded_range_correction_m", "recorded_phase_correction_rad", "azimuth_deg",
+                     "elevation_deg"):
+            v = getattr(self, name)
+            if v is not None:
+                v = np.asarray(v, dtype=float).ravel()
+                if v.size != n or not np.all(np.isfinite(v)):
+                    raise InputError("must be finite, one value per pulse", field=name)
+                setattr(self, name, v)
+
+    # --- axes -------------------------------------------------------------------------------
+    @property
+    def n_pulses(self) -> int:
+        return int(self.samples.shape[0])
+
+    @property
+    def n_frequencies(self) -> int:
+        return int(self.samples.shape[1])
+
+    @property
+    def frequency_step_hz(self) -> float:
+        return float((self.frequency_hz[-1] - self.frequency_hz[0]) / (self.n_frequencies - 1))
+
+    @property
+    def reference_frequency_hz(self) -> float:
+        """Frequency of sample n_freq // 2: the carrier of the range-compressed profiles."""
+        return float(self.frequency_hz[0] + (self.n_frequencies // 2) * self.frequency_step_hz)
+
+    @property
+    def bandwidth_hz(self) -> float:
+        return self.n_frequencies * self.frequency_step_hz
+
+    @property
+    def has_recorded_autofocus(self) -> bool:
+        return self.recorded_range_correction_m is not None and self.recorded_phase_correction_rad is not None
+
+    # --- corrections ------------------------------------------------------------------------
+    def with_phase_error(self, phase_rad) -> "PhaseHistory":
+        """A copy with pulse n multiplied by exp(j phase_rad[n]) (an injected or removed error)."""
+        ph = np.asarray(phase_rad, dtype=float).ravel()
+        if ph.size != self.n_pulses or not np.all(np.isfinite(ph)):
+            raise InputError("one finite phase per pulse expected", field="phase_rad",
+                             expected=f"{self.n_pulses} values in rad")
+        return self._replace(samples=self.samples * np.exp(1j * ph)[:, None].astype(self.samples.dtype))
+
+    def with_recorded_autofocus(self) -> "PhaseHistory":
+        """The provider's correction applied: R0 + ΔR and each pulse × exp(jχ) (module docstring)."""
+        if not self.has_recorded_autofocus:
+            raise InputError("the phase history has no recorded autofocus solution", field="af",
+                             expected="files with data.af.r_correct and data.af.ph_correct")
+        chi = np.exp(1j * self.recorded_phase_correction_rad)[:, None].astype(self.samples.dtype)
+        out = self._replace(samples=self.samples * chi,
+                            scene_range_m=self.scene_range_m + self.recorded_range_correction_m)
+        out.notes = self.notes + ["recorded autofocus solution applied (R0 + r_correct, × exp(j ph_correct))"]
+        return out
+
+    def recorded_phase_error_rad(self, frequency_hz: float | None = None) -> np.ndarray:
+        """Phase error per pulse implied by the recorded solution at ``frequency_hz`` (default the
+        reference frequency): −(χ_n − 4π f ΔR_n / c), unwrapped along the pulses, rad."""
+        if not self.has_recorded_autofocus:
+            raise InputError("the phase history has no recorded autofocus solution", field="af")
+        f = self.reference_frequency_hz if frequency_hz is None else float(frequency_hz)
+        net = self.recorded_phase_correction_rad - 4.0 * np.pi * f * self.recorded_range_correction_m / C_M_S
+        return -np.unwrap(net)
+
+    def _replace(self, **changes) -> "PhaseHistory":
+        kw = {k: getattr(self, k) for k in ("samples", "frequency_hz", "antenna_m", "scene_range_m",
+                                             "pulse_source", "recorded_range_correction_m",
+                                             "recorded_phase_correction_rad", "azimuth_deg", "elevation_deg")}
+        kw.update(changes)
+        return PhaseHistory(**kw, notes=list(self.notes))
+
+    # --- result protocol --------------------------------------------------------------------
+    def summary(self) -> dict:
+        track = np.linalg.norm(np.diff(self.antenna_m, axis=0), axis=1).sum()
+        out = {"pulses": self.n_pulses, "frequencies": self.n_frequencies,
+               "frequency_min_hz": float(self.frequency_hz[0]), "frequency_max_hz": float(self.frequency_hz[-1]),
+               "frequency_step_hz": self.frequency_step_hz, "bandwidth_hz": self.bandwidth_hz,
+               "track_length_m": float(track), "scene_range_mean_m": float(self.scene_range_m.mean()),
+               "sources": list(dict.fromkeys(self.pulse_source.tolist())),
+               "recorded_autofocus": self.has_recorded_autofocus, "notes": list(self.notes)}
+        if self.azimuth_deg is not None:
+            out["azimuth_span_deg"] = [float(self.azimuth_deg[0]), float(self.azimuth_deg[-1])]
+        if self.elevation_deg is not None:
+            out["elevation_mean_deg"] = float(self.elevation_deg.mean())
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per pulse: source, antenna x/y/z (m), R0 (m), recorded corrections when present."""
+        df = pd.DataFrame({"source": self.pulse_source, "antenna_x_m": self.antenna_m[:, 0],
+                           "antenna_y_m": self.antenna_m[:, 1], "antenna_z_m": self.antenna_m[:, 2],
+                           "scene_range_m": self.scene_range_m})
+        if self.has_recorded_autofocus:
+            df["recorded_range_correction_m"] = self.recorded_range_correction_m
+            df["recorded_phase_correction_rad"] = self.recorded_phase_correction_rad
+        df.index.name = "pulse"
+        return df
+
+    def to_dict(self) -> dict:
+        return {"summary": self.summary(), "pulses": self.to_frame().reset_index().to_dict(orient="records")}

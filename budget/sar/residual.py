@@ -1,0 +1,126 @@
+"""What PGA cannot remove: ONE definition, used by the Monte Carlo verdict and the analytic bounds.
+
+PGA estimates the phase error from the dominant scatterers inside a window of W azimuth samples
+around each of them (Wahl et al. 1994, step 3). A phase component of k cycles over the aperture
+puts paired echoes k·n/n_ap samples from the target (n image samples, n_ap of them inside the
+aperture band; a sinusoid of amplitude β gives paired echoes at 20·log10(β/2) dB). Once
+PGA's window has settled to W samples, components of more than
+
+    K = W · n_ap / (2 n)  cycles per aperture                                  (1)
+
+put their energy outside the window: the settled PGA neither sees nor corrects them. Components
+up to K land inside the window, where the image metrics (broadening, PSLR, ISLR, peak loss)
+already judge what is left of them.
+
+Definition. The phase over the aperture bins is fitted (least squares) with what PGA removes:
+the Legendre polynomials up to the cubic (constant and linear only move the image; quadratic and
+cubic are PGA's first job, seed 004) and the DCT-II cosines cos(π j (i + ½)/n) up to j = 2K
+(index j is j/2 cycles per aperture, so these are the components up to K cycles). What is left
+is what PGA cannot remove. (The polynomials are in the basis because a smooth trend is not
+band-limited for the DCT: its even extension has kinks at the aperture ends, so a large
+quadratic would otherwise leak into the "fast" part.)
+
+* Monte Carlo: the residual r = (PGA estimate − true phase) high-passed above 2K, its rms
+  weighted by the aperture's signal energy per bin (the weight with which a phase error moves
+  main-lobe energy into sidelobes: a small phase error of rms σ moves σ² of it);
+  :func:`pga_residual_rms_rad`;
+* analytic: the true phase high-passed above 2K (PGA is credited with nothing beyond its settled
+  window, a worst case: on clean isolated points its early wide-window iterations also remove part
+  of the fast phase), whose expected rms for random walks is exact from the covariance of the
+  integrated white noise (no Monte Carlo); :func:`random_walk_highpass_rms`.
+
+Both share :func:`highpass_phase`; the bounds (:mod:`budget.bounds.fast_phase`,
+:mod:`budget.bounds.lever_arm`) and the Monte Carlo (:mod:`budget.mc.chain`) call this module.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+import scipy.fft as sfft
+
+#: PGA's smallest window (samples, :func:`budget.sar.pga.pga` ``min_window``) and the fraction of
+#: the image's azimuth samples inside the aperture band on the presets (0.51–0.68, 1/oversample ×
+#: the scene-extent margin): with them (1) gives K ≈ 2.0–2.7 cycles. The analytic bounds use
+#: this default when no PGA run tells them the settled window.
+DEFAULT_PGA_BANDWIDTH_CYCLES = 2.5
+
+
+def pga_bandwidth_cycles(final_window_samples: float, n_bins: int, n_aperture_bins: int) -> float:
+    """K of (1): cycles per aperture inside PGA's settled window of ``final_window_samples``."""
+    if not (final_window_samples > 0 and n_bins > 0 and n_aperture_bins > 0):
+        raise ValueError("window, bins and aperture bins must be > 0")
+    return float(final_window_samples) * n_aperture_bins / (2.0 * n_bins)
+
+
+@lru_cache(maxsize=32)
+def _removable_projector(n: int, n_cos: int) -> np.ndarray:
+    """I − B B⁺ for B = [P0…P3 (Legendre), DCT-II cosines 1…n_cos] on n points."""
+    u = np.linspace(-1.0, 1.0, n)
+    cols = [np.polynomial.legendre.legval(u, np.eye(4)[k]) for k in range(min(4, n))]
+    i = np.arange(n) + 0.5
+    cols += [np.cos(np.pi * j * i / n) for j in range(1, min(n_cos, n - 1) + 1)]
+    b = np.stack(cols, axis=1)
+    return np.eye(n) - b @ np.linalg.pinv(b)
+
+
+def highpass_phase(phase_rad, cutoff_cycles: float) -> np.ndarray:
+    """The part of ``phase_rad`` (rad, over the aperture bins) beyond PGA's bandwidth of
+    ``cutoff_cycles`` cycles per aperture: least-squares residual after the Legendre terms up to
+    the cubic and the DCT-II cosines up to index ⌊2·cutoff⌋ (module docstring)."""
+    x = np.asarray(phase_rad, dtype=float)
+    n = x.size
+    if n < 6:
+        return np.zeros(n)
+    return _removable_projector(n, int(math.floor(2.0 * cutoff_cycles))) @ x
+
+
+def pga_residual_rms_rad(estimate_rad, truth_rad, mask, weight, cutoff_cycles: float) -> float:
+    """Energy-weighted rms (rad) of (estimate − truth) over the aperture bins ``mask`` beyond
+    ``cutoff_cycles`` (the definition in the module docstring); nan when < 8 bins."""
+    m = np.asarray(mask, bool) & np.isfinite(truth_rad) & np.isfinite(estimate_rad)
+    if m.sum() < 8:
+        return math.nan
+    r = highpass_phase(np.asarray(estimate_rad, float)[m] - np.asarray(truth_rad, float)[m], cutoff_cycles)
+    w = np.asarray(weight, float)[m]
+    if not np.any(w > 0):
+        w = np.ones_like(w)
+    return float(math.sqrt(np.sum(w * r * r) / np.sum(w)))
+
+
+def phase_history_energy(image_data) -> np.ndarray:
+    """Signal energy per azimuth-frequency bin (centred order, as PGA's estimate): Σ_r |G(k, r)|²."""
+    g = sfft.ifft(np.asarray(image_data), axis=0)
+    return np.fft.fftshift((np.abs(g) ** 2).sum(axis=1))
+
+
+#: Random processes the analytic residual knows: power p of e(t) = ∫₀ᵗ (t − s)^p/p! dW(s).
+#: ``vrw``: accelerometer white noise → position (p = 1); ``arw``: gyro white noise → tilt →
+#: gravity → position (p = 2, × g); ``rw``: a random walk itself, e.g. ARW attitude noise seen
+#: through a lever arm d (p = 0, × |d|).
+KIND_POWER = {"rw": 0, "vrw": 1, "arw": 2}
+
+
+@lru_cache(maxsize=64)
+def random_walk_highpass_rms(kind: str, cutoff_cycles: float = DEFAULT_PGA_BANDWIDTH_CYCLES,
+                             n: int = 800) -> float:
+    """√E[mean r²] of :func:`highpass_phase` applied to the ``kind`` random walk over t ∈ [0, 1] s
+    with unit noise density (exact: covariance of e on an n-point grid, no sampling).
+
+    Scale: ``rw`` × N·√Tc, ``vrw`` × N·Tc^1.5, ``arw`` × g·N·Tc^2.5 (N per √s: rad/√s or
+    m/s²/√Hz) — a position (m) to turn into phase with 4π/λ.
+    """
+    p = KIND_POWER.get(kind)
+    if p is None:
+        raise ValueError("kind must be 'rw', 'vrw' or 'arw'")
+    ds = 1.0 / n
+    t = (np.arange(n) + 0.5) * ds
+    s = np.arange(n) * ds
+    lag = np.clip(t[:, None] - s[None, :], 0.0, None)
+    kernel = (lag > 0) * lag ** p / math.factorial(p) if p else (lag > 0).astype(float)
+    # the same linear operator as highpass_phase, applied to every column of the kernel:
+    # r = H e with e = kernel @ dW, var(dW) = ds → E[mean r²] = ‖H kernel‖²_F · ds / n
+    r = _removable_projector(n, int(math.floor(2.0 * cutoff_cycles))) @ kernel
+    return float(math.sqrt(np.sum(r * r) * ds / n))

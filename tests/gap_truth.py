@@ -1,0 +1,208 @@
+"""Independent generators of static IMU logs for judging the model-gap workflow.
+
+Written from the textbook definitions, without any code of ``budget.imu`` (the generator the
+workflow simulates with) or ``budget.gap``, so a shared mistake cannot pass unseen:
+
+* white noise of density N: i.i.d. normal samples of σ = N·√rate;
+* flicker (bias instability B, IEEE Std 952, one-sided PSD B²/(π f)): white noise shaped in the
+  frequency domain over a record 8× longer than the log (so the frequencies below 1/T that make
+  a slow drift are present), first N samples kept;
+* every hidden effect below is drawn by its own few lines (random walk by a cumulative sum,
+  vibration by a second-order resonator, heavy tails by Student t, quantization by flooring
+  the integrated output).
+
+The base model is a tactical-grade row (gyro ARW 0.5 deg/√h, bias instability 5 deg/h as the
+ADEV floor; accel VRW 0.05 m/s/√h, 50 µg). Hidden effects are scaled so that the channel's
+Allan deviation at the τ where the effect shows most is ``RATIO`` × the base model's (closed
+form N²/τ + floor², independent of the package's theory), except the distribution effects
+(outliers, heavy tails) whose size is stated per effect.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+RATE = 100.0
+DEG = math.pi / 180.0
+G0 = 9.80665
+#: Base model in SI: white density (unit/√Hz) and ADEV floor (unit) per triad.
+GYRO_N = 0.5 * DEG / 60.0            # 0.5 deg/√h → rad/s/√Hz
+GYRO_FLOOR = 5.0 * DEG / 3600.0      # 5 deg/h → rad/s
+ACCEL_N = 0.05 / 60.0                # 0.05 m/s/√h → m/s²/√Hz
+ACCEL_FLOOR = 50e-6 * G0             # 50 µg → m/s²
+FLOOR_PER_B = math.sqrt(2.0 * math.log(2.0) / math.pi)  # ADEV floor = 0.664·B
+CHANNELS = ("gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
+#: Allan-deviation ratio (log / base model) at the effect's most telling τ.
+RATIO = 3.0
+ONE_HOUR = 360_000
+
+
+def base_levels(channel: str) -> tuple[float, float]:
+    return (GYRO_N, GYRO_FLOOR) if channel.startswith("gyro") else (ACCEL_N, ACCEL_FLOOR)
+
+
+def octave_m(n: int) -> np.ndarray:
+    return 2 ** np.arange(int(math.floor(math.log2(n // 4))) + 1)
+
+
+def adev(x: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """Overlapping Allan deviation from the phase (cumulative sum), own few lines."""
+    phase = np.concatenate([[0.0], np.cumsum(x - x.mean())])
+    out = []
+    for k in m:
+        d = phase[2 * k:] - 2.0 * phase[k:-k] + phase[:-2 * k]
+        out.append(math.sqrt(np.mean(d * d) / 2.0) / k)
+    return np.array(out)
+
+
+def base_adev(channel: str, tau: np.ndarray) -> np.ndarray:
+    n, floor = base_levels(channel)
+    return np.sqrt(n * n / tau + floor * floor)
+
+
+def flicker(n: int, b_coeff: float, rng: np.random.Generator) -> np.ndarray:
+    size = 8 * n
+    f = np.fft.rfftfreq(size, 1.0 / RATE)
+    w = rng.standard_normal(size)
+    spec = np.fft.rfft(w)
+    gain = np.zeros_like(f)
+    # white of unit variance has one-sided PSD 2/rate; scale it to B²/(π f)
+    gain[1:] = np.sqrt(b_coeff ** 2 / (math.pi * f[1:]) / (2.0 / RATE))
+    return np.fft.irfft(spec * gain, size)[:n]
+
+
+def base_channel(channel: str, n: int, rng: np.random.Generator) -> np.ndarray:
+    dens, floor = base_levels(channel)
+    return dens * math.sqrt(RATE) * rng.standard_normal(n) + flicker(n, floor / FLOOR_PER_B, rng)
+
+
+def temperature(n: int) -> np.ndarray:
+    """Warm-up by 20 °C with a 15-min time constant plus ±0.5 °C of air-conditioning cycles
+    (12-min period), °C."""
+    t = np.arange(n) / RATE
+    return 25.0 + 20.0 * (1.0 - np.exp(-t / 900.0)) + 0.5 * np.sin(2 * math.pi * t / 720.0)
+
+
+# --- hidden effects at unit size: (series, params at unit size) ----------------------------
+
+def _rrw(n, rng, temp):
+    return np.cumsum(rng.standard_normal(n)) / math.sqrt(RATE), {"K": 1.0}
+
+
+def _ramp(n, rng, temp):
+    return np.arange(n) / RATE, {"R": 1.0}
+
+
+def _temp(n, rng, temp):
+    return temp - temp[0], {"coefficient": 1.0}
+
+
+def _sinusoid(n, rng, temp, f0=7.3):
+    t = np.arange(n) / RATE
+    return np.sin(2 * math.pi * f0 * t + rng.uniform(0, 2 * math.pi)), {"frequency_hz": f0, "amplitude": 1.0}
+
+
+def _vibration(n, rng, temp, f0=12.0, width=1.5):
+    """Band-limited random vibration: white noise through the resonator
+    y_k = 2r cos(ω0) y_{k−1} − r² y_{k−2} + w_k (pole radius r = e^(−π·width/rate), so the
+    −3 dB width of the peak is ≈ ``width`` Hz), scaled to unit rms."""
+    from scipy.signal import lfilter
+    r = math.exp(-math.pi * width / RATE)
+    w0 = 2 * math.pi * f0 / RATE
+    y = lfilter([1.0], [1.0, -2 * r * math.cos(w0), r * r], rng.standard_normal(n + 2000))[2000:]
+    return y / y.std(), {"center_hz": f0, "width_hz": width, "sigma": 1.0}
+
+
+EFFECTS = {
+    # name: (channel, unit generator, τ-selection) — the magnitude is set by calibrate()
+    "rate_random_walk": ("gyro_x", _rrw),
+    "rate_ramp": ("gyro_y", _ramp),
+    "temperature_sensitivity": ("gyro_z", _temp),
+    "sinusoid": ("accel_x", _sinusoid),
+    "vibration": ("accel_y", _vibration),
+}
+
+
+def calibrate(name: str, n: int = ONE_HOUR) -> float:
+    """Magnitude that makes the channel's ADEV ``RATIO`` × the base model's at the τ where the
+    unit effect stands out most: effect ADEV = √(RATIO² − 1) × base ADEV there."""
+    channel, gen = EFFECTS[name]
+    m = octave_m(n)
+    tau = m / RATE
+    rng = np.random.default_rng(12345)
+    x, _ = gen(n, rng, temperature(n))
+    rho = adev(x, m) / base_adev(channel, tau)
+    if name == "rate_random_walk":
+        rho = np.sqrt(tau / 3.0) / base_adev(channel, tau)  # expected, not one realization
+    return math.sqrt(RATIO ** 2 - 1.0) / float(rho.max())
+
+
+def quantized(x: np.ndarray, q_coeff: float, true_rate: float, rng: np.random.Generator) -> np.ndarray:
+    """Output of a sensor whose integrated output (angle) is floored to a quantum √12·Q; the
+    true static rate ``true_rate`` is in the integral. Returns the output rate minus the truth."""
+    quantum = math.sqrt(12.0) * q_coeff
+    angle = rng.random() * quantum + np.cumsum(x + true_rate) / RATE
+    counts = np.floor(angle / quantum)
+    return np.diff(counts, prepend=0.0) * quantum * RATE - true_rate
+
+
+def base_model_dict() -> dict:
+    """The base model as the package's noise-model JSON (datasheet units, bias instability as
+    the ADEV floor: the catalog's ``adev_min`` convention)."""
+    return {"rate_hz": RATE, "gyro_arw_deg_rt_h": 0.5, "gyro_bias_instability_deg_h": 5.0,
+            "accel_vrw_m_s_rt_h": 0.05, "accel_bias_instability_ug": 50.0,
+            "bias_instability_convention": "adev_min"}
+
+
+def make(name: str | None, n: int, seed: int) -> tuple[dict, np.ndarray | None, dict]:
+    """(channel → series in SI, temp_c or None, truth {'name', 'channel', 'params'}) of a static
+    log with one hidden effect (``None``: the base model only)."""
+    rng = np.random.default_rng(seed)
+    logs = {ch: base_channel(ch, n, rng) for ch in CHANNELS}
+    temp = temperature(n) + 0.02 * rng.standard_normal(n)  # sensor noise of the thermometer
+    truth = {"name": name, "channel": None, "params": {}}
+    if name in EFFECTS:
+        channel, gen = EFFECTS[name]
+        scale = calibrate(name, n)
+        y, unit = gen(n, rng, temp)
+        logs[channel] = logs[channel] + scale * y
+        params = {k: (v * scale if k in ("K", "R", "coefficient", "amplitude", "sigma") else v)
+                  for k, v in unit.items()}
+        truth = {"name": name, "channel": channel, "params": params}
+    elif name == "quantization":
+        # ADEV of white angle quantization √3·Q/τ: RATIO × the base white ADEV at τ = dt
+        channel = "gyro_x"
+        dens, _ = base_levels(channel)
+        q = math.sqrt(RATIO ** 2 - 1.0) * dens / math.sqrt(RATE) / math.sqrt(3.0) * 1.0
+        logs[channel] = quantized(logs[channel], q, 7.3e-5, rng)  # Earth rate as the truth
+        truth = {"name": name, "channel": channel, "params": {"Q": q}}
+    elif name == "heavy_tailed":
+        # Student t (ν = 4) replaces the white noise of gyro_y at twice its variance: the ADEV
+        # at τ = dt is √3 × the base's, the differences have a large excess kurtosis
+        channel, nu = "gyro_y", 4.0
+        dens, _ = base_levels(channel)
+        sigma = math.sqrt(2.0) * dens * math.sqrt(RATE)
+        t = rng.standard_t(nu, n) * sigma / math.sqrt(nu / (nu - 2.0))
+        logs[channel] = logs[channel] + t
+        # in the package's terms: density N = σ·√dt of the t samples, and ν
+        truth = {"name": name, "channel": channel,
+                 "params": {"density": sigma / math.sqrt(RATE), "dof": nu}}
+    elif name == "outliers":
+        # sparse spikes: 1 sample in 2000 hit by ±10 white σ
+        channel = "gyro_z"
+        dens, _ = base_levels(channel)
+        mag = 10.0 * dens * math.sqrt(RATE)
+        hit = rng.random(n) < 5e-4
+        logs[channel] = logs[channel] + hit * mag * rng.choice([-1.0, 1.0], n)
+        truth = {"name": name, "channel": channel, "params": {"rate": 5e-4, "magnitude": mag}}
+    elif name is not None:
+        raise ValueError(f"no generator for {name!r}")
+    logs["accel_z"] = logs["accel_z"] - G0  # gravity on z (z up: reads −g), removed by the mean
+    return logs, (temp if name == "temperature_sensitivity" else None), truth
+
+
+#: Every hidden effect the benchmark draws, in the order it prints them.
+ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "quantization", "sinusoid",
+       "vibration", "heavy_tailed", "outliers")

@@ -1,0 +1,51 @@
+"""The effect registry ties the noise model, the generator and the model-gap vocabulary.
+
+Pinned here: the effect/parameter table, that every registered effect is accepted by the noise
+model, changes the generator's output on its channel only, and has exactly one candidate in the
+gap library whose parameters are the registry's.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from budget.gap import LIBRARY, VOCABULARY
+from budget.imu import EFFECT_PARAMS, NoiseModel, generate_imu_errors
+from budget.imu.registry import REGISTRY, STAGES
+
+#: One valid parameter set per effect (SI channel units): the table the docs describe.
+EXAMPLES = {
+    "white_noise": {"density": 1e-3},
+    "quantization": {"Q": 1e-5},
+    "bias_instability": {"B": 1e-4},
+    "rate_random_walk": {"K": 1e-4},
+    "rate_ramp": {"R": 1e-4},
+    "sinusoid": {"frequency_hz": 3.0, "amplitude": 1e-3},
+    "gauss_markov": {"tau_s": 1.0, "sigma": 1e-3},
+    "temperature_sensitivity": {"coefficient": 1e-4},
+    "outliers": {"rate": 1e-2, "magnitude": 1e-2},
+    "lowpass": {"cutoff_hz": 10.0},
+    "vibration": {"center_hz": 12.0, "width_hz": 1.5, "sigma": 1e-3},
+    "heavy_tailed": {"density": 1e-3, "dof": 4.0},
+}
+
+
+def test_one_table_everywhere():
+    assert set(REGISTRY) == set(EFFECT_PARAMS) == set(VOCABULARY) == set(LIBRARY) == set(EXAMPLES)
+    for name, spec in REGISTRY.items():
+        assert spec.stage in STAGES
+        assert set(spec.params) == set(EXAMPLES[name]), name
+        assert (spec.simulate is not None) == (spec.stage == "additive"), name
+        assert LIBRARY[name].name == name
+
+
+@pytest.mark.parametrize("name", list(REGISTRY))
+def test_generator_walks_every_registered_effect(name):
+    base = NoiseModel(rate_hz=100.0, gyro_arw_deg_rt_h=0.5)
+    model = base.with_effect({"name": name, "channel": "gyro_y", "params": EXAMPLES[name]})
+    a = generate_imu_errors(base, 2, 4096, 100.0, np.random.default_rng(4)).gyro_rad_s
+    b = generate_imu_errors(model, 2, 4096, 100.0, np.random.default_rng(4)).gyro_rad_s
+    assert not np.allclose(a[:, :, 1], b[:, :, 1]), name
+    if REGISTRY[name].stage != "gaussian":  # same draws before the effect: other axes untouched
+        assert np.array_equal(a[:, :, [0, 2]], b[:, :, [0, 2]]), name

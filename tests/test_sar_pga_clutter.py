@@ -1,0 +1,154 @@
+"""PGA on scenes that look like real ones: many dominant scatterers over distributed clutter.
+
+The test images are generated here, independently of budget.sar (no simulator, no PGA code): a
+phase history on centred azimuth bins (aperture = 80 % of the band), a sinc range response,
+point targets on distinct range lines, complex white Gaussian clutter band-limited to the same
+2-D support, white receiver noise, and a smooth phase error multiplied onto the phase history
+(image = DFT along azimuth of the phase history, the convention of budget.sar.image).
+
+Theory for the bound (Jakowatz & Wahl, JOSA A 10(12), 1993): with lines of per-bin
+signal-to-clutter ratio SCR_r the ML estimate of a common phase has a per-bin rms error
+1/√(2 Σ SCR_r); for a point of peak power |a|² in a window of W samples over clutter of mean
+pixel power c, SCR = |a|² E_irf / (W c) with E_irf = 1/0.8 samples (sinc of 80 % band).
+"""
+
+import numpy as np
+import pytest
+
+from budget.presets import get_preset
+from budget.sar import SarGeometry, Scene
+from budget.sar.pga import apply_phase_correction, pga
+
+FRAC = 0.8  # aperture fraction of the azimuth band and range band fraction
+
+
+def clutter_scene(n_az=384, n_r=128, n_targets=24, ctr_db=-25.0, snr_db=30.0, spread_db=15.0,
+                  error_rms_rad=2.0, seed=0):
+    """(defocused image, ideal image, aperture mask, injected error, amplitudes, clutter+noise power)."""
+    rng = np.random.default_rng(seed)
+    k = np.arange(n_az) - n_az // 2
+    ap = np.abs(k) < FRAC * n_az / 2
+    lines = rng.choice(np.arange(4, n_r - 4), n_targets, replace=False) + rng.uniform(-0.3, 0.3, n_targets)
+    x = rng.uniform(0, n_az, n_targets)
+    amp = 10 ** (-rng.uniform(0, spread_db, n_targets) / 20)
+    amp[0] = 1.0
+    amp = amp * np.exp(2j * np.pi * rng.uniform(size=n_targets))
+    r = np.arange(n_r)
+    hist = sum(a * (ap * np.exp(2j * np.pi * k * xi / n_az))[:, None] * np.sinc(FRAC * (r - ri))[None, :]
+               for xi, ri, a in zip(x, lines, amp)) / ap.sum()
+    image = np.fft.fft(np.fft.ifftshift(hist, axes=0), axis=0)
+    band_r = np.fft.fftshift(np.abs(np.fft.fftfreq(n_r)) < FRAC / 2)
+    spec = (rng.standard_normal((n_az, n_r)) + 1j * rng.standard_normal((n_az, n_r))) * ap[:, None] * band_r
+    clutter = np.fft.fft(np.fft.ifftshift(np.fft.ifft(np.fft.ifftshift(spec, axes=1), axis=1), axes=0), axis=0)
+    clutter *= np.sqrt(10 ** (ctr_db / 10) / np.mean(np.abs(clutter) ** 2))
+    noise = (rng.standard_normal((n_az, n_r)) + 1j * rng.standard_normal((n_az, n_r))) * np.sqrt(0.5 * 10 ** (-snr_db / 10))
+    ideal = image + clutter + noise
+    u = np.where(ap, k / (FRAC * n_az / 2), 0.0)
+    psi = 6 * u ** 2 + 3 * rng.uniform(-1, 1) * u ** 3 + 2 * np.sin(1.5 * np.pi * u + rng.uniform(-np.pi, np.pi))
+    kk = k[ap]
+    beyond = psi[ap] - np.polyval(np.polyfit(kk, psi[ap], 1), kk)
+    psi = np.where(ap, psi * error_rms_rad / np.sqrt(np.mean(beyond ** 2)), 0.0)
+    bad = np.fft.fft(np.fft.ifft(ideal, axis=0) * np.fft.ifftshift(np.exp(1j * psi))[:, None], axis=0)
+    return bad, ideal, ap, psi, np.abs(amp), 10 ** (ctr_db / 10) + 10 ** (-snr_db / 10)
+
+
+def residual_rad(out, ideal, ap):
+    """rms over the aperture of the phase still on ``out`` relative to ``ideal`` (from their
+    cross-spectrum summed over range), constant and linear terms removed."""
+    cross = np.fft.fftshift((np.fft.ifft(out, axis=0) * np.conj(np.fft.ifft(ideal, axis=0))).sum(axis=1))
+    ph = np.unwrap(np.angle(cross[ap]))
+    k = np.arange(ph.size)
+    ph = ph - np.polyval(np.polyfit(k, ph, 1), k)
+    return float(np.sqrt(np.mean(ph ** 2)))
+
+
+def ml_limit_rad(amp, clutter_power, window=8):
+    """1/√(2 Σ SCR_r) for the targets whose SCR in a ``window``-sample window is ≥ 1."""
+    scr = amp ** 2 * (1 / FRAC) / (window * clutter_power)
+    return float(1 / np.sqrt(2 * scr[scr >= 1].sum()))
+
+
+def test_apply_phase_correction_inverts_an_injected_error():
+    bad, ideal, ap, psi, _, _ = clutter_scene(n_az=128, n_r=32, n_targets=4, seed=3)
+    assert np.allclose(apply_phase_correction(bad, psi), ideal)
+    assert residual_rad(bad, ideal, ap) == pytest.approx(2.0, rel=1e-6)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_pga_on_many_scatterers_over_minus_25_db_clutter(seed):
+    """24 scatterers (15 dB amplitude spread) over −25 dB clutter, SNR 30 dB, 2 rad rms smooth
+    error: the residual stays within 2.5× the ML limit of the scene (limit 0.038–0.053 rad for
+    these seeds, so 0.095–0.13 rad). Measured 0.5–2.4× the limit over 16 scenes (12–40
+    scatterers, −20…−30 dB; seed 0 here 2.4×, 0.13 rad): the rest is what early wide-window
+    iterations leave beyond the settled window's bandwidth, and the centring on speckled peaks.
+    Seed 0 (weak targets) ends above a flat 0.1 rad; the bound is the theory-scaled one."""
+    bad, ideal, ap, _, amp, c = clutter_scene(seed=seed)
+    res = pga(bad)
+    limit = ml_limit_rad(amp, c)
+    assert res.usable_lines >= 5 and not res.failed
+    resid = residual_rad(res.image, ideal, ap)
+    assert resid < 2.5 * limit, (resid, limit, res.reason)
+    # the returned image is the input with the returned estimate applied, whatever the outcome
+    assert np.allclose(res.image, apply_phase_correction(bad, res.phase_error_rad))
+    assert res.final_window >= 8 and res.predicted_noise_rad > 0
+
+
+def test_pga_on_clutter_only_finds_no_usable_scatterers():
+    bad, _, _, _, _, _ = clutter_scene(n_targets=0 + 1, ctr_db=20.0, seed=4)  # one target 20 dB under the clutter
+    res = pga(bad)
+    assert res.failed and res.usable_lines == 0 and not res.converged
+    assert res.reason.startswith("no usable scatterers")
+    assert np.array_equal(res.image, bad) and np.all(res.phase_error_rad == 0)
+    assert res.to_dict()["failed"] is True
+
+
+def test_realistic_scene_and_its_clutter_free_copy():
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    a = Scene.realistic(g, rng=np.random.default_rng(5))
+    b = Scene.realistic(g, rng=np.random.default_rng(5))
+    assert a == b  # same seed → same scene
+    f = a.to_frame()
+    assert len(f) == round(g.scene_extent_m[1] / g.range_resolution_m / 3)  # one per 3 range cells
+    gaps = np.diff(np.sort(f["range_m"].to_numpy()))
+    assert gaps.min() >= 2 * g.range_resolution_m - 1e-9  # distinct range lines
+    assert f["amplitude"].max() == 1.0 and f["amplitude"].min() >= 10 ** (-15 / 20)
+    assert a.clutter_to_target_db == -25.0 and a.snr_db == 30.0
+    clean = a.without_clutter()
+    assert clean.targets == a.targets and clean.clutter_to_target_db is None and clean.snr_db is None
+    with pytest.raises(Exception, match="n_scatterers"):
+        Scene.realistic(g, rng=np.random.default_rng(5), n_scatterers=500)
+    with pytest.raises(Exception, match="rng"):
+        Scene.realistic(g, rng=5)
+
+
+@pytest.mark.slow  # simulates the clutter echoes of the whole image (≈ 3–6 s)
+def test_pga_on_the_simulated_realistic_scene():
+    """Simulator end to end: Scene.realistic (20 scatterers, −25 dB clutter, SNR 30 dB) on
+    airborne X-band with a smooth error of 1.6 rad rms beyond linear along the line of sight. The
+    estimate matches the injected phase within 4× the ML limit of the scene (per-bin SCR of a
+    target = |a|² · (n/n_ap) / (W c̄), n_ap of the n azimuth bins in the aperture, W = 8).
+    Measured over five draws (10–20 scatterers): 1.2–3.9× the limit (this draw 3.9×), against
+    0.5–2.4× on the idealised phase-history scenes above; without clutter the same scene leaves
+    0.017 rad, so the extra comes from the clutter, not from the simulator's geometry (why it is
+    larger here is not understood yet). The bound was set from earlier draws (≤ 3.3×) with margin:
+    it guards against regressions, it is not a theory result."""
+    from budget.sar import form_image, los_offset_for_phase, phase_on_bins, residual_phase_rad, simulate_echoes
+    from budget.sar.phase import normalised_time, residual_rms_rad, smooth_phase_error
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    rng = np.random.default_rng(2)
+    scene = Scene.realistic(g, rng=rng, n_scatterers=20)
+    psi = smooth_phase_error(normalised_time(g), quadratic_rad=5.0, cubic_rad=2.0, sinusoid_rad=1.5,
+                             sinusoid_cycles=1.2)
+    off = los_offset_for_phase(g, psi)
+    img = form_image(g, simulate_echoes(g, scene, off, rng))
+    truth = phase_on_bins(img, g, residual_phase_rad(g, off))
+    mask = img.aperture_mask()
+    res = pga(img.data)
+    amp = scene.to_frame()["amplitude"].to_numpy()
+    c = 10 ** (scene.clutter_to_target_db / 10) + 10 ** (-scene.snr_db / 10)
+    scr = amp ** 2 * (mask.size / mask.sum()) / (8 * c)
+    limit = 1 / np.sqrt(2 * scr[scr >= 1].sum())
+    resid = residual_rms_rad(res.phase_error_rad, truth, mask)
+    assert res.usable_lines >= 5 and resid < 4.0 * limit, (resid, limit, res.reason)
+    clean = Scene.realistic(g, rng=np.random.default_rng(2), n_scatterers=20).without_clutter()
+    assert clean.targets == scene.targets
