@@ -9,9 +9,6 @@ reader as the CLI) and read by the library; it is never executed or unpickled.
 from __future__ import annotations
 
 import dataclasses
-import os
-import tempfile
-from pathlib import Path
 
 import streamlit as st
 
@@ -19,6 +16,7 @@ from budget.cli.dashboard_cmd import MAX_UPLOAD_MB as UPLOAD_LIMIT_MB
 from budget.errors import InputError
 from budget.noise import AllanResult, read_adev_table
 from budget.noise.adev_table import looks_like_adev_table
+from uploads import read_via_temp_copy
 
 LOG_TYPES = ["csv", "gz", "bz2", "xz", "zip"]
 
@@ -35,27 +33,12 @@ def check_size(data: bytes, name: str) -> None:
                          expected=f"at most {UPLOAD_LIMIT_MB} MB")
 
 
-def _with_temp(data: bytes, name: str, read):
-    suffix = "".join(Path(name).suffixes[-2:]) or ".csv"
-    fd, tmp = tempfile.mkstemp(suffix=suffix)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        return read(tmp)
-    except InputError as err:
-        if err.file == tmp:
-            err.rename_file(name)
-        raise
-    finally:
-        os.unlink(tmp)
-
-
 @st.cache_data(show_spinner=False, max_entries=8)
 def is_adev_table(data: bytes, name: str) -> bool:
     """True when the upload has the Allan-table columns (``channel, tau_s, adev[, lci, uci]``)."""
     if name.lower().endswith((".gz", ".bz2", ".xz", ".zip")):
         return False  # compressed uploads are logs; Allan tables are small text files
-    return _with_temp(data, name, looks_like_adev_table)
+    return read_via_temp_copy(data, name, looks_like_adev_table)
 
 
 @st.cache_data(show_spinner="Reading the Allan table …", max_entries=4)
@@ -63,7 +46,7 @@ def read_uploaded_adev(data: bytes, name: str, rate_hz: float, samples: int,
                        ci_level: float = 0.95) -> dict[str, AllanResult]:
     """The uploaded Allan table as ``{channel: AllanResult}`` (SI), as ``sar-budget noise
     characterize TABLE --rate-hz F --samples N`` reads it."""
-    tables = _with_temp(data, name, lambda p: read_adev_table(p, rate_hz, samples, ci_level=ci_level))
+    tables = read_via_temp_copy(data, name, lambda p: read_adev_table(p, rate_hz, samples, ci_level=ci_level))
     return {ch: dataclasses.replace(r, source=name) for ch, r in tables.items()}
 
 

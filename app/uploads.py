@@ -40,17 +40,23 @@ def read_uploaded_log(data: bytes, name: str, max_rows: int, repair: bool) -> Im
     """Write the upload to a temporary file (keeping its suffix: .csv, .gz, …) and read it;
     errors name the user's file, not the temporary copy."""
     name = Path(name or "upload.csv").name[:200] or "upload.csv"
+    log_ = read_via_temp_copy(data, name, lambda tmp: read_log(tmp, repair=repair, max_rows=max_rows))
+    log_.source = name
+    return log_
+
+
+def read_via_temp_copy(data: bytes, name: str, read):
+    """``read(path)`` on a private temporary copy of an upload (keeping its suffix: .csv, .gz, …);
+    errors name the user's file ``name``, not the temporary copy."""
     suffix = "".join(s for s in Path(name).suffixes[-2:] if s.isascii() and len(s) <= 8) or ".csv"
     fd, tmp = tempfile.mkstemp(suffix=suffix)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
-        log_ = read_log(tmp, repair=repair, max_rows=max_rows)
+        return read(tmp)
     except InputError as err:
         if err.file == tmp:
             err.rename_file(name)
         raise
     finally:
         os.unlink(tmp)
-    log_.source = name
-    return log_

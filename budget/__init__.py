@@ -12,6 +12,46 @@ Top-level API (imported on first use, so ``import budget`` stays fast)::
 Names accepted wherever an object is expected: preset names for scenarios, ``part_id`` for
 parts (:mod:`budget.api`). Everything else lives in the sub-packages (``budget.bounds``,
 ``budget.mc``, ``budget.noise``, ``budget.gap`` …).
+
+Contract (what every module of the package assumes)
+---------------------------------------------------
+Units
+    SI and radians inside the library. Datasheet units appear only at the edges (catalog CSV,
+    CLI, dashboard) and are converted in one place, :mod:`budget.units`. A field or argument
+    carries its unit as a suffix: ``_m``, ``_s``, ``_hz``, ``_rad``, ``_m_s`` (m/s), ``_m_s2``,
+    ``_rad_s``; datasheet fields ``_deg_h``, ``_deg_rt_h``, ``_ug``, ``_m_s_rt_h``, ``_ppm``,
+    ``_mrad``. Identities (tested): 1 deg/√h = 1/60 deg/s/√Hz; 1 m/s/√h = 1/60 m/s²/√Hz
+    = 1699.7 µg/√Hz (g = 9.80665 m/s²); 1 deg/h = 4.848e-6 rad/s.
+Frames
+    Navigation frame: x along the nominal track (the platform flies along +x at speed V), y to
+    the imaged side, z up; the line of sight (LOS) points from the antenna to the scene at the
+    depression angle, squint 0 = broadside (:func:`budget.motion.geometry.los_unit_vector`).
+    Body frame = navigation frame in straight, level flight; the IMU sits at the origin of the
+    body frame and the antenna phase centre (APC) at the lever arm ``lever_arm_m``.
+Channels
+    ``gyro_x``, ``gyro_y``, ``gyro_z`` (rad/s inside, ``_dps`` in logs) and ``accel_x``,
+    ``accel_y``, ``accel_z`` (m/s² inside, ``_mps2`` in logs); :data:`budget.units.CHANNELS`.
+Array shapes
+    Monte Carlo series are ``(trials, samples, 3)`` (sample 0 at the aperture start); image
+    data are ``(azimuth, range)`` with azimuth along axis 0.
+Signs
+    APC error = true − measured (what the IMU believes); aided/estimated error = estimate −
+    truth; computed − true for strapdown error states (:mod:`budget.nav.strapdown`). A range
+    error Δr gives the two-way phase φ = 4πΔr/λ (seed 003 (12)); the echo carries e^{−jφ}
+    (:mod:`budget.sar.phase`). Constant and linear phase only shift the image.
+Randomness
+    Library functions take a :class:`numpy.random.Generator`; trial engines draw trial ``i``
+    from ``SeedSequence(seed, spawn_key=(i, stream))`` with the stream ids of
+    :data:`budget.rng.STREAMS`, so the same seed gives the same numbers for any chunking,
+    worker count or backend.
+Errors
+    Bad input raises :class:`budget.errors.InputError` naming file, row, field and what was
+    expected; the CLI and the dashboard turn every failure into such a message.
+Results
+    Result objects offer ``summary()``, ``to_frame()`` and ``to_dict()`` and carry the options
+    they were computed with.
+
+Sources cited as "seed 000" … "seed 004" are the papers listed in the README ("Sources").
 """
 
 from __future__ import annotations

@@ -46,12 +46,11 @@ _MAGIC = ((b"\x1f\x8b", "gzip"), (b"BZh", "bzip2"), (b"\xfd7zXZ\x00", "xz"),
 _DAMAGED = (EOFError, zlib.error, lzma.LZMAError, zipfile.BadZipFile, gzip.BadGzipFile, OSError)
 
 
-def compression_of(path: Path) -> str | None:
-    """Container format of ``path`` from its first bytes (not its suffix): gzip, bzip2, xz, zip,
-    zstd, tar or None (plain); an unreadable file raises :class:`InputError`."""
+@contextlib.contextmanager
+def _reading(path):
+    """Turn the operating system's errors on opening ``path`` into :class:`InputError`."""
     try:
-        with open(path, "rb") as fh:
-            head = fh.read(262)
+        yield
     except FileNotFoundError:
         raise InputError("file not found", file=path) from None
     except IsADirectoryError:
@@ -59,6 +58,14 @@ def compression_of(path: Path) -> str | None:
     except OSError as err:
         raise InputError(f"cannot read the file ({err.strerror or type(err).__name__})",
                          file=path) from None
+
+
+def compression_of(path: Path) -> str | None:
+    """Container format of ``path`` from its first bytes (not its suffix): gzip, bzip2, xz, zip,
+    zstd, tar or None (plain); an unreadable file raises :class:`InputError`."""
+    with _reading(path):
+        with open(path, "rb") as fh:
+            head = fh.read(262)
     for magic, name in _MAGIC:
         if head.startswith(magic):
             return name
@@ -150,16 +157,9 @@ def open_input(path: str | Path, max_bytes: int = MAX_DECOMPRESSED_BYTES):
     by content), with at most ``max_bytes`` decompressed bytes; every problem is an
     :class:`InputError` naming the file."""
     path = Path(path)
-    try:
+    with _reading(path):
         kind = compression_of(path)
         inner = _open_inner(path, kind)
-    except FileNotFoundError:
-        raise InputError("file not found", file=path) from None
-    except IsADirectoryError:
-        raise InputError("is a folder, not a file", file=path) from None
-    except OSError as err:
-        raise InputError(f"cannot read the file ({err.strerror or type(err).__name__})",
-                         file=path) from None
     raw = _Counted(inner, path, max_bytes, kind)
     stream = io.BufferedReader(raw, buffer_size=1 << 20)
     try:

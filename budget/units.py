@@ -3,7 +3,7 @@
 Everything inside the library is SI (m, s, rad, m/s², rad/s). Datasheet units appear
 only at the edges (catalog CSV, CLI, dashboard) and are converted here, nowhere else.
 
-Identities (DESIGN.md §1, tested in ``tests/test_units.py``):
+Identities (tested in ``tests/test_units.py``):
 
 * 1 deg/√h  = 1/60 deg/s/√Hz
 * 1 m/s/√h  = 1/60 m/s²/√Hz = 1699.7 µg/√Hz (g = 9.80665 m/s²)
@@ -190,7 +190,7 @@ def split_channel_column(name: str) -> tuple[str, str]:
 
 
 def range_to_phase(delta_r_m, wavelength_m):
-    """Two-way phase error φ = 4π Δr / λ (rad), DESIGN.md §1, seed 003 (12)."""
+    """Two-way phase error φ = 4π Δr / λ (rad), seed 003 (12)."""
     return 4.0 * math.pi * np.asarray(delta_r_m) / wavelength_m
 
 

@@ -73,8 +73,19 @@ def make_log(effect: str | None, channel: str | None, params: dict | None, n: in
     return log_from_arrays(x, RATE, temp_c=temp, source=f"hidden {effect} seed {seed}")
 
 
+#: Near-limit cases probe the *significance* limit of the detectors, so they run with the
+#: practical-size stop switched off (``tolerance_db=0``); with the default 0.5 dB a channel whose
+#: misfit is significant but smaller than that is (by design) left alone.
+TOLERANCE_DB = {"obvious": None, "near": 0.0}
+
+
+def _run(effect, channel, params, seed, level):
+    kw = {} if TOLERANCE_DB[level] is None else {"tolerance_db": TOLERANCE_DB[level]}
+    return run_gap(make_log(effect, channel, params, N_LOG, seed), BASE, seed=seed, **kw)
+
+
 def check_case(effect: str, level: str, channel: str, params: dict, tol: dict, seed: int):
-    report = run_gap(make_log(effect, channel, params, N_LOG, seed), BASE, seed=seed)
+    report = _run(effect, channel, params, seed, level)
     assert report.steps, f"{effect} ({level}, seed {seed}) not detected: {report.summary()}"
     first = report.steps[0]
     assert (first.name, first.channel) == (effect, channel), report.summary()
@@ -111,7 +122,7 @@ def test_near_limit_effect_is_named_first(effect):
             check_case(effect, level, channel, params, tol, seed)
             right += 1
         except AssertionError:
-            rep = run_gap(make_log(effect, channel, params, N_LOG, seed), BASE, seed=seed)
+            rep = _run(effect, channel, params, seed, level)
             assert rep.steps and rep.steps[0].channel == channel, rep.summary()
             assert rep.channels[channel].gap_after <= rep.null_after.channel_threshold(channel)
     assert right >= 2

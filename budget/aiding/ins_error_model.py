@@ -22,7 +22,7 @@ acceleration random walk K), m_g, m_a first-order Gauss–Markov biases (ṁ = �
 stationary σ) and w_g, w_a white noise (ARW, VRW). Sensor noise is isotropic (the same on every
 axis), so the rotated noise C w has the same covariance as w and Q does not depend on attitude.
 
-Check of the signs against DESIGN.md §2: a gyro bias b about the along-track axis in level flight
+Check of the signs against seed 004's bound derivation: a gyro bias b about the along-track axis in level flight
 gives φ_x = −b t, δv_y = −g b t²/2, δp_y = −g b t³/6 (magnitude g b Tc³/6 as in the derivation
 of seed 004 (9)).
 """

@@ -338,8 +338,9 @@ class Vibration(Candidate):
         g = ctx.grid
         df = g.rate_hz / g.nperseg
         f0 = float(np.clip(theta[0], 2.0 * df, 0.49 * g.rate_hz))
-        w = float(np.clip(math.exp(theta[1]), df, f0))
-        return f0, w, math.exp(theta[2])
+        # the simplex may wander far in log space: clip before exp (no overflow)
+        w = float(np.clip(math.exp(min(theta[1], 700.0)), df, f0))
+        return f0, w, math.exp(float(np.clip(theta[2], -700.0, 300.0)))
 
     def starts(self, ctx):
         g = ctx.grid
@@ -387,7 +388,7 @@ class Vibration(Candidate):
 
         def misfit(u):
             f0, w, sigma = self._p(np.array([theta0[0] + u[0] * df, u[1], u[2]]), ctx)
-            model = math.exp(u[3]) + sigma ** 2 * vibration_psd(f, f0, w, g.dt_s)
+            model = math.exp(float(np.clip(u[3], -700.0, 700.0))) + sigma ** 2 * vibration_psd(f, f0, w, g.dt_s)
             return float(np.sum((logp - np.log(model)) ** 2))
 
         x0 = np.array([0.0, theta0[1], theta0[2], theta0[3]])

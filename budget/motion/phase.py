@@ -1,4 +1,4 @@
-"""Phase error over the aperture and its Legendre decomposition (DESIGN.md §4).
+"""Phase error over the aperture and its Legendre decomposition (seed 004).
 
 Phase φ = 4π·Δr/λ (two-way; radar or sonar through the scenario's λ = c/f0, seed 003 (12)).
 Over normalised aperture time u = 2(t − t_start)/(t_end − t_start) − 1 ∈ [−1, 1], the phase is

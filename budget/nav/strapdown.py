@@ -1,6 +1,6 @@
 """Linearised strapdown error propagation over the aperture (flat earth, local-level frame).
 
-Conventions (seed 000 (8)–(10), DESIGN.md §3); every δ here is *computed − true*:
+Conventions (seed 000 (8)–(10)); every δ here is *computed − true*:
 
 * attitude error φ (nav frame): computed DCM C̃ = (I − [φ×])·C, so φ̇ = −C·ε_b and
   φ(t) = φ0 − ∫ C·ε dt (seed 000 (9));

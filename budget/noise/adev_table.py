@@ -6,7 +6,7 @@ sampling rate and length are not in the table and must be given (``rate_hz``, ``
 they fix the averaging factor m = τ·rate of each row and, with no ``lci/uci``, the EDF.
 
 With ``lci``/``uci`` the EDF of each row is recovered by inverting the χ² interval at
-``ci_level`` (default 0.95, the level of the curves in ``shared/data/adev``), see
+``ci_level`` (default 0.95, the level of the published curves the tests use), see
 :func:`edf_from_interval` (a non-positive ``lci`` is accepted: symmetric Gaussian intervals
 from some tools go below zero at long τ). Without them it comes from
 :func:`~budget.noise.allan.edf_simple` with the noise type taken from the slope, and the

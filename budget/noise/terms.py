@@ -13,7 +13,7 @@ the variance domain. Weights are 1/var(σ̂²) with var(σ̂²) = σ⁴ (2/edf +
 behind the confidence intervals plus a relative *model-error floor* ε (default 5 %). Without
 the floor the short-τ points of a long record (±0.2 % intervals) decide every term, and real
 sensors — filtered, quantized, with small periodic components — rarely follow the five-term
-model that closely (on the ADIS16405 curves in ``shared/data`` ε = 0 gives bias instabilities
+model that closely (on the published ADIS16405 Allan curves ε = 0 gives bias instabilities
 30–50 % high; any ε in 2–20 % gives nearly the same answer). The weights are iterated three
 times with σ² taken from the model (a low noisy point does not pull the fit). Correlation between overlapping τ is neglected, so the
 quoted uncertainties (from the inverse weighted normal matrix of the active terms, mapped to

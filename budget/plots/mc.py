@@ -85,7 +85,7 @@ def trial_images_figure(detail: Mapping, *, dynamic_range_db: float = 50.0,
 
 def trial_phase_figure(detail: Mapping, *, title: str | None = None) -> go.Figure:
     """Phase error per azimuth bin: truth against the PGA estimate (deg), constant and linear
-    terms removed (they only shift the image, DESIGN.md §4), over the bins where both exist."""
+    terms removed (they only shift the image), over the bins where both exist."""
     truth = np.asarray(detail["phase_truth_rad"], float)
     est = np.asarray(detail["phase_estimate_rad"], float)
     mask = np.isfinite(truth) & np.isfinite(est)

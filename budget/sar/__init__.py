@@ -1,6 +1,6 @@
 """Point-target SAR/SAS simulator, image formation, phase gradient autofocus and IRF metrics.
 
-Chain (DESIGN.md §4): ``SarGeometry.from_scenario`` → ``Scene.default`` → ``simulate_echoes``
+Chain: ``SarGeometry.from_scenario`` → ``Scene.default`` → ``simulate_echoes``
 (true trajectory) → ``form_image`` (measured trajectory; "rda" or "backprojection") →
 ``measure_targets`` → ``pga`` → ``measure_targets`` → ``evaluate``.
 """

@@ -1,9 +1,9 @@
 """Slow-time phase errors: models, injection as APC offsets, and comparison with PGA estimates.
 
 Conventions: u = 2t/T ∈ [−1, 1] is normalised aperture time; a phase error ψ(t) multiplies the
-echo, e^{jψ}, which a range error Δr produces as ψ = −4πΔr/λ (DESIGN.md §1, with the sign of
-exp(−j4πR/λ)). Constant and linear terms only shift the image (DESIGN.md §4), so comparisons
-remove them by a least-squares fit. Legendre decomposition over u follows DESIGN.md §4.
+echo, e^{jψ}, which a range error Δr produces as ψ = −4πΔr/λ (seed 003 (12), with the sign of
+exp(−j4πR/λ)). Constant and linear terms only shift the image, so comparisons
+remove them by a least-squares fit. Legendre decomposition over u as in seed 004.
 """
 
 from __future__ import annotations
@@ -80,6 +80,6 @@ def residual_rms_rad(estimate_rad, truth_rad, mask=None) -> float:
 
 
 def legendre_decomposition(u, psi, order: int = 5) -> np.ndarray:
-    """Least-squares Legendre coefficients c_0…c_order of ψ(u) on u ∈ [−1, 1] (DESIGN.md §4):
+    """Least-squares Legendre coefficients c_0…c_order of ψ(u) on u ∈ [−1, 1] (seed 004):
     c_0 constant, c_1 linear (shift), c_2 quadratic (defocus), c_3 cubic (asymmetric sidelobes)."""
     return legendre.legfit(np.asarray(u, dtype=float), np.asarray(psi, dtype=float), order)
