@@ -84,3 +84,20 @@ def test_catalog_list_strips_escapes(tmp_path, capsys, monkeypatch):
     assert main(["catalog", "list"]) == 0
     out = capsys.readouterr().out
     assert "\x1b" not in out
+
+
+def test_catalog_validate_reports_every_bad_cell(tmp_path, capsys):
+    from budget.cli.main import main
+
+    path = tmp_path / "bad.csv"
+    path.write_text("part_id,grade,gyro_arw_deg_rt_h,accel_vrw_m_s_rt_h,source\n"
+                    "A,industrial,abc,0.1,x\nB,tactical,0.2,-5,y\nC,bogus,0.1,0.1,z\n"
+                    "D,tactical,0.3,0.1,w\n", encoding="utf-8")
+    assert main(["catalog", "validate", str(path)]) == 2
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 3, err
+    assert "row 2, field gyro_arw_deg_rt_h" in lines[0] and "'abc'" in lines[0]
+    assert "row 3, field accel_vrw_m_s_rt_h" in lines[1] and "'-5'" in lines[1]
+    assert "row 4, field grade" in lines[2] and "3 bad cell(s) in all" in lines[2]
+    assert "Traceback" not in err

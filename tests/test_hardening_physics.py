@@ -100,3 +100,22 @@ def test_duplicate_column_names_are_named(tmp_path):
     with pytest.raises(InputError, match="more than once") as e:
         read_log(p)
     assert "gyro_x_dps" in str(e.value) and ".1" not in str(e.value)
+
+
+@pytest.mark.parametrize("effect, params, words", [
+    ("rate_ramp", {"R": 1e300}, "rate_ramp.R must be within ±1e+06"),
+    ("lowpass", {"cutoff_hz": 1e-300}, "lowpass.cutoff_hz must be ≥ 1e-06 Hz"),
+    ("sinusoid", {"frequency_hz": 5.0, "amplitude": 1e300}, "sinusoid.amplitude must be at most"),
+])
+def test_absurd_effect_parameters_are_refused_with_their_name(tmp_path, capsys, effect, params, words):
+    import json
+
+    from budget.cli.main import main
+
+    model = {"part_id": "X", "grade": "tactical", "source": "test", "gyro_arw_deg_rt_h": 0.1,
+             "effects": [{"name": effect, "channel": "gyro_x", "params": params}]}
+    path = tmp_path / "model.json"
+    path.write_text(json.dumps(model), encoding="utf-8")
+    assert main(["mc", "--preset", "automotive_77ghz", "--model", str(path), "--trials", "4", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert words in err and "model.json" in err and "Traceback" not in err

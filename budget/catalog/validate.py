@@ -430,3 +430,51 @@ def _expected_text(canon: str | None, unit: str) -> str | None:
     if canon == "source":
         return "the datasheet (with revision) the numbers come from"
     return None
+
+
+def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
+    """Every bad cell of a parts CSV (at most ``limit``), in row then column order, each an
+    :class:`InputError` naming file, row, field, value and what was expected.
+
+    The same checks as :func:`validate_parts_table`, cell by cell (slow, so only used to report
+    a file that failed); checks across rows (duplicate ``part_id`` …) run once the cells are
+    clean. An unreadable file or a bad header is one error.
+    """
+    path = Path(path)
+    text = _read_text(path)
+    records = _iter_rows(path, text)
+    first = next(records, None)
+    if first is None:
+        return [InputError("file has no header", file=path, expected="a header row")]
+    header = first[1]
+    try:
+        mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
+    except InputError as err:
+        return [err]
+    errors: list[InputError] = []
+    for i, r in records:
+        try:
+            _check_length(r, header, path, i)
+        except InputError as err:
+            errors.append(err)
+            continue
+        for j, col in enumerate(header):
+            canon, cell, rows = mapping[col], (r[j],), [i]
+            try:
+                if canon in PART_NUMERIC_COLUMNS:
+                    _numbers(cell, rows, path, col, canon)
+                else:
+                    _check_text(cell, rows, path, col)
+                    if canon in _CHOICES:
+                        _check_choice(cell, rows, path, col, canon, _CHOICES[canon],
+                                      canon in PART_REQUIRED)
+            except InputError as err:
+                errors.append(err)
+        if len(errors) >= limit:
+            return errors[:limit]
+    if not errors:
+        try:
+            validate_parts_table(path)
+        except InputError as err:
+            errors.append(err)
+    return errors

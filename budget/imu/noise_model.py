@@ -116,8 +116,9 @@ class Effect(BaseModel):
                 rel = "≥" if inclusive else ">"
                 raise ValueError(f"{self.name}.{p} must be {rel} {low:g} {unit} (got {v:g})")
             high = REGISTRY[self.name].params[p].high
-            if high is not None and v > high:
-                raise ValueError(f"{self.name}.{p} must be at most {high:g} {unit} (got {v:g})")
+            if high is not None and abs(v) > high:
+                bound = f"within ±{high:g}" if low is None else f"at most {high:g}"
+                raise ValueError(f"{self.name}.{p} must be {bound} {unit} (got {v:g})")
         return self
 
     def param(self, key: str) -> float:

@@ -40,7 +40,9 @@ class ParamSpec:
     low: float | None = 0.0
     inclusive: bool = True
     channel_free: bool = False
-    high: float | None = None
+    #: largest magnitude accepted (channel units, s or Hz): far beyond any sensor, it keeps
+    #: absurd values (1e300) out of the simulation and the fits
+    high: float | None = 1e6
 
 
 @dataclass(frozen=True)
@@ -75,7 +77,7 @@ def _heavy(p, n_trials, time_s, dt_s, rng, temp):
     return fx.student_t_noise(n_trials, time_s.size, p["density"], p["dof"], dt_s, rng)
 
 
-_HZ = ParamSpec("Hz", 0.0, False, True)
+_HZ = ParamSpec("Hz", 1e-6, True, True)  # below a µHz a "frequency" is a trend
 
 REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
     EffectSpec("white_noise", {"density": ParamSpec("/√Hz")}, "gaussian", "ADEV N/√τ"),
