@@ -40,8 +40,24 @@ GAP_DEFINITION = (
     "of the mean (overall).")
 
 
+class _EffectSizes:
+    """``effect_size_before_db`` / ``_after_db``: the rms dB misfit beyond the model's spread
+    (NaN where the sizes were not computed), from ``sizes_before`` / ``sizes_after``."""
+
+    sizes_before: Sizes | None
+    sizes_after: Sizes | None
+
+    @property
+    def effect_size_before_db(self) -> float:
+        return self.sizes_before.rms_db if self.sizes_before else float("nan")
+
+    @property
+    def effect_size_after_db(self) -> float:
+        return self.sizes_after.rms_db if self.sizes_after else float("nan")
+
+
 @dataclass(frozen=True)
-class GapStep:
+class GapStep(_EffectSizes):
     """One named effect: where, which parameters, and the gap of its channel before/after."""
 
     name: str
@@ -57,14 +73,6 @@ class GapStep:
     n_params: int
     sizes_before: Sizes | None = None  # the channel's effect sizes before/after the step
     sizes_after: Sizes | None = None
-
-    @property
-    def effect_size_before_db(self) -> float:
-        return self.sizes_before.rms_db if self.sizes_before else float("nan")
-
-    @property
-    def effect_size_after_db(self) -> float:
-        return self.sizes_after.rms_db if self.sizes_after else float("nan")
 
     def to_json(self) -> dict:
         return {"name": self.name, "channel": self.channel, "params": dict(self.params),
@@ -103,7 +111,7 @@ def _runs(terms: GapTerms, kind: str) -> list[dict]:
 
 
 @dataclass
-class ChannelResult:
+class ChannelResult(_EffectSizes):
     """One channel: measured signature, model summaries and gap terms before and after."""
 
     channel: str
@@ -115,15 +123,6 @@ class ChannelResult:
     model_after: ModelSummary
     sizes_before: Sizes | None = None
     sizes_after: Sizes | None = None
-
-    @property
-    def effect_size_before_db(self) -> float:
-        """rms dB misfit beyond the model's spread, before the first step."""
-        return self.sizes_before.rms_db if self.sizes_before else float("nan")
-
-    @property
-    def effect_size_after_db(self) -> float:
-        return self.sizes_after.rms_db if self.sizes_after else float("nan")
 
     @property
     def gap_before(self) -> float:
