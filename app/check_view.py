@@ -1,7 +1,7 @@
 """Turn a :class:`budget.check.CheckResult` into the check page's table (no Streamlit here).
 
 Every number is the library's: verdicts, binding parameter and margins from
-``CheckResult.records``, the minimum margin from ``CheckResult.min_margin``. This module only
+the part records of ``CheckResult.to_dict``, the minimum margin from ``CheckResult.min_margin``. This module only
 lays them out and colours them.
 """
 
@@ -25,7 +25,7 @@ def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
     unspecified parameters, flag (⚠ where the check's seed 004 verdict and its fast-phase /
     lever-arm verdict differ, ``CheckResult.flag``). Margins are bound/spec (≥ 1 passes); NaN where
     not in the datasheet."""
-    recs = result.records(scenario_index)
+    recs = result.to_dict()["scenarios"][scenario_index]["parts"]
     mins = np.asarray(result.min_margin[:, scenario_index], float)
     rows = []
     for rec, mm in zip(recs, mins):
@@ -42,7 +42,8 @@ def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
 
 def flagged(result: CheckResult, scenario_index: int = 0) -> list[tuple[str, str]]:
     """(part_id, reason) of every part whose two analytic verdicts differ."""
-    return [(r["part_id"], r.get("flag_reason") or "") for r in result.records(scenario_index) if r.get("flag")]
+    parts = result.to_dict()["scenarios"][scenario_index]["parts"]
+    return [(r["part_id"], r.get("flag_reason") or "") for r in parts if r.get("flag")]
 
 
 def verdict_counts(frame: pd.DataFrame) -> dict[str, int]:

@@ -33,6 +33,19 @@ def check_size(data: bytes, name: str) -> None:
                          expected=f"at most {UPLOAD_LIMIT_MB} MB")
 
 
+def upload_log_or_table(key: str, hint: str) -> tuple[bytes, str] | None:
+    """The uploader of a static IMU log or an Allan table (widget ``key``): ``(bytes, file name)``
+    of an upload within :data:`UPLOAD_LIMIT_MB`, or ``None`` (``hint`` shown) before one."""
+    up = st.file_uploader(upload_label("IMU log or Allan table"), type=LOG_TYPES, key=key,
+                          max_upload_size=UPLOAD_LIMIT_MB)
+    if up is None:
+        st.info(hint)
+        return None
+    data = up.getvalue()
+    check_size(data, up.name)
+    return data, up.name
+
+
 @st.cache_data(show_spinner=False, max_entries=8)
 def is_adev_table(data: bytes, name: str) -> bool:
     """True when the upload has the Allan-table columns (``channel, tau_s, adev[, lci, uci]``)."""

@@ -20,6 +20,7 @@ Run from the repository root: ``python3 benchmarks/bench_gap.py [--quick] [--job
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections import Counter
@@ -43,9 +44,10 @@ SHARED_LOGS = ROOT.parent / "shared" / "data" / "logs"
 def run_one(args) -> dict:
     name, n, seed = args
     x, temp, truth = gt.make(name, n, 1000 + seed)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     rep = run_gap(log_from_arrays(x, gt.RATE, temp_c=temp), BASE, seed=seed, max_steps=4)
-    out = {"name": name, "seed": seed, "time": time.perf_counter() - t0, "truth": truth,
+    out = {"name": name, "seed": seed, "time": time.perf_counter() - t0,
+           "cpu": time.process_time() - c0, "truth": truth,
            "steps": [(s.name, s.channel, dict(s.params)) for s in rep.steps],
            "stop": rep.stop_reason}
     return out
@@ -54,8 +56,9 @@ def run_one(args) -> dict:
 def timing(n: int) -> None:
     r = run_one(("rate_random_walk", n, 0))
     named = ", ".join(f"{a}@{b}" for a, b, _ in r["steps"]) or "none"
+    load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
     print(f"{n / gt.RATE / 60:.0f} min, 100 Hz, 6 channels (hidden rate random walk): {r['time']:.1f} s "
-          f"(target < 60 s); named {named}")
+          f"wall, {r['cpu']:.1f} s CPU (target < 60 s; load {load}); named {named}; {r['stop']}")
 
 
 def _errors(truth: dict, params: dict) -> dict[str, float]:
@@ -81,6 +84,8 @@ def detection(results: list[dict], seeds: int) -> None:
         print(f"  {name:24s} on {truth['channel']:8s} right first {len(right):2d}/{len(rows)}  "
               f"param err median/worst: {err_txt}  ({t:.0f} s/run)")
         print("      first named: " + ", ".join(f"{k} ×{v}" for k, v in first.most_common()))
+        stops = Counter(r["stop"].split(":")[0] for r in rows)
+        print("      stop: " + "; ".join(f"{k} ×{v}" for k, v in stops.most_common()))
 
 
 def false_positives(results: list[dict]) -> None:
@@ -97,7 +102,7 @@ def real() -> None:
         print("\nreal logs: ../shared/data/logs not found, skipped")
         return
     t0 = time.perf_counter()
-    cv = cross_validate(logs[0], logs[1], "ADIS16405", seed=0, max_steps=20)
+    cv = cross_validate(logs[0], logs[1], "ADIS16405", seed=0, max_steps=30)
     print(f"\nreal ADIS16405 logs, fit on log 1, test on log 2 ({time.perf_counter() - t0:.0f} s):")
     print(cv.fit.summary())
     print(cv.summary())

@@ -22,7 +22,9 @@ history by this script's own code; nothing here calls the simulator):
 Residual (method-agnostic): the phase of Σ_r G_out(k, r) G_ref*(k, r) over the bins that hold
 signal, constant and linear terms removed (a shift), rms in rad: the phase error each corrected
 image still carries relative to the reference, whatever convention the autofocus uses.
-Times: median of --repeat runs after one warm-up, in one process each, on the same machine.
+Times: median of --repeat runs after one warm-up, in one process each, on the same machine; wall
+clock (time.perf_counter) and CPU seconds (time.process_time) — fastsar runs first, then ours, so
+on a shared machine the two may meet different loads: the CPU ratio is the steadier one.
 
 fastsar is NEVER a dependency of this project: install it only in a separate environment, e.g.
     python3 -m venv /tmp/fastsar-venv && /tmp/fastsar-venv/bin/pip install fastsar
@@ -34,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import subprocess
 import sys
 import tempfile
@@ -159,11 +162,12 @@ files = json.loads(sys.argv[1]); reps = int(sys.argv[2]); info = []
 for src, dst in files:
     img = np.load(src)
     out = pga(img)  # warm-up
-    times = []
+    times, cpu = [], []
     for _ in range(reps):
-        t = time.perf_counter(); out = pga(img); times.append(time.perf_counter() - t)
+        t, c = time.perf_counter(), time.process_time(); out = pga(img)
+        times.append(time.perf_counter() - t); cpu.append(time.process_time() - c)
     np.save(dst, np.asarray(out[0]))
-    info.append({"time_s": float(np.median(times)), "iterations": len(out[2])})
+    info.append({"time_s": float(np.median(times)), "cpu_s": float(np.median(cpu)), "iterations": len(out[2])})
 print(json.dumps(info))
 """
 
@@ -186,13 +190,15 @@ def run_fastsar(py: Path, images: list[np.ndarray], repeat: int) -> list[tuple[n
 
 
 def run_ours(img: np.ndarray, repeat: int, **kw):
+    """(result, median wall time s, median CPU time s) of ``repeat`` runs after one warm-up."""
     res = pga(img, **kw)
-    times = []
+    times, cpu = [], []
     for _ in range(repeat):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         res = pga(img, **kw)
         times.append(time.perf_counter() - t)
-    return res, float(np.median(times))
+        cpu.append(time.process_time() - c)
+    return res, float(np.median(times)), float(np.median(cpu))
 
 
 def chain_timings(repeat: int) -> None:
@@ -253,26 +259,29 @@ def main() -> int:
     fs = run_fastsar(Path(args.fastsar_python), [c[2] for c in cases], args.repeat)
     if isinstance(fs, str):
         print("fastsar:", fs)
-    hdr = f"{'case':44s} {'before':>6s} | {'ours rad':>8s} {'ms':>7s} {'outcome':12s} | {'fastsar rad':>11s} {'ms':>7s} | {'speed-up':>8s}"
+    hdr = (f"{'case':44s} {'before':>6s} | {'ours rad':>8s} {'ms':>7s} {'outcome':12s} | {'fastsar rad':>11s} {'ms':>7s} | "
+           f"{'speed-up':>8s} {'cpu':>6s}")
     print(hdr)
     print("-" * len(hdr))
     summary: dict[str, list] = {}
     for i, (group, label, bad, ref, sup) in enumerate(cases):
-        res, t_ours = run_ours(bad, args.repeat)
+        res, t_ours, c_ours = run_ours(bad, args.repeat)
         r_ours = residual_rad(res.image, ref, sup)
         outcome = "converged" if res.converged else ("no scatterers" if res.failed else "not conv.")
         line = f"{group + ': ' + label:44s} {residual_rad(bad, ref, sup):6.3f} | {r_ours:8.3f} {1e3 * t_ours:7.1f} {outcome:12s} |"
         if not isinstance(fs, str):
             out, inf = fs[i]
             r_fs = residual_rad(out, ref, sup)
-            line += f" {r_fs:11.3f} {1e3 * inf['time_s']:7.1f} | {inf['time_s'] / t_ours:7.1f}×"
-            summary.setdefault(group, []).append((r_ours, r_fs, inf["time_s"] / t_ours))
+            line += f" {r_fs:11.3f} {1e3 * inf['time_s']:7.1f} | {inf['time_s'] / t_ours:7.1f}× {inf['cpu_s'] / c_ours:5.1f}×"
+            summary.setdefault(group, []).append((r_ours, r_fs, inf["time_s"] / t_ours, inf["cpu_s"] / c_ours))
         print(line)
     for group, rows in summary.items():
         a = np.array(rows)
         print(f"{group}: ours no worse than fastsar in {int(np.sum(a[:, 0] <= a[:, 1]))}/{len(a)}; median residual "
               f"ours {np.median(a[:, 0]):.3f} rad vs fastsar {np.median(a[:, 1]):.3f} rad; "
-              f"median speed-up {np.median(a[:, 2]):.1f}× (min {a[:, 2].min():.1f}×)")
+              f"median speed-up {np.median(a[:, 2]):.1f}× (min {a[:, 2].min():.1f}×) wall, "
+              f"{np.median(a[:, 3]):.1f}× (min {a[:, 3].min():.1f}×) CPU")
+    print(f"load average (1, 5, 15 min): {', '.join(f'{x:.1f}' for x in os.getloadavg())}")
     return 0
 
 

@@ -36,9 +36,13 @@ Array shapes
     data are ``(azimuth, range)`` with azimuth along axis 0.
 Signs
     APC error = true − measured (what the IMU believes); aided/estimated error = estimate −
-    truth; computed − true for strapdown error states (:mod:`budget.nav.strapdown`). A range
-    error Δr gives the two-way phase φ = 4πΔr/λ (seed 003 (12)); the echo carries e^{−jφ}
-    (:mod:`budget.sar.phase`). Constant and linear phase only shift the image.
+    truth; computed − true for strapdown error states (:mod:`budget.nav.strapdown`). Phase
+    (seed 003 (12)), time dependence e^{+jωt}: the echo from range R carries exp(−j4πR/λ), so a
+    range increase Δr turns the echo phase by ψ = −4πΔr/λ (:func:`budget.units.range_to_phase`,
+    used by :mod:`budget.sar`); the motion, bounds and aiding modules report the phase error
+    φ = 4πΔr/λ of a range error Δr = R_true − R_assumed
+    (:func:`budget.units.range_error_to_phase_error`): the focused echo carries e^{−jφ}.
+    Constant and linear phase only shift the image.
 Randomness
     Library functions take a :class:`numpy.random.Generator`; trial engines draw trial ``i``
     from ``SeedSequence(seed, spawn_key=(i, stream))`` with the stream ids of

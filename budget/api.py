@@ -57,16 +57,12 @@ def load_catalog(user_csv: str | Path | None = None) -> dict:
     return _load(user_csv)
 
 
-def load_part(part, catalog: Mapping | None = None):
-    """A part from a :class:`PartSpec` / noise model (returned as is) or a catalog ``part_id``."""
-    from .catalog.io import get_part
+def load_part(part, catalog: Mapping | str | Path | None = None):
+    """The IMU of a command: :func:`budget.imu.resolve.resolve_part` (a part id, a noise-model
+    file or an object; clear errors for unknown ids and bad files)."""
+    from .imu.resolve import resolve_part
 
-    if isinstance(part, str):
-        return get_part(part, catalog)
-    if hasattr(part, "part_id") or hasattr(part, "gyro_arw_deg_rt_h"):
-        return part
-    raise InputError(f"cannot use a {type(part).__name__} as a part", field="part",
-                     expected="a PartSpec, a NoiseModel or a catalog part_id")
+    return resolve_part(part, catalog)
 
 
 def load_parts(parts=None, catalog: Mapping | None = None) -> list:

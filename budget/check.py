@@ -75,6 +75,10 @@ class CheckResult:
     #: scenario the rule that tightens each SI bound field; None when not computed.
     pga_margins: np.ndarray | None = None
     pga_rules: tuple[dict, ...] = ()
+    #: the bounds the margins were computed against (``paper`` | ``derived`` | ``no-autofocus``)
+    mode: str = "paper"
+    #: the bound assumptions (``model_dump`` of a ``DerivedAssumptions`` …); None for the defaults
+    assumptions: dict | None = None
 
     def flag(self, i: int, s: int) -> tuple[bool, str | None]:
         """True (and why) when seed 004's verdict and the fast-phase / lever-arm verdict differ."""
@@ -112,7 +116,7 @@ class CheckResult:
     def binding_index(self) -> np.ndarray:
         return np.argmin(np.where(self.specified, self.margins, np.inf), axis=-1)
 
-    def records(self, scenario_index: int = 0) -> list[dict]:
+    def _part_records(self, scenario_index: int = 0) -> list[dict]:
         """Per-part dicts for one scenario: ``part_id, grade, verdict, binding, margins, unspecified``."""
         out = []
         for i, pid in enumerate(self.part_ids):
@@ -132,6 +136,14 @@ class CheckResult:
                 "flag_reason": self.flag(i, scenario_index)[1],
             })
         return out
+
+    def to_dict(self) -> dict:
+        """JSON-ready: the bounds ``mode``, the checked ``params`` and per scenario (``name``, ``tc_s``)
+        one record per part under ``parts`` (``part_id, grade, verdict, binding, margins`` as
+        bound/spec, ``unspecified``, ``bias_convention``, ``flag``, ``flag_reason``)."""
+        return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
+                "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s)}
+                              for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
 
     def to_frame(self) -> pd.DataFrame:
         """Tidy table: one row per part × scenario with the margins and the verdict."""
@@ -154,7 +166,7 @@ class CheckResult:
 
     def summary(self, scenario_index: int = 0) -> str:
         lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'min margin':>11}  binding"]
-        for r, mm in zip(self.records(scenario_index), self.min_margin[:, scenario_index]):
+        for r, mm in zip(self._part_records(scenario_index), self.min_margin[:, scenario_index]):
             lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{mm:>11.3g}  "
                          f"{r['binding'] or '-'}")
         return "\n".join(lines)
@@ -182,7 +194,15 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
-                       pga_margins=margins(specs, pmat), pga_rules=tuple(r for _, r in limited))
+                       pga_margins=margins(specs, pmat), pga_rules=tuple(r for _, r in limited), mode=mode,
+                       assumptions=_assumptions_dict(assumptions))
+
+
+def _assumptions_dict(assumptions) -> dict | None:
+    """JSON-ready form of bound assumptions (a pydantic model or a mapping); None stays None."""
+    if assumptions is None:
+        return None
+    return assumptions.model_dump(mode="json") if hasattr(assumptions, "model_dump") else dict(assumptions)
 
 
 def check_arrays(specs: np.ndarray, tc_s: np.ndarray, range_resolution_m: np.ndarray,
@@ -209,24 +229,43 @@ def grade_spec_matrix(grades: Sequence[GradeSpec], use: str = "best") -> np.ndar
 
 @dataclass(frozen=True)
 class GradeRecommendation:
+    """Lowest sufficient grade per Tc (s) and δr (m), with the options it was found with."""
+
     tc_s: np.ndarray
     range_resolution_m: np.ndarray
     grade: tuple[str | None, ...]
     include: tuple[str, ...]
     use: str
+    mode: str = "paper"
+    #: the bounds' wavelength (m, ``no-autofocus`` and ``lever-arm``) and assumptions (``model_dump``)
+    wavelength_m: float | None = None
+    assumptions: dict | None = None
 
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"tc_s": np.ravel(self.tc_s), "range_resolution_m": np.ravel(self.range_resolution_m),
                              "lowest_sufficient_grade": list(self.grade)})
 
+    def to_dict(self) -> dict:
+        """JSON-ready: the options (``mode``, ``include``, ``use``, ``wavelength_m``, ``assumptions``)
+        and one row per Tc."""
+        return {"mode": self.mode, "include": list(self.include), "use": self.use,
+                "wavelength_m": self.wavelength_m, "assumptions": self.assumptions,
+                "rows": [{"tc_s": float(t), "range_resolution_m": float(d), "lowest_sufficient_grade": g}
+                         for t, d, g in zip(np.ravel(self.tc_s), np.ravel(self.range_resolution_m), self.grade)]}
+
     def summary(self) -> str:
-        return (f"lowest sufficient grade ({self.use} typical values; checked: {', '.join(self.include)})\n"
+        return (f"lowest sufficient grade ({self.mode} bounds, {self.use} typical values; checked: "
+                f"{', '.join(self.include)})\n"
                 + self.to_frame().to_string(index=False))
 
 
 def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mode: str = "paper",
-                    include: Sequence[str] = ("bias", "noise"), use: str = "best") -> GradeRecommendation:
-    """Lowest grade (highest rank) whose typical values meet the bounds, per Tc.
+                    include: Sequence[str] = ("bias", "noise"), use: str = "best", wavelength_m=None,
+                    assumptions=None) -> GradeRecommendation:
+    """Lowest grade (highest rank) whose typical values meet the bounds of ``mode``, per Tc.
+
+    ``wavelength_m`` (m) is needed by the ``no-autofocus`` and ``lever-arm`` modes, ``assumptions``
+    is passed to :func:`budget.bounds.compute_bounds` (default assumptions when ``None``).
 
     Defaults follow seed 004's reading of its Tables 1–4: scale factor and misalignment are
     left out because calibration removes most of them (the paper says so), and a grade counts
@@ -240,10 +279,13 @@ def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mo
     dr = np.broadcast_to(np.asarray(range_resolution_m, float), tc.shape)
     cols = [PARAM_NAMES.index(p) for fam in include for p in FAMILIES[fam]]
     ordered = sorted(grades, key=lambda g: GRADE_RANK[g.grade])
-    m = margins(grade_spec_matrix(ordered, use), bound_matrix(compute_bounds(tc, dr, mode)))[:, :, cols]
+    bounds = compute_bounds(tc, dr, mode, wavelength_m=wavelength_m, assumptions=assumptions)
+    m = margins(grade_spec_matrix(ordered, use), bound_matrix(bounds))[:, :, cols]
     ok = np.all(m >= 1.0, axis=-1)  # (G, S)
     out = []
     for s in range(tc.size):
         passing = [ordered[g].grade for g in range(len(ordered)) if ok[g, s]]
         out.append(passing[-1] if passing else None)
-    return GradeRecommendation(tc, np.asarray(dr), tuple(out), tuple(include), use)
+    return GradeRecommendation(tc, np.asarray(dr), tuple(out), tuple(include), use, mode,
+                               None if wavelength_m is None else float(wavelength_m),
+                               _assumptions_dict(assumptions))

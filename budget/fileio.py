@@ -203,14 +203,17 @@ def read_bytes(path: str | Path, max_bytes: int) -> bytes:
         return fh.read()
 
 
-def read_text(path: Path, max_bytes: int = 10_000_000) -> str:
-    """Read a small UTF-8 text file (optionally compressed); empty, huge, unreadable or non-UTF-8
-    files raise :class:`InputError`."""
+def read_text(path: Path, max_bytes: int = 10_000_000, expected: str | None = None) -> str:
+    """Read a small UTF-8 text file (optionally compressed); a missing, non-regular, empty, huge,
+    unreadable, non-UTF-8 or binary (NUL bytes) file raises :class:`InputError`, whose
+    ``expected`` says what the file should be (``expected``, e.g. "a catalog CSV file")."""
     path = Path(path)
     if not path.exists():
-        raise InputError("file not found", file=path)
+        raise InputError("file not found", file=path, expected=expected)
+    if not path.is_file() and not path.is_dir():
+        raise InputError("is not a regular file", file=path, expected=expected)
     if path.is_file() and path.stat().st_size == 0:
-        raise InputError("file is empty", file=path)
+        raise InputError("file is empty", file=path, expected=expected)
     if path.is_file() and compression_of(path) is None and path.stat().st_size > max_bytes:
         raise InputError(f"file is {path.stat().st_size} bytes", file=path,
                          expected=f"at most {max_bytes} bytes")
@@ -219,8 +222,10 @@ def read_text(path: Path, max_bytes: int = 10_000_000) -> str:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as err:
         raise InputError(f"not UTF-8 text (byte {err.start})", file=path, expected="UTF-8 encoding") from None
+    if "\x00" in text:
+        raise InputError("contains NUL bytes (binary file?)", file=path, expected=expected or "UTF-8 text")
     if not text.strip():
-        raise InputError("file is empty", file=path)
+        raise InputError("file is empty", file=path, expected=expected)
     return text
 
 

@@ -26,6 +26,7 @@ STREAMS = MappingProxyType({
     "motion_aiding": 14,            # aiding measurement noise, their error states, flexure
     "sar_receiver_noise": 21,       # receiver noise of the echoes (budget.mc.chain)
     "sar_scene": 23,                # layout and clutter of the realistic scene (budget.mc.chain)
+    "sar_reference": 24,            # receiver noise of the perfect-IMU reference (budget.mc.reference)
     "prefilter_calibration": 22,    # static record the ARMA pre-filter is fitted on
 })
 

@@ -168,6 +168,11 @@ ACCEL_CHANNELS = ("accel_x", "accel_y", "accel_z")
 CHANNELS = GYRO_CHANNELS + ACCEL_CHANNELS
 
 
+def channel_si_unit(channel: str) -> str:
+    """SI unit of a channel's signal: ``rad/s`` (``gyro_*``) or ``m/s²`` (``accel_*``)."""
+    return "rad/s" if channel.startswith("gyro") else "m/s²"
+
+
 def split_channel_column(name: str) -> tuple[str, str]:
     """``'gyro_x_dps'`` → ``('gyro_x', 'dps')``; raises ``ValueError`` naming what is expected."""
     for ch in CHANNELS:
@@ -186,14 +191,49 @@ def split_channel_column(name: str) -> tuple[str, str]:
     )
 
 
-# --- phase ------------------------------------------------------------------
+# --- range and phase (two-way propagation, seed 003 (12)) -------------------------------------
+#
+# Sign convention of the package (the simulator's, :mod:`budget.sar.echoes`): time dependence
+# e^{+jωt}, so an echo from range R carries exp(−j 4π R / λ) (exp(−j 4π f R / c) at frequency
+# f). A range increase Δr therefore changes the echo phase by ψ = −4π Δr / λ
+# (:func:`range_to_phase`), and focusing multiplies by exp(+j 4π R_assumed / λ). The motion,
+# bounds and aiding modules report the *phase error* φ = 4π Δr / λ of a range error
+# Δr = R_true − R_assumed (:func:`range_error_to_phase_error`): the focused echo carries e^{−jφ},
+# i.e. φ = −ψ. Their limits compare |φ| with the phase limits, so only its magnitude matters
+# there; the series keep the sign.
+
+
+def two_way_wavenumber_rad_m(wavelength_m):
+    """Two-way wavenumber 4π / λ: radians of echo phase per metre of range, rad/m (a magnitude;
+    the sign is that of :func:`range_to_phase`)."""
+    return 4.0 * math.pi / wavelength_m
+
+
+def two_way_wavenumber_at_frequency_rad_m(frequency_hz, c_m_s):
+    """Two-way wavenumber 4π f / c at frequency ``frequency_hz`` (scalar or array) and
+    propagation speed ``c_m_s`` (:data:`C_LIGHT`, :data:`C_SOUND_WATER`), rad/m."""
+    return 4.0 * math.pi * frequency_hz / c_m_s
 
 
 def range_to_phase(delta_r_m, wavelength_m):
-    """Two-way phase error φ = 4π Δr / λ (rad), seed 003 (12)."""
-    return 4.0 * math.pi * np.asarray(delta_r_m) / wavelength_m
+    """Echo phase change ψ = −4π Δr / λ (rad) of a two-way range increase Δr (m), seed 003 (12),
+    with the package's e^{+jωt} convention (the echo from range R carries exp(−j 4π R / λ))."""
+    return -4.0 * math.pi * np.asarray(delta_r_m) / wavelength_m
 
 
-def phase_to_range(phi_rad, wavelength_m):
-    """Range error Δr = λ φ / (4π) (m)."""
-    return np.asarray(phi_rad) * wavelength_m / (4.0 * math.pi)
+def phase_to_range(phase_rad, wavelength_m):
+    """Inverse of :func:`range_to_phase`: the range increase Δr = −ψ λ / (4π) (m) that changes
+    the echo phase by ψ (rad)."""
+    return -np.asarray(phase_rad) * wavelength_m / (4.0 * math.pi)
+
+
+def range_error_to_phase_error(range_error_m, wavelength_m):
+    """Phase error φ = 4π Δr / λ (rad) of a range error Δr = R_true − R_assumed (m): the focused
+    echo carries e^{−jφ}, φ = −:func:`range_to_phase` (Δr)."""
+    return -range_to_phase(range_error_m, wavelength_m)
+
+
+def phase_error_to_range_error(phase_error_rad, wavelength_m):
+    """Inverse of :func:`range_error_to_phase_error`: Δr = φ · λ / (4π) (m). For a phase limit
+    (|φ| ≤ limit) it is the largest line-of-sight range error allowed."""
+    return phase_error_rad * (wavelength_m / (4.0 * math.pi))

@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT))  # run from a checkout too
 
 from budget.fileio import atomic_write_text  # noqa: E402
 from budget.gap import run_gap  # noqa: E402
-from budget.gap.plots import adev_figure, gap_figure, psd_figure, write_figures  # noqa: E402
+from budget.plots.gap import adev_figure, gap_figure, psd_figure, write_figures  # noqa: E402
 
 DATA = ROOT.parent / "shared" / "data"
 PART = "ADIS16405"

@@ -9,23 +9,17 @@ period (paper: < 5 cm, < 0.001 m/s, < 1″) and the absolute errors at the end.
 
 from __future__ import annotations
 
-import argparse
-import sys
 import time
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
+import numpy as np
 
-import numpy as np  # noqa: E402
-
-from budget.seeds.master_slave import MasterSlaveParams, run_master_slave  # noqa: E402
-from budget.presets import get_preset  # noqa: E402
+from _seed_run import seed_run_parser  # puts the checkout on sys.path
+from budget.seeds.master_slave import MasterSlaveParams, run_master_slave
+from budget.presets import get_preset
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=20)
-    ap.add_argument("--seed", type=int, default=1)
+    ap = seed_run_parser(__doc__, trials=20, seed=1)
     args = ap.parse_args()
     tc = get_preset("missile_borne").tc_s
     params = MasterSlaveParams(trials=args.trials, imaging_periods_s=(round(tc, 3), 1.0, 2.0, 3.0))

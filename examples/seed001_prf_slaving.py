@@ -10,28 +10,21 @@ aperture lengths from the reference time.
 
 from __future__ import annotations
 
-import argparse
-import sys
-from pathlib import Path
+import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
-
-import numpy as np  # noqa: E402
-
-from budget.seeds.prf_slaving import PrfParams, run_prf_slaving  # noqa: E402
+from _seed_run import seed_run_parser  # puts the checkout on sys.path
+from budget.seeds.prf_slaving import PrfParams, run_prf_slaving
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=50)
-    ap.add_argument("--seed", type=int, default=4)
+    ap = seed_run_parser(__doc__, trials=50, seed=4)
     ap.add_argument("--accel", type=float, default=2.0, help="along-track acceleration, m/s²")
     args = ap.parse_args()
     res = run_prf_slaving(PrfParams(trials=args.trials, accel_m_s2=args.accel),
                           rng=np.random.default_rng(args.seed))
     print("seed 001 (4): PRF slaving, missile_borne preset")
     print(res.table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-    print("worst per case:", res.summary())
+    print(res.summary())
 
 
 if __name__ == "__main__":

@@ -11,23 +11,17 @@ the nonlinear part: KF-RTS vs DDF2-RTS as the initial heading misalignment grows
 
 from __future__ import annotations
 
-import argparse
-import sys
 import time
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
+import numpy as np
 
-import numpy as np  # noqa: E402
-
-from budget.seeds.large_misalignment import MisalignmentParams, run_large_misalignment  # noqa: E402
-from budget.seeds.transfer_alignment import TransferParams, run_transfer_alignment  # noqa: E402
+from _seed_run import seed_run_parser  # puts the checkout on sys.path
+from budget.seeds.large_misalignment import MisalignmentParams, run_large_misalignment
+from budget.seeds.transfer_alignment import TransferParams, run_transfer_alignment
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=40)
-    ap.add_argument("--seed", type=int, default=2)
+    ap = seed_run_parser(__doc__, trials=40, seed=2)
     args = ap.parse_args()
     params = TransferParams(trials=args.trials)
     t0 = time.perf_counter()

@@ -9,22 +9,16 @@ phase error directly (FFT of the windowed exp(jφ)) and measured with ``budget.s
 
 from __future__ import annotations
 
-import argparse
-import sys
 import time
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
+import numpy as np
 
-import numpy as np  # noqa: E402
-
-from budget.seeds.sonar_fusion import SonarParams, run_sonar_fusion  # noqa: E402
+from _seed_run import seed_run_parser  # puts the checkout on sys.path
+from budget.seeds.sonar_fusion import SonarParams, run_sonar_fusion
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=30)
-    ap.add_argument("--seed", type=int, default=3)
+    ap = seed_run_parser(__doc__, trials=30, seed=3)
     ap.add_argument("--window", default="taylor")
     args = ap.parse_args()
     params = SonarParams(trials=args.trials, window=args.window)

@@ -109,7 +109,7 @@ def test_gap_figures_are_written_for_offline_use(tmp_path):
     assert (tmp_path / PLOTLY_JS_NAME).stat().st_size > 1_000_000  # the real bundle, written once
     text = a.read_text()
     assert f'src="{PLOTLY_JS_NAME}"' in text and "cdn" not in re.findall(r"<script[^>]*>", text)[0]
-    src = (REPO / "budget" / "gap" / "plots.py").read_text()
+    src = (REPO / "budget" / "plots" / "gap.py").read_text()
     assert 'include_plotlyjs="cdn"' not in src and 'plotlyjs="beside"' in src
 
 

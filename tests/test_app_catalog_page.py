@@ -60,7 +60,7 @@ def test_valid_upload_merges_only_on_request_and_reaches_the_check_matrix():
     assert not at.exception and not at.error
     check = at.table[0].value.set_index("part_id")
     expected = {r["part_id"]: r["verdict"] for r in check_parts(
-        list(at.session_state["user_parts"].values()), get_preset("airborne_xband")).records(0)}
+        list(at.session_state["user_parts"].values()), get_preset("airborne_xband")).to_dict()["scenarios"][0]["parts"]}
     assert check.loc["MY-IMU-1", "verdict"] == expected["MY-IMU-1"]
     assert check.loc["MY-IMU-2", "verdict"] == expected["MY-IMU-2"]
 

@@ -58,9 +58,11 @@ def test_upload_limit_is_one_constant_shown_by_the_widgets():
     assert dashboard_cmd.MAX_UPLOAD_MB >= 64
     assert upload_tables.UPLOAD_LIMIT_MB == dashboard_cmd.MAX_UPLOAD_MB
     assert f"at most {dashboard_cmd.MAX_UPLOAD_MB} MB" in upload_tables.upload_label("IMU log")
+    # one upload widget for logs and Allan tables, used by both pages, enforcing the one limit
+    assert "max_upload_size=UPLOAD_LIMIT_MB" in (REPO / "app" / "upload_tables.py").read_text()
     for page in ("noise_lab.py", "model_gap.py"):
         text = (REPO / "app" / "pages" / page).read_text()
-        assert "max_upload_size=UPLOAD_LIMIT_MB" in text and "MAX_UPLOAD_MB = " not in text
+        assert "upload_log_or_table(" in text and "MAX_UPLOAD_MB = " not in text
 
 
 @pytest.mark.parametrize("port", [0, 70000])

@@ -81,7 +81,7 @@ def test_check_frame_carries_check_parts_records():
     parts = list(load_catalog().values())
     res = check_parts(parts, get_preset("airborne_xband_long_range"))
     frame = check_frame(res)
-    recs = res.records(0)
+    recs = res.to_dict()["scenarios"][0]["parts"]
     assert list(frame["verdict"]) == [r["verdict"] for r in recs]
     counts = verdict_counts(frame)
     assert counts == {v: sum(r["verdict"] == v for r in recs) for v in ("pass", "fail", "unknown")}

@@ -104,7 +104,7 @@ def test_check_page_verdicts_and_margins_are_check_parts():
     at = _app("pages/check.py")
     s = get_preset(PRESET)
     parts = list(load_catalog().values())
-    recs = check_parts(parts, s, "paper").records(0)
+    recs = check_parts(parts, s, "paper").to_dict()["scenarios"][0]["parts"]
     table = at.table[0].value
     assert list(table["part_id"]) == [r["part_id"] for r in recs]
     assert list(table["verdict"]) == [r["verdict"] for r in recs]
@@ -121,7 +121,8 @@ def test_check_page_follows_scenario_edit_and_mode():
     at.number_input(key="scn_slant_range_m").set_value(60_000.0).run()
     at.radio(key="bounds_mode").set_value("derived").run()
     _no_failure(at)
-    recs = check_parts(list(load_catalog().values()), _edited(slant_range_m=60_000.0), "derived").records(0)
+    recs = check_parts(list(load_catalog().values()), _edited(slant_range_m=60_000.0),
+                       "derived").to_dict()["scenarios"][0]["parts"]
     assert list(at.table[0].value["verdict"]) == [r["verdict"] for r in recs]
     assert "fail" in [r["verdict"] for r in recs]  # the edit matters: a longer Tc fails some parts
 
@@ -131,7 +132,8 @@ def test_no_autofocus_mode_on_a_sonar_preset_uses_its_wavelength():
     at.selectbox(key="scn_preset").set_value("sas_100khz").run()
     at.radio(key="bounds_mode").set_value("no-autofocus").run()
     _no_failure(at)
-    recs = check_parts(list(load_catalog().values()), get_preset("sas_100khz"), "no-autofocus").records(0)
+    recs = check_parts(list(load_catalog().values()), get_preset("sas_100khz"),
+                       "no-autofocus").to_dict()["scenarios"][0]["parts"]
     assert list(at.table[0].value["verdict"]) == [r["verdict"] for r in recs]
     assert any("pick one of them" in c.value for c in at.caption)  # no grade advice without PGA bounds
 

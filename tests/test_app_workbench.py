@@ -79,8 +79,8 @@ def test_check_page_shows_the_flag_and_exports(tmp_path):
     from budget.check import check_parts
 
     at = _app("pages/check.py")
-    flagged = [r["part_id"] for r in check_parts(load_catalog().values(), get_preset("airborne_xband")).records(0)
-               if r.get("flag")]
+    res = check_parts(load_catalog().values(), get_preset("airborne_xband"))
+    flagged = [r["part_id"] for r in res.to_dict()["scenarios"][0]["parts"] if r.get("flag")]
     warnings = " ".join(w.value for w in at.warning)
     for pid in flagged:
         assert pid in warnings

@@ -24,7 +24,7 @@ def test_margins_are_bound_over_spec():
     part = PartSpec(part_id="A", grade="tactical", source="x",
                     gyro_arw_deg_rt_h=b["gyro_arw_deg_rt_h"][0] / 2,  # margin 2
                     accel_bias_instability_ug=b["accel_bias_ug"][0] * 4)  # margin 0.25
-    r = check_parts([part], s).records()[0]
+    r = check_parts([part], s).to_dict()["scenarios"][0]["parts"][0]
     assert r["margins"]["gyro_arw_deg_rt_h"] == pytest.approx(2.0)
     assert r["margins"]["accel_bias_instability_ug"] == pytest.approx(0.25)
     assert r["verdict"] == "fail" and r["binding"] == "accel_bias_instability_ug"
@@ -32,7 +32,8 @@ def test_margins_are_bound_over_spec():
 
 
 def test_unspecified_never_pass_or_fail_silently():
-    r = check_parts([PartSpec(part_id="E", grade="consumer", source="x")], scen(1.0)).records()[0]
+    r = check_parts([PartSpec(part_id="E", grade="consumer", source="x")],
+                    scen(1.0)).to_dict()["scenarios"][0]["parts"][0]
     assert r["margins"] == {} and len(r["unspecified"]) == len(PARAM_NAMES) and r["binding"] is None
     assert r["verdict"] == "unknown"
 
@@ -96,7 +97,7 @@ def test_presets_check_runs_for_all():
                     gyro_bias_instability_deg_h=0.5, accel_bias_instability_ug=50)
     for name in ("airborne_xband", "automotive_24ghz", "sas_100khz"):
         for mode in ("paper", "derived", "no-autofocus"):
-            r = check_parts([part], get_preset(name), mode=mode).records()[0]
+            r = check_parts([part], get_preset(name), mode=mode).to_dict()["scenarios"][0]["parts"][0]
             assert r["verdict"] in ("pass", "fail")
 
 
@@ -106,7 +107,7 @@ def test_total_bias_row_is_checked_as_given_and_reported():
     b = paper_bounds(s.tc_s, 0.1).datasheet()["accel_bias_ug"][0]
     part = PartSpec(part_id="T", grade="tactical", source="x", accel_bias_instability_ug=b / 2,
                     bias_instability_convention="total_1sigma")
-    r = check_parts([part], s).records()[0]
+    r = check_parts([part], s).to_dict()["scenarios"][0]["parts"][0]
     assert r["margins"]["accel_bias_instability_ug"] == pytest.approx(2.0)
     assert r["bias_convention"] == "total_1sigma"
 

@@ -141,8 +141,8 @@ def test_demo_prints_the_check_flag(capsys):
 
     assert main(["demo"]) == 0
     text = capsys.readouterr().out
-    flagged = [r for r in check_parts(load_catalog().values(), get_preset("airborne_xband")).records(0)
-               if r.get("flag")]
+    res = check_parts(load_catalog().values(), get_preset("airborne_xband"))
+    flagged = [r for r in res.to_dict()["scenarios"][0]["parts"] if r.get("flag")]
     for r in flagged:
         assert f"! {r['part_id']}: {r['flag_reason']}" in text
 

@@ -49,7 +49,7 @@ def test_model_following_log_is_within_its_band():
     assert rep.steps == []
     assert not rep.band_before.beyond("gyro_x", c.sizes_before)
     assert "close enough" in rep.stop_reason
-    out = rep.to_json()
+    out = rep.to_dict()
     assert out["channels"]["gyro_x"]["effect_size_before"]["rms_db"] == pytest.approx(c.effect_size_before_db)
     assert out["close_enough_after"] is True
 

@@ -51,8 +51,8 @@ def test_aiding_section_is_typed_parsed_once_and_round_trips(tmp_path):
 
 def test_aided_run_is_deterministic_and_bounded():
     s = aided("automotive_77ghz", aiding=[GNSS], aiding_warmup_s=5.0, aiding_mode="realtime")
-    a = run_mc(s, get_part("MPU-6050"), 8, 4).to_json_dict()
-    b = run_mc(s, get_part("MPU-6050"), 8, 4).to_json_dict()
+    a = run_mc(s, get_part("MPU-6050"), 8, 4).to_dict()
+    b = run_mc(s, get_part("MPU-6050"), 8, 4).to_dict()
     assert a["metrics_after"] == b["metrics_after"]
     # GNSS at 2 cm bounds the error: no trial migrates by more than a range cell (δr = 0.1 m)
     assert a["failure_reasons"]["range_migration"] == 0

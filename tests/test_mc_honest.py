@@ -111,7 +111,7 @@ def test_check_flags_paper_vs_fast_phase_disagreement():
     from budget.check import check_parts
     cat = load_catalog(None)
     r = check_parts([cat["ADIS16405"], cat["HG9900"]], get_preset("airborne_xband"))
-    recs = {x["part_id"]: x for x in r.records(0)}
+    recs = {x["part_id"]: x for x in r.to_dict()["scenarios"][0]["parts"]}
     assert recs["ADIS16405"]["verdict"] == "pass" and recs["ADIS16405"]["flag"]
     assert "beyond PGA's window" in recs["ADIS16405"]["flag_reason"]
     assert not recs["HG9900"]["flag"]
@@ -252,21 +252,46 @@ def test_dominated_part_never_passes_more():
     assert ra.ci_after[1] >= rb.ci_after[0], (ra.summary(), rb.summary())
 
 
-def _clutter_options():
+def _clutter_options(clutter_db: float = -20.0, **kw):
     from budget.mc.chain import realistic_scene_available
     if not realistic_scene_available():
         pytest.skip("Scene.realistic is not available in this tree")
-    return McOptions(scene="realistic", clutter_to_target_db=-20.0, snr_db=30.0, unspecified="zero")
+    return McOptions(scene="realistic", clutter_to_target_db=clutter_db, snr_db=30.0, unspecified="zero", **kw)
+
+
+_CLUTTER_20 = pytest.mark.xfail(strict=False, reason="measured: 0.94 [0.85, 0.98] (3 trials over the residual "
+                                "limit √(1° ² + q95²), 1 over the PSLR limit). The limits sit at the 95 % quantile "
+                                "of 16 perfect-IMU draws + the spec's margin, so a perfect IMU itself fails a few "
+                                "% of trials where PGA's clutter-limited error is largest (−20 dB); README, "
+                                "Monte Carlo section")
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=False, reason="measured with the present PGA: on the realistic scene its own "
-                   "estimate leaves 4–19° rms beyond its window with NO motion error (clutter −20 … −45 dB, "
-                   "SNR 30 dB), so every part fails; README, Monte Carlo section")
-def test_clutter_scene_small_error_passes():
+@pytest.mark.parametrize("clutter_db", [-25.0, pytest.param(-20.0, marks=_CLUTTER_20)])
+def test_clutter_scene_small_error_passes(clutter_db):
+    """A navigation-grade part (HG9900, catalog) on the realistic scene (SNR 30 dB, lever arm 0):
+    its errors are far inside every bound, so the verdict must pass. The image and PGA's residual
+    are judged relative to what a perfect IMU gets on the same scene (budget.mc.reference): with no
+    motion error at all, PGA's clutter-limited estimate already lifts the Taylor PSLR of the
+    clutter-free points from −35 to ≈ −25 dB, which no IMU can be blamed for. (VRW at 0.1× the paper
+    bound is not a small error on X band: the fast-phase limit is 0.032× the paper bound.)"""
     scen = _zero_lever("airborne_xband")
-    small = run_mc(scen, single_term_model(scen, "accel_vrw", 0.1), 64, 1, options=_clutter_options())
+    small = run_mc(scen, get_part("HG9900", load_catalog(None)), 64, 1, options=_clutter_options(clutter_db))
     assert small.ci_after[0] >= 0.9, small.summary()
+    ref = small.judged_on["reference"]
+    assert ref["scene_fails_spec"], ref  # the scene alone exceeds the Taylor spec: said in the result
+    assert "perfect-IMU reference" in small.summary()
+
+
+@pytest.mark.slow
+def test_clutter_scene_against_the_bare_spec_fails_every_part():
+    """scene_reference="none" applies the spec as it is: then the clutter-limited PGA fails even the
+    navigation-grade part (the former behaviour, kept as an option and stated in the result)."""
+    scen = _zero_lever("airborne_xband")
+    bare = run_mc(scen, get_part("HG9900", load_catalog(None)), 64, 1,
+                  options=_clutter_options(-25.0, scene_reference="none"))
+    assert bare.p_pass_after <= 0.2, bare.summary()
+    assert "reference" not in bare.judged_on
 
 
 @pytest.mark.slow

@@ -23,7 +23,7 @@ LBAND = Scenario(name="lband_uav", carrier_frequency_hz=1.3e9, slant_range_m=100
 
 
 def _fingerprint(r):
-    d = r.to_json_dict()
+    d = r.to_dict()
     return (d["p_pass_before"], d["p_pass_after"], d["failure_reasons"],
             d["metrics_after"]["pslr_db"], d["metrics_after"]["residual_phase_rms_deg"])
 
@@ -36,8 +36,8 @@ def test_same_seed_same_numbers_any_workers_or_backend():
     other = run_mc(s, p, 128, 8)
     assert _fingerprint(other) != _fingerprint(serial)
     # the first 64 trials of a 128-trial run are the 64-trial run
-    short = run_mc(s, p, 64, 7).to_json_dict()["metrics_after"]["pslr_db"]
-    assert short == serial.to_json_dict()["metrics_after"]["pslr_db"][:64]
+    short = run_mc(s, p, 64, 7).to_dict()["metrics_after"]["pslr_db"]
+    assert short == serial.to_dict()["metrics_after"]["pslr_db"][:64]
 
 
 @pytest.mark.slow

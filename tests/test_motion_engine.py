@@ -14,8 +14,8 @@ from budget.errors import InputError
 from budget.imu.noise_model import NoiseModel
 from budget.motion import aperture_samples, simulate_motion
 from budget.motion.geometry import los_unit_vector
-from budget.motion.plots import plot_metric_histograms, plot_phase_error, plot_position_error
 from budget.nav.platform import Disturbance
+from budget.plots.motion import plot_metric_histograms, plot_phase_error, plot_position_error
 from budget.presets import get_preset
 from budget.scenario import Scenario
 from budget.units import G0
@@ -117,16 +117,16 @@ def test_initial_errors_and_several_targets():
 
 def test_result_summary_frame_json_and_plots():
     res = simulate_motion(SCEN, MODEL, 20, seed=4)
-    s = res.summary()
-    assert s["trials"] == 20 and s["tc_s"] == pytest.approx(SCEN.tc_s)
-    assert set(s["quadratic_edge_rad"]) == {"rms", "median", "p95"}
+    s = res.to_dict()
+    assert s["trials"] == 20 and s["tc_s"] == pytest.approx(SCEN.tc_s) and s["seed"] == 4
+    assert set(s["statistics"]["quadratic_edge_rad"]) == {"rms", "median", "p95"}
     frame = res.to_frame()
     assert len(frame) == 20 and {"trial", "target", "residual_rms_deg", "peak_range_cells"} <= set(frame)
-    j = res.to_json_dict()
+    j = res.to_dict()
     for key in ("trials", "tc_s", "peak_range_error_m", "quadratic_edge_rad", "cubic_edge_rad", "residual_rms_deg"):
         assert key in j
     assert len(j["residual_rms_deg"]) == 20
-    assert "quadratic_edge_rad" in res.summary_text()
+    assert isinstance(res.summary(), str) and "quadratic_edge_rad" in res.summary()
     for fig in (plot_position_error(res), plot_phase_error(res), plot_metric_histograms(res)):
         assert isinstance(fig, go.Figure) and len(fig.data) > 0
     lean = simulate_motion(SCEN, MODEL, 20, seed=4, keep_series=False)

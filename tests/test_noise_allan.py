@@ -111,7 +111,7 @@ def test_psd_white_level_recovers_n():
 
 def test_figures_have_data_fit_and_response():
     from budget.noise import ArmaKalman, fit_arma, fit_noise_terms, frequency_response
-    from budget.noise.plots import allan_figure, filter_figure, psd_figure, response_figure
+    from budget.plots.noise import allan_figure, filter_figure, psd_figure, response_figure
     from budget.noise.synth import simulate_arma
     y = imu_noise(20_000, 100.0, np.random.default_rng(0), N=1e-3, B=1e-4)
     r = allan_deviation(y, 100.0, channel="gyro_x", unit="rad/s")

@@ -135,7 +135,7 @@ def test_characterize_synthetic_log_row_units(tmp_path):
     assert c.part.accel_vrw_m_s_rt_h == pytest.approx(0.05, rel=0.05)
     assert c.part.bias_instability_convention == "adev_min"
     assert set(c.channels) == {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"}
-    js = c.to_json()
+    js = c.to_dict()
     assert set(js["channels"]["gyro_y"]) == {"Q", "N", "B", "K", "R"}
     assert js["channels"]["gyro_y"]["N"] == pytest.approx(Ng[1], rel=0.05)
     assert "worst axis" in js["combine_rule"]

@@ -11,7 +11,8 @@ from budget.rng import STREAMS, stream_id, trial_generator
 
 #: The pinned table: changing an id changes every result drawn from it — do it on purpose.
 PINNED = {"motion_imu": 11, "motion_disturbance": 12, "motion_initial": 13, "motion_aiding": 14,
-          "sar_receiver_noise": 21, "prefilter_calibration": 22, "sar_scene": 23}
+          "sar_receiver_noise": 21, "prefilter_calibration": 22, "sar_scene": 23,
+          "sar_reference": 24}
 
 
 def test_the_table_is_pinned_and_ids_are_unique():

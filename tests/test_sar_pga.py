@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 
 from budget.errors import InputError
+from budget.plots.sar import phase_error_figure
 from budget.presets import get_preset
 from budget.sar import (PointTarget, SarGeometry, Scene, evaluate, form_image, los_offset_for_phase,
                         measure_targets, pga, phase_on_bins, residual_phase_rad, residual_rms_rad,
                         simulate_echoes, smooth_phase_error)
 from budget.sar.pga import apply_phase_correction
 from budget.sar.phase import normalised_time
-from budget.sar.plots import phase_error_figure
 
 
 @pytest.fixture(scope="module")
@@ -42,7 +42,7 @@ def test_pga_removes_a_smooth_phase_error(defocused, kernel):
     assert np.all(np.abs(f["azimuth_broadening"]) < 0.02) and np.all(np.abs(f["range_broadening"]) < 0.02)
     assert np.all(f["peak_loss_db"] < 0.2)
     assert evaluate(after).passed
-    assert res.summary()["converged"] and len(res.to_frame()) == img.data.shape[0]
+    assert res.to_dict()["converged"] and len(res.to_frame()) == img.data.shape[0]
     assert len(phase_error_figure(res, img, truth).data) == 3
 
 
@@ -127,3 +127,29 @@ def test_pga_bad_input():
         pga(np.ones(64))
     with pytest.raises(InputError):
         pga(good, max_iter=0)
+
+
+def test_fast_kernels_match_their_direct_forms():
+    """The Savitzky–Golay filter built from its coefficients and end fits equals scipy's
+    savgol_filter(mode="interp"); the phase ramp by cumulative products equals the direct
+    exponential (seeded random inputs)."""
+    from scipy.signal import savgol_filter
+    from budget.sar.pga import _ramp, _savgol
+    rng = np.random.default_rng(11)
+    for span, length in ((313, 145), (64, 7), (101, 71)):
+        x = rng.standard_normal(span)
+        assert np.allclose(_savgol(x, length), savgol_filter(x, length, 3, mode="interp"), atol=1e-12)
+    for n in (462, 128, 95):
+        shift = rng.uniform(-n, n, 17)
+        direct = np.exp(-2j * np.pi * np.fft.fftfreq(n)[:, None] * shift[None, :])
+        assert np.abs(_ramp(n, shift) - direct).max() < 1e-11
+
+
+def test_pga_without_the_corrected_image_gives_the_same_estimate(defocused):
+    """corrected_image=False skips only the final correction: same estimate, input image returned,
+    and applying the estimate reproduces the corrected image."""
+    _, _, img, _ = defocused
+    full, lean = pga(img.data), pga(img.data, corrected_image=False)
+    np.testing.assert_array_equal(full.phase_error_rad, lean.phase_error_rad)
+    assert lean.image is img.data or np.array_equal(lean.image, img.data)
+    np.testing.assert_allclose(apply_phase_correction(img.data, lean.phase_error_rad), full.image, atol=1e-12)

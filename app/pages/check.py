@@ -72,7 +72,7 @@ def _downloads(result, frame, parts, ctx: sidebar.Context) -> None:
     a.download_button("Check matrix (CSV)", frame_csv_text(frame), f"check_{s.name}.csv", mime="text/csv",
                       key="chk_dl_csv")
     b.download_button("Check matrix (JSON)", json_text({"scenario": s.model_dump(mode="json"), "mode": ctx.mode,
-                                                        "parts": result.records(0)}),
+                                                        "parts": result.to_dict()["scenarios"][0]["parts"]}),
                       f"check_{s.name}.json", mime="application/json", key="chk_dl_json")
     if c3.button("Build the report (HTML)", key="chk_build_report",
                  help="scenario, bounds, this check and figures; the Monte Carlo page adds P(pass)"):

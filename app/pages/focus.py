@@ -13,10 +13,10 @@ import streamlit as st
 
 from budget.errors import InputError
 from budget.fileio import json_safe
+from budget.plots.focus import image_pair_figure, phase_figure
 from budget.sar.afrl import read_afrl
 from budget.sar.focus import FocusOptions
 from budget.sar.focus_pga import AUTOFOCUS_MODES, focus
-from budget.sar.focus_plots import image_pair_figure, phase_figure
 
 from page_frame import run_page
 
@@ -98,7 +98,7 @@ def render() -> None:
         blobs = tuple(sorted((u.name, u.getvalue()) for u in ups))
         result = _run_uploads(blobs, options.model_dump_json(), autofocus)
     st.session_state["focus_last"] = True
-    s = result.summary()
+    s = result.scalars()
     m1, m2, m3, m4 = st.columns(4)
     m1.metric("pulses", s["pulses"])
     m2.metric("entropy before", f"{s['entropy_before']:.5g}")

@@ -8,26 +8,25 @@ until the next run (a later change of an input says so instead of silently re-ru
 from __future__ import annotations
 
 import hashlib
-import json
+from pathlib import Path
 
 import numpy as np
 import streamlit as st
 
+from budget.api import load_part
 from budget.catalog.schema import PartSpec
-from budget.errors import InputError
 from budget.fileio import json_text
 from budget.gap import run_gap
 from budget.gap.inputs import log_from_arrays
-from budget.gap.plots import adev_figure, gap_figure, psd_figure
 from budget.imu.generator import simulate_static_log
 from budget.imu.noise_model import NoiseModel
+from budget.plots.gap import adev_figure, gap_figure, psd_figure
 
 import components as c
 from formatting import fmt_value, tidy
 from page_frame import run_page
-from upload_tables import (LOG_TYPES, UPLOAD_LIMIT_MB, adev_inputs, check_size, is_adev_table,
-                           read_uploaded_adev, upload_label)
-from uploads import read_uploaded_log
+from upload_tables import adev_inputs, is_adev_table, read_uploaded_adev, upload_log_or_table
+from uploads import read_uploaded_log, read_via_temp_copy
 
 SOURCES = ("built-in example (a part with a hidden effect)", "upload a log or an Allan table")
 #: The example: 30 min at 100 Hz of the chosen part, plus a sinusoid on gyro_z the part does not
@@ -71,10 +70,8 @@ def _model() -> tuple[NoiseModel | None, bool]:
     if up is None:
         st.info("Upload a noise-model JSON, or pick a catalog part.")
         return None, False
-    try:
-        return NoiseModel.from_dict(json.loads(up.getvalue().decode("utf-8")), source=up.name), False
-    except (UnicodeDecodeError, json.JSONDecodeError) as err:
-        raise InputError(f"not valid JSON: {err}", file=up.name) from None
+    # read as the CLI reads --model: errors name the uploaded file and the field
+    return read_via_temp_copy(up.getvalue(), up.name, lambda path: load_part(Path(path))), False
 
 
 def _measured(model: NoiseModel, seed: int):
@@ -84,24 +81,21 @@ def _measured(model: NoiseModel, seed: int):
         return f"example-{seed}-{model.part_id}", _example(model.model_dump_json(), seed), None, None
     st.markdown("A static **log** (canonical columns, plain or .gz/.bz2/.xz/.zip, read in chunks as the "
                 "CLI reads it) or an **Allan table** `channel, tau_s, adev[, lci, uci]`.")
-    up = st.file_uploader(upload_label("IMU log or Allan table"), type=LOG_TYPES, key="gap_upload",
-                          max_upload_size=UPLOAD_LIMIT_MB)
-    if up is None:
-        st.info("Upload a static IMU log or an Allan table, or use the example.")
+    upload = upload_log_or_table("gap_upload", "Upload a static IMU log or an Allan table, or use the example.")
+    if upload is None:
         return None
-    data = up.getvalue()
-    check_size(data, up.name)
+    data, name = upload
     digest = hashlib.sha256(data).hexdigest()[:16]
-    if is_adev_table(data, up.name):
+    if is_adev_table(data, name):
         rate, samples = adev_inputs("gap")
-        tables = read_uploaded_adev(data, up.name, rate, samples)
-        st.caption(f"{up.name}: Allan table, channels {', '.join(tables)} (compared by ADEV only).")
-        return f"{up.name}-{digest}-{rate}-{samples}", tables, None, None
+        tables = read_uploaded_adev(data, name, rate, samples)
+        st.caption(f"{name}: Allan table, channels {', '.join(tables)} (compared by ADEV only).")
+        return f"{name}-{digest}-{rate}-{samples}", tables, None, None
     max_rows = int(st.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
                                    step=100_000, key="gap_max_rows"))
-    log = read_uploaded_log(data, up.name, max_rows, False)
-    st.caption(f"{up.name}: {log.n_samples} samples at {log.rate_hz:.6g} Hz ({log.duration_s:.6g} s).")
-    return f"{up.name}-{digest}-{max_rows}", log, None, None
+    log = read_uploaded_log(data, name, max_rows, False)
+    st.caption(f"{name}: {log.n_samples} samples at {log.rate_hz:.6g} Hz ({log.duration_s:.6g} s).")
+    return f"{name}-{digest}-{max_rows}", log, None, None
 
 
 def _show(report) -> None:
@@ -124,7 +118,7 @@ def _show(report) -> None:
         st.plotly_chart(psd_figure(report, ch), key="gap_psd")
     st.dataframe(tidy(report.to_frame()), hide_index=True, key="gap_table")
     d1, d2 = st.columns(2)
-    d1.download_button("Download REPORT.json", json_text(report.to_json()), "gap_report.json",
+    d1.download_button("Download REPORT.json", json_text(report.to_dict()), "gap_report.json",
                        mime="application/json", key="gap_dl_report")
     if report.updated_model is not None:
         d2.download_button("Download the updated model JSON", json_text(report.updated_model.to_dict()),

@@ -100,7 +100,7 @@ def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict
     if not parts:
         return
     recs = {r["part_id"]: r for r in check_parts(parts, scenario, mode if mode != "no-autofocus" else "paper")
-            .records(0)}
+            .to_dict()["scenarios"][0]["parts"]}
     rows = []
     for pid, r in results.items():
         cmp_ = check_vs_mc(recs.get(pid, {"part_id": pid, "verdict": "not checked"}), r)

@@ -15,15 +15,15 @@ from budget.catalog.io import parts_to_csv_text
 from budget.errors import InputError
 from budget.fileio import json_text
 from budget.noise import ImuLog, LogError, allan_deviation, characterize, fit_noise_terms, welch_psd
-from budget.noise.pipeline import analyse_arma, channel_si_unit
-from budget.noise.plots import allan_figure, filter_figure, psd_figure, response_figure
+from budget.noise.pipeline import analyse_arma
 from budget.noise.synth import imu_noise
-from budget.plots.noise import arma_criteria_figure, preprocess_figure
+from budget.plots.noise import (allan_figure, arma_criteria_figure, filter_figure, preprocess_figure, psd_figure,
+                                response_figure)
+from budget.units import channel_si_unit
 
 from formatting import tidy, value_table
 from page_frame import run_page
-from upload_tables import (LOG_TYPES, UPLOAD_LIMIT_MB, adev_inputs, check_size, is_adev_table,
-                           read_uploaded_adev, upload_label)
+from upload_tables import adev_inputs, is_adev_table, read_uploaded_adev, upload_log_or_table
 from uploads import read_uploaded_log
 
 DEFAULT_MAX_ROWS = 500_000
@@ -92,14 +92,8 @@ def _source() -> tuple[bytes, str] | None:
                 "plain or .gz/.bz2/.xz/.zip (read in chunks, as the CLI reads it). Or an **Allan table**: "
                 "`channel, tau_s, adev[, lci, uci]` with the unit on the channel name (`gyro_x_dps`, "
                 "`accel_x_g` …).")
-    up = st.file_uploader(upload_label("IMU log or Allan table"), type=LOG_TYPES, key="noise_upload",
-                          max_upload_size=UPLOAD_LIMIT_MB)
-    if up is None:
-        st.info("Upload a static IMU log or an Allan table, or pick the built-in example.")
-        return None
-    data = up.getvalue()
-    check_size(data, up.name)
-    return data, up.name
+    return upload_log_or_table("noise_upload",
+                               "Upload a static IMU log or an Allan table, or pick the built-in example.")
 
 
 def _load(data: bytes, name: str) -> ImuLog | None:

@@ -47,11 +47,20 @@ class AidedResult:
         return {"position_m": f(self.position_error_m), "velocity_m_s": f(self.velocity_error_m_s),
                 "attitude_rad": f(self.attitude_error_rad)}
 
-    def summary(self) -> dict:
+    def to_dict(self) -> dict:
+        """JSON-ready: method, trials, samples and the RMS per axis (x, y, z) of each error."""
         r = self.rms()
         return {"method": self.method, "trials": int(self.position_error_m.shape[0]),
                 "samples": int(self.time_s.size),
                 **{f"rms_{k}": v.tolist() for k, v in r.items()}}
+
+    def summary(self) -> str:
+        """One line: method, trials, samples and the RMS per axis of position, velocity, attitude."""
+        r = self.rms()
+        fmt = lambda v: "(" + ", ".join(f"{x:.3g}" for x in v) + ")"
+        return (f"{self.method}: {self.position_error_m.shape[0]} trials × {self.time_s.size} samples; rms "
+                f"position {fmt(r['position_m'])} m, velocity {fmt(r['velocity_m_s'])} m/s, "
+                f"attitude {fmt(r['attitude_rad'])} rad")
 
     def to_frame(self) -> pd.DataFrame:
         """Per-sample RMS over trials and predicted σ of each component."""

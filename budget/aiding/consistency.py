@@ -58,10 +58,17 @@ class ConsistencyReport:
         """Mean over all epochs (≈ dof for a consistent filter)."""
         return float(np.mean(self.average))
 
-    def summary(self) -> dict:
-        return {"name": self.name, "dof": self.dof, "trials": self.trials,
-                "mean": self.overall_mean, "interval": (self.lower, self.upper),
+    def to_dict(self) -> dict:
+        """JSON-ready: statistic, degrees of freedom, trials, α, mean, χ² interval and fractions."""
+        return {"name": self.name, "dof": self.dof, "trials": self.trials, "alpha": self.alpha,
+                "mean": self.overall_mean, "interval": [self.lower, self.upper],
                 "fraction_inside": self.fraction_inside, "expected_fraction": 1 - self.alpha}
+
+    def summary(self) -> str:
+        """One line: mean against the dof, and the fraction of epochs inside the χ² interval."""
+        return (f"{self.name}: mean {self.overall_mean:.3g} (dof {self.dof}, {self.trials} trials); "
+                f"{self.fraction_inside:.1%} of epochs inside [{self.lower:.3g}, {self.upper:.3g}] "
+                f"(expected {1 - self.alpha:.0%})")
 
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"epoch": np.arange(self.average.size), "average": self.average,

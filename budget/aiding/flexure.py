@@ -64,9 +64,19 @@ class FlexureHistory:
     displacement_m: np.ndarray
     velocity_m_s: np.ndarray
 
-    def summary(self) -> dict:
-        return {"rms_displacement_m": np.sqrt(np.mean(self.displacement_m ** 2, axis=(0, 1))).tolist(),
+    def to_dict(self) -> dict:
+        """JSON-ready: sample interval (s), trials, samples and the RMS per body axis."""
+        return {"dt_s": float(self.dt_s), "trials": int(self.displacement_m.shape[0]),
+                "samples": int(self.displacement_m.shape[1]),
+                "rms_displacement_m": np.sqrt(np.mean(self.displacement_m ** 2, axis=(0, 1))).tolist(),
                 "rms_velocity_m_s": np.sqrt(np.mean(self.velocity_m_s ** 2, axis=(0, 1))).tolist()}
+
+    def summary(self) -> str:
+        """One line: trials, samples and the RMS displacement and rate per body axis."""
+        d = self.to_dict()
+        fmt = lambda v: "(" + ", ".join(f"{x:.3g}" for x in v) + ")"
+        return (f"flexure: {d['trials']} trials × {d['samples']} samples at {self.dt_s:g} s; rms displacement "
+                f"{fmt(d['rms_displacement_m'])} m, rate {fmt(d['rms_velocity_m_s'])} m/s")
 
     def to_frame(self):
         import pandas as pd

@@ -36,6 +36,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from ..catalog.schema import ImuErrorsSI
+from .. import units as u
 from ..units import G0
 
 
@@ -124,6 +125,19 @@ class ImuErrorModel:
             accel_bias_m_s2=imu.accel_turn_on_bias_m_s2,
             accel_gm_sigma_m_s2=imu.accel_bias_instability_adev_m_s2, accel_gm_tau_s=gm_tau_s,
             accel_vrw_m_s2_rt_hz=imu.accel_vrw_m_s2_rt_hz)
+
+    @classmethod
+    def from_datasheet(cls, *, gyro_bias_deg_h: float = 0.0, gyro_arw_deg_rt_h: float = 0.0,
+                       accel_bias_ug: float = 0.0, accel_vrw_ug_rt_hz: float = 0.0, gyro_gm_deg_h: float = 0.0,
+                       **si) -> "ImuErrorModel":
+        """From datasheet units — gyro bias and Gauss–Markov σ deg/h, ARW deg/√h, accelerometer bias
+        µg, VRW µg/√Hz — converted by :mod:`budget.units`; further SI fields (``gyro_gm_tau_s`` …)
+        as keywords."""
+        return cls(gyro_bias_rad_s=u.deg_h_to_rad_s(gyro_bias_deg_h),
+                   gyro_gm_sigma_rad_s=u.deg_h_to_rad_s(gyro_gm_deg_h),
+                   gyro_arw_rad_s_rt_hz=u.deg_rt_h_to_rad_s_rt_hz(gyro_arw_deg_rt_h),
+                   accel_bias_m_s2=u.ug_to_m_s2(accel_bias_ug),
+                   accel_vrw_m_s2_rt_hz=u.ug_rt_hz_to_m_s2_rt_hz(accel_vrw_ug_rt_hz), **si)
 
     def blocks(self) -> list[tuple[str, int]]:
         """INS state blocks: pos, vel, att always; bias blocks only when they have variance."""

@@ -68,11 +68,20 @@ class FilterOutput:
     innovations: dict = field(default_factory=dict)
     blended: np.ndarray | None = None
 
-    def summary(self) -> dict:
+    def to_dict(self) -> dict:
+        """JSON-ready: trials, samples, states, checkpoints and the updates per measurement."""
         T, N, _ = self.estimate.shape
         return {"trials": T, "samples": N, "states": int(self.p_diag.shape[1]),
-                "checkpoints": int(self.checkpoints.size),
+                "store_index": np.asarray(self.store_index).tolist(),
+                "checkpoints": int(self.checkpoints.size), "blended": self.blended is not None,
                 "updates": {k: int(v[0].shape[1]) for k, v in self.innovations.items()}}
+
+    def summary(self) -> str:
+        """One line: trials, samples, states and the updates per measurement."""
+        d = self.to_dict()
+        ups = ", ".join(f"{k} {v}" for k, v in d["updates"].items()) or "none"
+        return (f"Kalman filter: {d['trials']} trials × {d['samples']} samples, {d['states']} states, "
+                f"{d['checkpoints']} checkpoints; updates: {ups}")
 
     def to_frame(self) -> pd.DataFrame:
         """Predicted 1σ of every state per sample (columns ``sigma_<index>``)."""

@@ -38,10 +38,17 @@ class SmootherOutput:
     x_smooth: np.ndarray
     p_smooth: np.ndarray
 
-    def summary(self) -> dict:
+    def to_dict(self) -> dict:
+        """JSON-ready: trials, samples, states and checkpoints."""
         T, N, _ = self.estimate.shape
         return {"trials": T, "samples": N, "states": int(self.p_diag.shape[1]),
-                "checkpoints": int(self.checkpoints.size)}
+                "store_index": np.asarray(self.store_index).tolist(), "checkpoints": int(self.checkpoints.size)}
+
+    def summary(self) -> str:
+        """One line: trials, samples, states and checkpoints."""
+        d = self.to_dict()
+        return (f"RTS smoother: {d['trials']} trials × {d['samples']} samples, {d['states']} states, "
+                f"{d['checkpoints']} checkpoints")
 
     def to_frame(self) -> pd.DataFrame:
         """Smoothed 1σ of every state per sample (columns ``sigma_<index>``)."""

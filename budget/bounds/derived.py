@@ -72,4 +72,5 @@ def derived_bounds(tc_s, range_resolution_m, a: DerivedAssumptions | None = None
         accel_vrw_m_s2_rt_hz=a.share_noise * dr / (a.k_sigma * np.sqrt(tc**3 / 3.0)),
         gyro_arw_rad_s_rt_hz=a.share_noise * dr / (a.k_sigma * g * np.sqrt(tc**5 / 20.0)),
         notes=(f"derived: {a.model_dump()}",),
+        assumptions=a.model_dump(mode="json"),
     )

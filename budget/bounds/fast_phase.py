@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ..sar.residual import DEFAULT_PGA_BANDWIDTH_CYCLES, random_walk_highpass_rms
-from ..units import G0
+from ..units import G0, phase_error_to_range_error
 
 
 @dataclass(frozen=True)
@@ -46,6 +46,14 @@ class FastPhaseLimits:
         return pd.DataFrame({"tc_s": self.tc_s, "vrw_fast_limit_m_s2_rt_hz": self.vrw_m_s2_rt_hz,
                              "arw_fast_limit_rad_s_rt_hz": self.arw_rad_s_rt_hz})
 
+    def to_dict(self) -> dict:
+        """JSON-ready: the inputs (wavelength, phase limits, PGA bandwidth) and the limits, SI."""
+        return {"wavelength_m": self.wavelength_m, "noise_rms_deg": self.noise_rms_deg,
+                "harmonic_peak_deg": self.harmonic_peak_deg, "pga_bandwidth_cycles": self.pga_bandwidth_cycles,
+                "noise_range_rms_m": self.noise_range_rms_m, "harmonic_range_peak_m": self.harmonic_range_peak_m,
+                "paired_echo_db": self.paired_echo_db, "noise_islr_db": self.noise_islr_db,
+                "rows": self.to_frame().to_dict(orient="records")}
+
     def summary(self) -> str:
         return (f"fast phase (λ = {self.wavelength_m:.4g} m): random ≤ {self.noise_rms_deg}° rms "
                 f"→ {self.noise_range_rms_m:.3g} m rms, harmonic ≤ {self.harmonic_peak_deg}° peak → "
@@ -62,9 +70,8 @@ def fast_phase_limits(wavelength_m: float, tc_s=(), *, noise_rms_deg: float = 1.
     lam = float(wavelength_m)
     if not (math.isfinite(lam) and lam > 0):
         raise ValueError("wavelength must be finite and > 0 m")
-    to_range = lam / (4.0 * math.pi)
-    noise_m = math.radians(noise_rms_deg) * to_range
-    harm_m = math.radians(harmonic_peak_deg) * to_range
+    noise_m = phase_error_to_range_error(math.radians(noise_rms_deg), lam)
+    harm_m = phase_error_to_range_error(math.radians(harmonic_peak_deg), lam)
     tc = np.atleast_1d(np.asarray(tc_s, dtype=float))
     if not (math.isfinite(pga_bandwidth_cycles) and pga_bandwidth_cycles >= 0):
         raise ValueError("PGA bandwidth must be finite and ≥ 0 cycles per aperture")

@@ -31,6 +31,7 @@ import pandas as pd
 from pydantic import BaseModel, ConfigDict, Field
 
 from ..sar.residual import DEFAULT_PGA_BANDWIDTH_CYCLES, random_walk_highpass_rms
+from ..units import phase_error_to_range_error
 from .paper import _inputs, paper_bounds
 from .table import BOUND_FIELDS, BoundsTable
 
@@ -68,7 +69,7 @@ def _limits(tc, dr, wavelength_m: float, a: LeverArmAssumptions) -> dict[str, np
     theta = math.radians(a.platform_rate_deg_s) * tc
     with np.errstate(divide="ignore"):
         by_turn = np.where(theta > 0, dr / (d * theta), np.inf)
-    fast_m = math.radians(a.fast_residual_limit_deg) * wavelength_m / (4.0 * math.pi)
+    fast_m = phase_error_to_range_error(math.radians(a.fast_residual_limit_deg), wavelength_m)
     c_rw = random_walk_highpass_rms("rw", float(a.pga_bandwidth_cycles))
     return {"gyro_arw_migration": dr / (a.k_sigma * np.sqrt(tc) * d),
             "gyro_arw_fast": fast_m / (c_rw * np.sqrt(tc) * d),
@@ -100,6 +101,7 @@ def lever_arm_bounds(tc_s, range_resolution_m, wavelength_m: float,
         notes=(f"lever arm |d| = {a.lever_m:.4g} m, platform rate {a.platform_rate_deg_s:g} deg/s, "
                f"λ = {lam:.4g} m: min(seed 004 (6)-(11), attitude error × lever arm); "
                f"{a.model_dump()}",),
+        assumptions={"wavelength_m": lam, **a.model_dump(mode="json")},
     )
 
 

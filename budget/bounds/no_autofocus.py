@@ -25,7 +25,7 @@ import math
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from ..units import G0
+from ..units import G0, phase_error_to_range_error
 from .legendre import P2_EDGE_RISE, random_walk_constants
 from .paper import _inputs
 from .table import BoundsTable
@@ -52,10 +52,10 @@ def no_autofocus_bounds(tc_s, wavelength_m, a: NoAutofocusAssumptions | None = N
     if not (math.isfinite(lam) and lam > 0):
         raise ValueError("wavelength must be finite and > 0 m")
     tc, _ = _inputs(tc_s, 1.0)
-    to_range = lam / (4.0 * math.pi)  # metres of LOS error per radian of phase
-    q_m = a.quadratic_edge_limit_rad * to_range
-    c_m = a.cubic_edge_limit_rad * to_range
-    f_m = math.radians(a.fast_residual_limit_deg) * to_range
+    # LOS range errors allowed by the phase limits
+    q_m = phase_error_to_range_error(a.quadratic_edge_limit_rad, lam)
+    c_m = phase_error_to_range_error(a.cubic_edge_limit_rad, lam)
+    f_m = phase_error_to_range_error(math.radians(a.fast_residual_limit_deg), lam)
     g = a.gravity_m_s2
 
     b_const = 8.0 * q_m / tc**2  # constant acceleration error, from e = b Tc²/8 (u+1)²
@@ -79,4 +79,5 @@ def no_autofocus_bounds(tc_s, wavelength_m, a: NoAutofocusAssumptions | None = N
         accel_vrw_m_s2_rt_hz=noise_bound("vrw", 1.5, 1.0),
         gyro_arw_rad_s_rt_hz=noise_bound("arw", 2.5, g),
         notes=(f"no autofocus, wavelength {lam:.6g} m: {a.model_dump()}",),
+        assumptions={"wavelength_m": lam, **a.model_dump(mode="json")},
     )

@@ -43,6 +43,9 @@ class BoundsTable:
     accel_vrw_m_s2_rt_hz: np.ndarray
     gyro_arw_rad_s_rt_hz: np.ndarray
     notes: tuple[str, ...] = field(default=())
+    #: the assumptions the bounds were derived with (``model_dump`` of ``DerivedAssumptions`` …);
+    #: None for seed 004's printed equations (``paper``)
+    assumptions: dict | None = None
 
     def datasheet(self) -> dict[str, np.ndarray]:
         """Bounds in datasheet units keyed as in the CLI JSON (``accel_bias_ug`` …)."""
@@ -54,10 +57,13 @@ class BoundsTable:
         data.update({k: np.ravel(v) for k, v in self.datasheet().items()})
         return pd.DataFrame(data)
 
-    def records(self) -> list[dict]:
-        """One dict per Tc with ``tc_s`` and the datasheet-unit keys (the CLI JSON list)."""
+    def to_dict(self) -> dict:
+        """JSON-ready: the ``mode``, its ``assumptions`` and ``notes``, and under ``rows`` one dict per
+        Tc with ``tc_s`` and the datasheet-unit keys (the CLI JSON list)."""
         frame = self.to_frame().drop(columns="range_resolution_m")
-        return frame.to_dict(orient="records")
+        return {"mode": self.mode, "assumptions": self.assumptions, "notes": list(self.notes),
+                "range_resolution_m": np.ravel(self.range_resolution_m).tolist(),
+                "rows": frame.to_dict(orient="records")}
 
     def summary(self) -> str:
         head = f"Bounds ({self.mode} mode)"

@@ -26,6 +26,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+import pandas as pd
+
 from ..errors import InputError
 from ..parameters import PARAMETERS, Parameter, grade_value
 from .schema import CONSTANT_BIAS_CONVENTIONS, GradeSpec, PartSpec
@@ -74,10 +76,21 @@ class Resolution:
                 "filled": [f.to_dict() for f in self.filled], "zero": list(self.zeroed),
                 "not_modelled": list(self.not_modelled), "notes": list(self.notes)}
 
+    def to_frame(self) -> pd.DataFrame:
+        """One row per unspecified column: how it was resolved (``filled``, ``zero``, ``not modelled``),
+        with the value (datasheet unit) and its source for a fill."""
+        rows = [{"column": f.column, "resolved": "filled", "value": f.value, "unit": f.unit, "source": f.source}
+                for f in self.filled]
+        rows += [{"column": c, "resolved": "zero", "value": 0.0, "unit": "", "source": self.policy}
+                 for c in self.zeroed]
+        rows += [{"column": c, "resolved": "not modelled", "value": None, "unit": "", "source": self.policy}
+                 for c in self.not_modelled]
+        return pd.DataFrame(rows, columns=["column", "resolved", "value", "unit", "source"])
+
     def summary(self) -> str:
-        """One line for result summaries ('' when nothing was unspecified)."""
+        """One line for result summaries."""
         if not self.unspecified:
-            return ""
+            return f"no unspecified datasheet terms ({self.policy})"
         parts = []
         if self.filled:
             parts.append("filled from the " + (self.grade or "?") + " grade's typical values: "

@@ -120,15 +120,29 @@ def load_grades() -> dict[str, GradeSpec]:
     return read_grades(shipped_catalog_dir() / "grades.csv")
 
 
+def close_part_ids(part_id: str, catalog: Mapping[str, PartSpec], most: int = 8) -> list[str]:
+    """Catalog ids closest to a mistyped ``part_id`` (case-insensitive similarity, then a
+    shared 4-character prefix), best first, at most ``most``."""
+    import difflib
+
+    by_lower = {p.lower(): p for p in catalog}
+    key = str(part_id).lower()
+    close = [by_lower[p] for p in difflib.get_close_matches(key, list(by_lower), n=most, cutoff=0.6)]
+    close += [p for p in catalog if p.lower().startswith(key[:4]) and p not in close]
+    return close[:most]
+
+
 def get_part(part_id: str, catalog: Mapping[str, PartSpec] | None = None,
              user_csv: str | Path | None = None) -> PartSpec:
+    """The catalog row ``part_id`` (of ``catalog``, else of the shipped catalog merged with
+    ``user_csv``); an unknown id is an :class:`InputError` listing the closest ids."""
     catalog = catalog if catalog is not None else load_catalog(user_csv)
     try:
         return catalog[part_id]
     except KeyError:
-        close = [p for p in catalog if p.lower().startswith(part_id.lower()[:4])][:8]
+        close = close_part_ids(part_id, catalog)
         raise InputError(f"unknown part {part_id!r}", field="part_id",
-                         expected="a part_id of the catalog" + (f", e.g. {', '.join(close)}" if close else
+                         expected="a part_id of the catalog" + (f"; closest: {', '.join(close)}" if close else
                                                                  " (see `sar-budget catalog list`)")) from None
 
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import units as u
 from ..errors import InputError
-from ..fileio import FORMULA_START, looks_like_formula, read_bytes
+from ..fileio import FORMULA_START, looks_like_formula, read_text
 from .schema import (BIAS_CONVENTIONS, CONSTANT_BIAS_CONVENTIONS, GRADES, PART_COLUMNS,
                      PART_NUMERIC_COLUMNS, PART_REQUIRED, VERIFIED_STATES)
 
@@ -58,24 +58,8 @@ _TEXT_COLUMNS = tuple(c for c in PART_COLUMNS if c not in PART_NUMERIC_COLUMNS)
 # --- reading -----------------------------------------------------------------------------------
 
 def _read_text(path: Path) -> str:
-    if not path.exists():
-        raise InputError("file not found", file=path, expected="a catalog CSV file")
-    if not path.is_file():
-        raise InputError("is not a regular file", file=path, expected="a catalog CSV file")
-    if path.stat().st_size == 0:
-        raise InputError("file is empty", file=path, expected="a header row and at least one part")
-    if path.stat().st_size > MAX_BYTES:
-        raise InputError(f"file is {path.stat().st_size} bytes", file=path,
-                         expected=f"at most {MAX_BYTES} bytes")
-    raw = read_bytes(path, MAX_BYTES)
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        raise InputError(f"not UTF-8 text (byte {err.start})", file=path,
-                         expected="a UTF-8 encoded CSV") from None
-    if "\x00" in text:
-        raise InputError("contains NUL bytes (binary file?)", file=path, expected="a UTF-8 CSV")
-    return text
+    """The text of a catalog CSV (:func:`budget.fileio.read_text`, at most :data:`MAX_BYTES`)."""
+    return read_text(path, MAX_BYTES, expected="a UTF-8 catalog CSV file (header row and parts)")
 
 
 def _iter_rows(path: Path, text: str):

@@ -68,7 +68,7 @@ def run(args) -> int:
             lever = LeverArmAssumptions.from_scenario(s)
     table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=lever)
     if args.json:
-        write_json(table.records(), args.json)
+        write_json(table.to_dict()["rows"], args.json)
         return 0
     print(table.summary())
     if lever is not None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..api import load_parts
 from ..catalog.io import load_catalog, load_grades
 from ..check import check_parts, recommend_grade
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
@@ -22,18 +23,15 @@ def add_parser(sub) -> None:
 def run(args) -> int:
     scen = scenario_from_args(args)
     catalog = load_catalog(args.catalog)
-    if args.part:
-        from ..catalog.io import get_part
-        parts = [get_part(pid, catalog) for pid in args.part]
-    else:
-        parts = list(catalog.values())
+    parts = load_parts(args.part, catalog) if args.part else list(catalog.values())
     res = check_parts(parts, scen, mode=args.mode)
     if args.json:
-        write_json(res.records(0), args.json)
+        write_json(res.to_dict()["scenarios"][0]["parts"], args.json)
         return 0
     print(f"scenario {scen.name}: Tc = {scen.tc_s:.3g} s, δr = {scen.range_resolution_m:g} m, "
           f"λ = {scen.wavelength_m:.4g} m ({args.mode} bounds)")
     print(res.summary())
-    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, list(load_grades().values()))
-    print(f"lowest sufficient grade (typical, bias + noise): {rec.grade[0] or 'none'}")
+    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, list(load_grades().values()), mode=args.mode,
+                          wavelength_m=scen.wavelength_m)
+    print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {rec.grade[0] or 'none'}")
     return 0

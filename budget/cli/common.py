@@ -41,6 +41,24 @@ def add_catalog_option(parser) -> None:
                         help="user catalog merged over the shipped one (default: $SAR_BUDGET_CATALOG)")
 
 
+def add_part_or_model_options(parser, part_help: str = "catalog part id",
+                               model_help: str = "noise-model JSON/YAML (catalog fields + effects)") -> None:
+    """``--part ID`` | ``--model M.json`` (one of them required) and ``--catalog``."""
+    src = parser.add_mutually_exclusive_group(required=True)
+    src.add_argument("--part", metavar="ID", help=part_help)
+    src.add_argument("--model", metavar="M.json", help=model_help)
+    add_catalog_option(parser)
+
+
+def part_or_model_from_args(args):
+    """The IMU named by ``--part`` (in the catalog merged with ``--catalog``) or ``--model``
+    (a noise-model file): :func:`budget.api.load_part`, whose errors name the part or the file."""
+    from ..api import load_part
+
+    model = getattr(args, "model", None)
+    return load_part(Path(model) if model else args.part, getattr(args, "catalog", None))
+
+
 def _probe_dir(folder: Path, option: str, target: Path) -> None:
     """Create and delete a temporary file in ``folder``: the only reliable writability test
     (``os.access`` says yes for root on /proc, read-only mounts, …)."""

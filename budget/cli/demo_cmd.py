@@ -27,7 +27,7 @@ def run(args) -> int:
     res = check_parts(load_catalog().values(), s)
     print("Catalog check (paper bounds; margin = bound / spec):")
     print(res.summary())
-    flags = [r for r in res.records(0) if r.get("flag")]
+    flags = [r for r in res.to_dict()["scenarios"][0]["parts"] if r.get("flag")]
     if flags:
         print("\nFlagged — seed 004's bounds pass but what PGA cannot remove (fast phase, lever arm) "
               "fails; the Monte Carlo (`sar-budget mc`) simulates it:")

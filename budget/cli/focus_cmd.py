@@ -64,12 +64,12 @@ def run(args) -> int:
         ph.notes.append(f"injected phase error {args.inject} (Q u² + C u³ + S sin(Nπu) rad)")
     result = focus(ph, options, args.autofocus, kernel=args.kernel)
     if args.image:
-        from ..sar.focus_plots import write_before_after_png
+        from ..plots.focus import write_before_after_png
         write_before_after_png(result, args.image)
     if args.json:
         write_json(result.to_dict(), args.json)
         return 0
-    s, c = result.summary(), result.comparison
+    s, c = result.scalars(), result.comparison
     g = result.before.grid
     print(f"{ph.n_pulses} pulses × {ph.n_frequencies} frequencies from {len(args.files)} file(s); "
           f"image {g.v_m.size} × {g.u_m.size} at {g.spacing_m:g} m "

@@ -23,6 +23,7 @@ from ..gap.effect_size import DEFAULT_TOLERANCE_DB
 from ..gap.workflow import DEFAULT_MAX_STEPS, DEFAULT_REALIZATIONS
 from ..noise import LogMapping
 from ..units import CHANNELS
+from .common import add_part_or_model_options
 from .progress import add_quiet_option, working
 
 
@@ -30,10 +31,9 @@ def add_parser(sub) -> None:
     p = sub.add_parser("gap", help="model gap: compare a log with its noise model, name missing effects")
     p.add_argument("measured", metavar="MEASURED.csv",
                    help="static IMU log CSV (.csv/.csv.gz) or Allan table (channel, tau_s, adev[, lci, uci])")
-    src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--part", metavar="ID", help="catalog part the log should follow")
-    src.add_argument("--model", metavar="MODEL.json",
-                     help="noise model: catalog-row fields (datasheet units, absent = 0) + optional effects")
+    add_part_or_model_options(p, part_help="catalog part the log should follow",
+                              model_help="noise model: catalog-row fields (datasheet units, absent = 0) "
+                                         "+ optional effects")
     p.add_argument("--report", metavar="REPORT.json", required=True, help="write the JSON report here")
     p.add_argument("--out-model", metavar="UPDATED.json", help="write the updated model (base + effects)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the simulations (default 0)")
@@ -51,7 +51,6 @@ def add_parser(sub) -> None:
     p.add_argument("--mapping", metavar="MAP.json", help="column/unit mapping for other log layouts")
     p.add_argument("--repair", action="store_true", help="repair the log (listed in the report notes)")
     p.add_argument("--max-rows", type=int, metavar="N", help="read only the first N rows of the log")
-    p.add_argument("--catalog", metavar="CSV", help="user catalog merged over the shipped one")
     p.add_argument("--no-tau-check", action="store_true",
                    help="accept a log shorter than the model's bias-instability floor needs")
     p.add_argument("--plots", metavar="DIR", help="write measured-vs-model figures (HTML) to DIR")
@@ -98,11 +97,11 @@ def run(args) -> int:
         report.save(args.report)
     else:
         atomic_write_text(Path(args.report),
-                          json_text({**report.to_json(), "cross_validation": cv.to_dict()}))
+                          json_text({**report.to_dict(), "cross_validation": cv.to_dict()}))
     if args.out_model:
         (report.updated_model if cv is None else cv.validated_model).save(args.out_model)
     if args.plots:
-        from ..gap.plots import write_figures
+        from ..plots.gap import write_figures
         write_figures(report, Path(args.plots))
     print(report.summary())
     if cv is not None:

@@ -3,27 +3,20 @@
 from __future__ import annotations
 
 from ..aiding_spec import AidingPlan
-from ..catalog.io import get_part, load_catalog
+from ..api import load_parts
+from ..catalog.io import load_catalog
 from ..errors import InputError
-from ..imu.noise_model import NoiseModel
 from ..mc import McOptions, run_mc
-from ..mc.options import PREFILTERS
+from ..mc.options import (DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS, UNSPECIFIED_DEFAULT, UNSPECIFIED_POLICIES,
+                          VERDICT_ACCEPTANCE)
 from ..mc.sweep import cheapest_passing, sweep
 from ..noise.prefilter import prefilter_for
 from ..presets import get_preset
 from ..scenario import Scenario
-from .common import add_catalog_option, add_scenario_options, scenario_from_args
+from .common import (add_catalog_option, add_part_or_model_options, add_scenario_options,
+                     part_or_model_from_args, scenario_from_args)
 from .output import add_json_option, write_json
-
-
-from ..mc.options import DEFAULT_SEED, DEFAULT_TRIALS, VERDICT_ACCEPTANCE
 from .progress import add_quiet_option, progress
-
-
-def _model(args):
-    if args.model:
-        return NoiseModel.load(args.model)
-    return get_part(args.part, load_catalog(args.catalog))
 
 
 def _options(args) -> McOptions:
@@ -32,6 +25,8 @@ def _options(args) -> McOptions:
         upd["max_residual_phase_rms_deg"] = None
     if getattr(args, "prefilter", "none") != "none":
         upd["prefilter"] = args.prefilter
+    if getattr(args, "unspecified", None) is not None:
+        upd["unspecified"] = args.unspecified
     for name in ("scene", "clutter_to_target_db", "snr_db", "window"):
         if getattr(args, name, None) is not None:
             upd[name] = getattr(args, name)
@@ -59,10 +54,7 @@ def _positive(name, v):
 def add_parser(sub) -> None:
     p = sub.add_parser("mc", help="Monte Carlo verdict: does autofocus absorb what the IMU leaves?")
     add_scenario_options(p, required=True)
-    g = p.add_mutually_exclusive_group(required=True)
-    g.add_argument("--part", metavar="ID", help="catalog part")
-    g.add_argument("--model", metavar="M.json", help="noise-model JSON")
-    add_catalog_option(p)
+    add_part_or_model_options(p, part_help="catalog part", model_help="noise-model JSON")
     p.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="Monte Carlo trials")
     p.add_argument("--seed", type=int, default=DEFAULT_SEED, help="random seed (same seed → same numbers)")
     p.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
@@ -82,6 +74,7 @@ def add_parser(sub) -> None:
     p.add_argument("--prefilter", choices=PREFILTERS, default="none",
                    help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
                         "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
+    _add_unspecified_option(p)
     add_json_option(p)
     add_quiet_option(p)
     p.set_defaults(func=run)
@@ -96,8 +89,15 @@ def add_parser(sub) -> None:
     s.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
     s.add_argument("--target", type=float, default=0.9, help="P(pass after PGA) wanted")
     s.add_argument("--out", metavar="CSV", required=True, help="tidy result table (CSV)")
+    _add_unspecified_option(s)
     add_quiet_option(s)
     s.set_defaults(func=run_sweep)
+
+
+def _add_unspecified_option(p) -> None:
+    p.add_argument("--unspecified", choices=UNSPECIFIED_POLICIES, default=None,
+                   help="empty datasheet terms: fill_grade_typical (grade typical values, recorded; "
+                        f"default {UNSPECIFIED_DEFAULT}), refuse (error naming them) or zero (stated zero)")
 
 
 def run(args) -> int:
@@ -106,7 +106,7 @@ def run(args) -> int:
     if args.seed < 0:
         raise InputError("seed must be ≥ 0", field="--seed", value=args.seed)
     scen = scenario_from_args(args)
-    model = _model(args)
+    model = part_or_model_from_args(args)
     with progress(f"mc {getattr(model, 'part_id', None) or 'model'}", quiet=args.quiet) as bar:
         res = run_mc(scen, model, args.trials, args.seed, options=_options(args),
                      workers=args.workers, progress=bar)
@@ -118,7 +118,7 @@ def run(args) -> int:
                               seed=args.seed).dc_gains(scen.imu_rate_hz)
     versus = _check_vs_mc(scen, model, res)
     if args.json:
-        out = res.to_json_dict()
+        out = res.to_dict()
         out["aiding"] = AidingPlan.from_scenario(scen).label()
         if gains is not None:
             out["prefilter_dc_gain"] = gains
@@ -146,7 +146,7 @@ def _check_vs_mc(scen, model, res):
 
     if not isinstance(model, PartSpec):
         return None
-    return check_vs_mc(check_parts([model], scen).records(0)[0], res)
+    return check_vs_mc(check_parts([model], scen).to_dict()["scenarios"][0]["parts"][0], res)
 
 
 def run_sweep(args) -> int:
@@ -155,11 +155,11 @@ def run_sweep(args) -> int:
     if not scens:
         raise InputError("no scenario given", field="--scenario/--preset")
     cat = load_catalog(args.catalog)
-    parts = [get_part(pid, cat) for pid in args.part] if args.part else \
-        [p for p in cat.values() if p.gyro_arw_deg_rt_h is not None or p.accel_vrw_m_s_rt_h is not None]
+    parts = load_parts(args.part, cat)  # None: every part with a noise figure
     with progress(f"sweep {len(parts)} parts × {len(scens)} scenarios", "cells",
                   quiet=args.quiet) as bar:
-        table = sweep(parts, scens, args.trials, args.seed, workers=args.workers, progress=bar)
+        table = sweep(parts, scens, args.trials, args.seed, options=_options(args), workers=args.workers,
+                      progress=bar)
     from .output import write_frame_csv  # text cells (scenario names …) spreadsheet-safe
     write_frame_csv(table, args.out)
     print(cheapest_passing(table, args.target).to_string(index=False))

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-from ..catalog.io import get_part, load_catalog
 from ..errors import InputError
-from ..imu.noise_model import NoiseModel
 from ..motion.engine import simulate_motion
 from ..nav.platform import Disturbance
-from .common import add_catalog_option, add_scenario_options, scenario_from_args
+from .common import add_part_or_model_options, add_scenario_options, part_or_model_from_args, scenario_from_args
 from .output import add_json_option, write_json
 
 MAX_TRIALS = 1_000_000
@@ -18,10 +16,7 @@ def add_parser(sub) -> None:
                        description="Monte Carlo of the antenna-phase-centre error over the synthetic "
                                    "aperture and its phase error, decomposed by Legendre polynomials.")
     add_scenario_options(p, required=True)
-    src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--part", metavar="ID", help="catalog part id")
-    src.add_argument("--model", metavar="M.json", help="noise-model JSON (catalog fields + effects)")
-    add_catalog_option(p)
+    add_part_or_model_options(p)
     p.add_argument("--trials", type=int, default=1000, help="number of trials (default 1000)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--disturbance", metavar="D.json", help="platform disturbance JSON")
@@ -37,15 +32,12 @@ def run(args) -> int:
     if args.seed < 0:
         raise InputError("--seed must be ≥ 0", field="--seed", value=args.seed)
     scen = scenario_from_args(args)
-    if args.part:
-        model = NoiseModel.from_part(get_part(args.part, load_catalog(args.catalog)))
-    else:
-        model = NoiseModel.load(args.model)
+    model = part_or_model_from_args(args)
     dist = Disturbance.load(args.disturbance) if args.disturbance else None
     res = simulate_motion(scen, model, args.trials, args.seed, disturbance=dist,
                           workers=args.workers, keep_series=False)
     if args.json:
-        write_json(res.to_json_dict(), args.json)
+        write_json(res.to_dict(), args.json)
     else:
-        print(res.summary_text())
+        print(res.summary())
     return 0

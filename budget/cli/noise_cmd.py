@@ -88,7 +88,7 @@ def run_characterize(args) -> int:
         from ..catalog.io import append_part
         append_part(args.append, result.part, replace=args.replace)
     if args.json:
-        write_json(result.to_json(), args.json)
+        write_json(result.to_dict(), args.json)
     else:
         print(result.summary())
     if args.append:

@@ -3,13 +3,13 @@ the shared vocabulary is missing, and the gap after adding it.
 
 Public API (SI inside: rad/s, m/s²):
 
-* :func:`run_gap` (measurement, model) → :class:`GapReport` (``.to_json()``, ``.save()``,
+* :func:`run_gap` (measurement, model) → :class:`GapReport` (``.to_dict()``, ``.save()``,
   ``.summary()``, ``.to_frame()``, ``.updated_model``)
 * :func:`cross_validate` (fit log, test log, model) → :class:`CrossValidation`: effects that
   do not carry over to a second log of the same part are not named
 * :func:`log_from_arrays` — an :class:`~budget.noise.ImuLog` from SI arrays
 * :mod:`budget.gap.signatures`, :mod:`budget.gap.metric` (gap definition and null),
-  :mod:`budget.gap.candidates` (effect library), :mod:`budget.gap.plots` (figures)
+  :mod:`budget.gap.candidates` (effect library); figures in :mod:`budget.plots.gap`
 """
 
 from .candidates import LIBRARY, VOCABULARY

@@ -68,7 +68,7 @@ class CrossValidation:
                         "gap_after": self.fit.gap_after,
                         "effect_size_db_before": self.fit.effect_size_before_db,
                         "effect_size_db_after": self.fit.effect_size_after_db,
-                        "effects": [s.to_json() for s in self.fit.steps]},
+                        "effects": [s.to_dict() for s in self.fit.steps]},
                 "test": {"source": self.test_source,
                          **{lab: {"gap": self.overall(lab)[0], "effect_size_db": self.overall(lab)[1],
                                   "channels": {ch: vars(r) for ch, r in chans.items()}}

@@ -19,6 +19,7 @@ from scipy import optimize
 
 from ..imu import Effect
 from . import theory as th
+from .effect_size import db_terms, kurtosis_size
 from .metric import ModelSummary, adev_variance, gap_terms
 from .signatures import Signature, SignatureGrid, band_means
 
@@ -72,6 +73,10 @@ class CandidateFit:
     sum_sq: float
     n_params: int
     theta: np.ndarray
+    #: predicted dB misfits (:func:`budget.gap.effect_size.db_terms`) and kurtosis difference
+    #: of the channel with the effect added (``None``: not predicted, e.g. a direct proposal)
+    pred_db: np.ndarray | None = None
+    pred_kurtosis: float = 0.0
 
 
 def amp2_start(ctx: FitContext, shape: np.ndarray) -> float:
@@ -138,8 +143,10 @@ class Candidate(ABC):
         if best is None:
             return None
         params = self.params(best[0], ctx)
+        pred = ctx.model.predict(self.increment(best[0], ctx), ctx.grid)
         return CandidateFit(Effect(name=self.name, channel=ctx.channel, params=params), best[1],
-                            self.n_params, best[0])
+                            self.n_params, best[0], db_terms(ctx.meas, pred, ctx.grid),
+                            kurtosis_size(ctx.meas, pred))
 
 
 class LinearVariance(Candidate):

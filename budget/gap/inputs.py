@@ -31,7 +31,8 @@ import numpy as np
 from ..catalog.schema import FLICKER_FLOOR, PartSpec
 from ..errors import InputError
 from ..imu import NoiseModel
-from ..imu.noise_model import channel_unit
+from ..imu.resolve import resolve_noise_model
+from ..units import channel_si_unit
 from ..noise import ImuLog
 from ..noise.allan import AllanResult
 from ..noise.log_checks import LogReport
@@ -76,7 +77,7 @@ def log_from_arrays(channels: dict[str, np.ndarray], rate_hz: float, temp_c=None
     for c, v in chans.items():
         if not np.all(np.isfinite(v)):
             raise InputError("series contains NaN or infinite values", field=c, expected="finite numbers")
-    units = {c: channel_unit(c) for c in chans}
+    units = {c: channel_si_unit(c) for c in chans}
     temp = None if temp_c is None else np.asarray(temp_c, float)
     if temp is not None and temp.shape != next(iter(sizes)):
         raise InputError(f"temp_c has shape {temp.shape}", field="temp_c",
@@ -87,12 +88,16 @@ def log_from_arrays(channels: dict[str, np.ndarray], rate_hz: float, temp_c=None
 def load_measured(measured, *, rate_hz: float | None = None, samples: int | None = None,
                   mapping=None, repair: bool = False, max_rows: int | None = None,
                   ci_level: float = 0.95) -> Measured:
-    """Resolve the measurement argument of :func:`budget.gap.run_gap`."""
+    """Resolve the measurement argument of :func:`budget.gap.run_gap` (``mapping``: a
+    :class:`~budget.noise.log_mapping.LogMapping` or the path of its JSON)."""
     if isinstance(measured, ImuLog):
         return _from_log(measured)
     if isinstance(measured, dict) and measured and all(isinstance(v, AllanResult) for v in measured.values()):
         return _from_tables(measured, str(next(iter(measured.values())).source))
     if isinstance(measured, (str, Path)):
+        if isinstance(mapping, (str, Path)):  # a MAP.json path, as on the command line
+            from ..noise.log_mapping import LogMapping
+            mapping = LogMapping.load(mapping)
         data = read_measurement(measured, rate_hz=rate_hz, samples=samples, mapping=mapping,
                                 repair=repair, max_rows=max_rows, ci_level=ci_level,
                                 min_samples=MIN_SAMPLES)
@@ -140,20 +145,8 @@ def _from_tables(tables: dict[str, AllanResult], source: str) -> Measured:
 
 
 def load_model(model, *, catalog_csv=None) -> tuple[NoiseModel, bool, str]:
-    """→ (noise model, came from the catalog?, label)."""
-    if isinstance(model, NoiseModel):
-        return model, False, model.part_id or "model"
-    if isinstance(model, PartSpec):
-        return NoiseModel.from_part(model), True, model.part_id
-    if isinstance(model, Path) or (isinstance(model, str) and (
-            Path(model).suffix.lower() in (".json", ".yaml", ".yml") or Path(model).is_file())):
-        return NoiseModel.load(model), False, Path(model).name
-    if isinstance(model, str):
-        from ..catalog.io import get_part
-        part = get_part(model, user_csv=catalog_csv)
-        return NoiseModel.from_part(part), True, part.part_id
-    raise InputError(f"not a noise model: {type(model).__name__}", field="model",
-                     expected="a NoiseModel, a PartSpec, a part_id or a MODEL.json path")
+    """→ (noise model, came from the catalog?, label): :func:`budget.imu.resolve.resolve_noise_model`."""
+    return resolve_noise_model(model, catalog_csv)
 
 
 def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,

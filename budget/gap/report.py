@@ -74,7 +74,7 @@ class GapStep(_EffectSizes):
     sizes_before: Sizes | None = None  # the channel's effect sizes before/after the step
     sizes_after: Sizes | None = None
 
-    def to_json(self) -> dict:
+    def to_dict(self) -> dict:
         return {"name": self.name, "channel": self.channel, "params": dict(self.params),
                 "gap_before": self.gap_before, "gap_after": self.gap_after,
                 "overall_gap_before": self.overall_before, "overall_gap_after": self.overall_after,
@@ -190,7 +190,7 @@ class GapReport:
         return all(not self.band_after.beyond(ch, c.sizes_after) for ch, c in self.channels.items()
                    if c.sizes_after is not None)
 
-    def to_json(self) -> dict:
+    def to_dict(self) -> dict:
         chans = {}
         for ch, c in self.channels.items():
             chans[ch] = {"gap_before": c.gap_before, "gap_after": c.gap_after,
@@ -204,7 +204,7 @@ class GapReport:
                          "localization_after": localize(c.terms_after)}
         return {
             "gap_before": self.gap_before, "gap_after": self.gap_after,
-            "effects": [s.to_json() for s in self.steps],
+            "effects": [s.to_dict() for s in self.steps],
             "channels": chans,
             "threshold_before": self.null_before.overall_threshold,
             "threshold_after": self.null_after.overall_threshold,
@@ -228,7 +228,7 @@ class GapReport:
 
     def save(self, path: str | Path) -> None:
         """Write the JSON report atomically (non-finite numbers become null)."""
-        atomic_write_text(Path(path), json_text(self.to_json()))
+        atomic_write_text(Path(path), json_text(self.to_dict()))
 
     def to_frame(self) -> pd.DataFrame:
         """Every gap term of every channel, before and after (one row per term)."""

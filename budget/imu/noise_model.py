@@ -48,7 +48,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from ..catalog.schema import ImuErrorsSI, PartSpec
 from ..errors import InputError, from_validation_error
 from ..fileio import atomic_write_text, read_structured
-from ..units import ACCEL_CHANNELS, CHANNELS, GYRO_CHANNELS
+from ..units import ACCEL_CHANNELS, CHANNELS, GYRO_CHANNELS, channel_si_unit
 from .registry import REGISTRY
 
 #: Effect name → {parameter: (unit suffix for messages, lower bound, lower bound inclusive?)},
@@ -59,11 +59,6 @@ EFFECT_PARAMS: dict[str, dict[str, tuple[str, float | None, bool]]] = {
 EFFECT_NAMES = tuple(EFFECT_PARAMS)
 
 
-def channel_unit(channel: str) -> str:
-    """SI unit of a channel's signal: ``rad/s`` (gyro) or ``m/s²`` (accelerometer)."""
-    return "rad/s" if channel.startswith("gyro") else "m/s²"
-
-
 def param_unit(name: str, param: str, channel: str) -> str:
     """Unit of one effect parameter on one channel (for messages, tables and docs)."""
     spec = REGISTRY[name].params[param]
@@ -71,7 +66,7 @@ def param_unit(name: str, param: str, channel: str) -> str:
         return spec.suffix
     if name == "quantization":
         return "rad" if channel.startswith("gyro") else "m/s"
-    return channel_unit(channel) + spec.suffix
+    return channel_si_unit(channel) + spec.suffix
 
 
 class Effect(BaseModel):
@@ -163,9 +158,6 @@ class NoiseModelSI:
 
     def misalignment(self, triad: str) -> float:
         return self.errors.gyro_misalignment_rad if triad == "gyro" else self.errors.accel_misalignment_rad
-
-    def max_sinusoid_hz(self) -> float:
-        return max((f.param("frequency_hz") for f in self.effects if f.name == "sinusoid"), default=0.0)
 
 
 _GRADE = Literal["strategic", "navigation", "stabilization", "tactical", "industrial", "consumer"]

@@ -27,9 +27,18 @@ For each trial:
 
 ``pga_error_rms_deg`` (every component of estimate − truth, constant and linear removed,
 energy-weighted) and ``fast_phase_rms_deg`` (the TRUE phase beyond PGA's window: what the
-analytic bounds assume is left, PGA credited with nothing there) are reported for information. The echoes from the nominal track do not depend on
-the trial except the receiver noise, so they are simulated once per setup; each trial draws its
-noise from its own stream (``trial_generator(seed, i, SAR_STREAM)``).
+analytic bounds assume is left, PGA credited with nothing there) are reported for information.
+The echoes from the nominal track do not depend on the trial except the receiver noise, so they
+are simulated once per setup; each trial draws its noise from its own stream
+(``trial_generator(seed, i, SAR_STREAM)``).
+
+Speed without a change of numbers: what the trials share is computed once per process
+(:class:`ChainPlan`: the echoes' range spectra, the image former's geometry-only factors, the
+target meter); the trials are imaged and measured in batches of :data:`FORMATION_BATCH` (the
+same range-Doppler steps as :func:`budget.sar.form_image` on a stack; all cuts of a batch at
+once); the acceptance is checked on arrays (:func:`budget.sar.acceptance.failed_checks`, the
+comparisons of :func:`budget.sar.evaluate`); PGA runs once per trial. The numbers equal those of
+the per-trial functions to float rounding (tests/test_mc_speed_determinism.py).
 """
 
 from __future__ import annotations
@@ -44,19 +53,29 @@ from ..errors import InputError
 from ..motion import simulate_motion
 from ..noise.prefilter import prefilter_for
 from ..rng import STREAMS, trial_generator
-from ..sar import (SarGeometry, Scene, evaluate, form_image, measure_targets, pga, phase_on_bins,
-                   residual_phase_rad, simulate_echoes)
-from ..sar.residual import pga_bandwidth_cycles, pga_residual_rms_rad, phase_history_energy
+from ..sar import (SarGeometry, SarImage, Scene, evaluate, form_image, pga, phase_on_bins, residual_phase_rad,
+                   simulate_echoes)
+from ..sar.acceptance import failed_checks
+from ..sar.image import RdaImageFormer, default_bp_grid
+from ..sar.metrics import TargetMeter
+from ..sar.residual import pga_bandwidth_cycles, pga_residual_rms_rad
 from ..scenario import Scenario
 from .options import REALISTIC_SNR_DB, McOptions
+from .reference import REFERENCE_DRAWS, SceneReference, reference_from_outcomes
 
 SAR_STREAM = STREAMS["sar_receiver_noise"]
 #: Random stream of the realistic scene's layout and clutter (keyed by ``McOptions.scene_seed``).
 SCENE_STREAM = STREAMS["sar_scene"]
+#: Receiver noise of the perfect-IMU reference trials (budget.mc.reference).
+REFERENCE_STREAM = STREAMS["sar_reference"]
 #: Azimuth search half-width (cells) for the metrics: linear phase only shifts a target.
 AZ_SEARCH_CELLS = 20.0
 #: PGA's smallest window (samples): the settled window when a PGA result does not report one.
 PGA_MIN_WINDOW = 8
+#: Trials whose images are formed and measured together (a divisor of the 64-trial chunk). Batches
+#: start at multiples of it in the trial index, so which trials share a batch — and so every number —
+#: does not depend on the chunk size or the worker count.
+FORMATION_BATCH = 8
 
 #: Per-trial metrics reported before and after PGA (worst target).
 TRIAL_METRICS = ("azimuth_broadening", "range_broadening", "pslr_db", "islr_db", "peak_loss_db",
@@ -137,21 +156,29 @@ class ChainSetup:
                 "clutter_to_target_db": self.scene.clutter_to_target_db, "snr_db": self.snr_db,
                 "window": self.geom.window_azimuth.label, "image_method": self.options.image_method,
                 "n_pulses": int(self.geom.n_pulses), "metrics_on": "five clutter-free points focused with "
-                "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image"}
+                "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image",
+                **({"reference": ref.to_dict(), "reference_summary": ref.summary()}
+                   if (ref := scene_reference(self)) is not None else {})}
+
+
+def receiver_noise_spectrum(geom: SarGeometry, snr_db: float, rng: np.random.Generator) -> np.ndarray:
+    """Range spectrum (DFT along range, (n_pulses, n_range)) of :func:`receiver_noise_echoes`: the
+    same draws, for image formers that take range spectra."""
+    w_r = geom.window_range.samples(geom.band_bins)
+    w_a = geom.window_azimuth.samples(geom.n_pulses)
+    var_rc = (w_a.sum() ** 2 / (w_a ** 2).sum()) / 10.0 ** (snr_db / 10.0)
+    s2 = var_rc * w_r.sum() ** 2 / (w_r ** 2).sum()
+    noise = rng.standard_normal((geom.n_pulses, geom.band_bins, 2)).view(complex)[..., 0]  # re, im pairs
+    full = np.zeros((geom.n_pulses, geom.n_range), dtype=complex)
+    full[:, geom.range_band_index] = noise * (np.sqrt(s2 / 2.0) * w_r * (geom.n_range / w_r.sum()))[None, :]
+    return full
 
 
 def receiver_noise_echoes(geom: SarGeometry, snr_db: float, rng: np.random.Generator) -> np.ndarray:
     """Range-compressed receiver noise (n_pulses, n_range) at ``snr_db`` — the noise term of
     :func:`budget.sar.simulate_echoes` alone (same level and range window), so the noise-free
     echoes of a scene can be computed once and each trial adds only its own noise."""
-    w_r = geom.window_range.samples(geom.band_bins)
-    w_a = geom.window_azimuth.samples(geom.n_pulses)
-    var_rc = (w_a.sum() ** 2 / (w_a ** 2).sum()) / 10.0 ** (snr_db / 10.0)
-    s2 = var_rc * w_r.sum() ** 2 / (w_r ** 2).sum()
-    noise = rng.standard_normal((geom.n_pulses, geom.band_bins, 2)) @ np.array([1.0, 1j])
-    full = np.zeros((geom.n_pulses, geom.n_range), dtype=complex)
-    full[:, geom.range_band_index] = np.sqrt(s2 / 2.0) * noise * w_r[None, :]
-    return sfft.ifft(full, axis=1) * (geom.n_range / w_r.sum())
+    return sfft.ifft(receiver_noise_spectrum(geom, snr_db, rng), axis=1)
 
 
 def apply_phase_estimate(image_data: np.ndarray, phase_rad: np.ndarray) -> np.ndarray:
@@ -178,26 +205,9 @@ class TrialOutcome:
     detail: dict = field(default_factory=dict)
 
 
-def _worst(metrics) -> dict[str, float]:
-    """Worst value over the targets (and over azimuth/range for PSLR and ISLR)."""
-    ts = list(metrics)
-    return {
-        "azimuth_broadening": max(t.azimuth.broadening for t in ts),
-        "range_broadening": max(t.range.broadening for t in ts),
-        "pslr_db": max(max(t.azimuth.pslr_db, t.range.pslr_db) for t in ts),
-        "islr_db": max(max(t.azimuth.islr_db, t.range.islr_db) for t in ts),
-        "peak_loss_db": max(t.peak_loss_db for t in ts),
-    }
-
-
-def _image_reasons(evaluation) -> set[str]:
-    out = set()
-    for r in evaluation.reasons:
-        for key, name in (("broadening", "broadening"), ("pslr", "pslr"), ("islr", "islr"),
-                          ("peak_loss", "peak_loss")):
-            if key in r:
-                out.add(name)
-    return out
+#: Image checks (:func:`budget.sar.acceptance.failed_checks`) that are verdict reasons after PGA
+#: (a peak shift is geolocation: it only enters the acceptance's own pass before PGA).
+_IMAGE_REASONS = ("broadening", "pslr", "islr", "peak_loss")
 
 
 def _to_pulses(time_s: np.ndarray, series: np.ndarray, pulse_times_s: np.ndarray) -> np.ndarray:
@@ -221,84 +231,176 @@ def _weighted_rms_deg(phase_rad: np.ndarray, weight: np.ndarray) -> float:
 
 
 def _pga_kwargs(opt: McOptions) -> dict:
-    kw = {"kernel": opt.pga_kernel, "max_iter": opt.pga_max_iter}
+    kw = {"kernel": opt.pga_kernel, "max_iter": opt.pga_max_iter, "corrected_image": False}  # applied in the chain
     if opt.pga_tol_rad is not None:
         kw["tol_rad"] = opt.pga_tol_rad
     return kw
 
 
+class ChainPlan:
+    """What the trials of one setup share beyond the echoes, computed once per process: the
+    batched image former and the range spectra of the echoes (range-Doppler method), the image
+    grid (a data-free :class:`~budget.sar.SarImage`), its aperture mask, and the target meter."""
+
+    def __init__(self, setup: ChainSetup):
+        g, opt = setup.geom, setup.options
+        self.separate = setup.clean_echoes is not setup.echoes
+        if opt.image_method == "rda":
+            self.former = RdaImageFormer(g)
+            self.template = self.former.template
+            self.clean_spectrum = self.former.range_spectrum(setup.clean_echoes)
+            self.pga_spectrum = self.former.range_spectrum(setup.echoes) if self.separate else self.clean_spectrum
+        else:
+            self.former = None
+            az, rg = default_bp_grid(g)
+            self.template = SarImage(data=np.zeros((az.size, rg.size), dtype=complex), azimuth_m=az,
+                                     slant_range_m=rg, wavelength_m=g.wavelength_m, speed_m_s=g.speed_m_s,
+                                     ref_range_m=g.ref_range_m, aperture_time_s=g.aperture_time_s,
+                                     method=opt.image_method)
+        self.mask = self.template.aperture_mask()
+        self.meter = TargetMeter(g, setup.clean_scene, self.template.azimuth_m, self.template.slant_range_m,
+                                 azimuth_search_cells=AZ_SEARCH_CELLS)
+
+    def form(self, setup: ChainSetup, measured: np.ndarray, trials: range, seed: int,
+             stream: int = SAR_STREAM) -> tuple[np.ndarray, np.ndarray]:
+        """(clean images, PGA images), each (B, n_a, n_r), of the trials ``trials`` imaged with the
+        measured offsets (B, n_pulses, 3); the PGA images carry each trial's receiver noise."""
+        g, opt = setup.geom, setup.options
+        noise = [] if setup.snr_db is None else [trial_generator(seed, t, stream) for t in trials]
+        if self.former is not None:
+            clean = self.former.form(self.clean_spectrum, measured)
+            if setup.snr_db is None and not self.separate:
+                return clean, clean
+            spec = self.pga_spectrum
+            if noise:  # image formation is linear: the echoes' spectrum plus each trial's noise
+                spec = spec + np.stack([receiver_noise_spectrum(g, setup.snr_db, r) for r in noise])
+            return clean, self.former.form(spec, measured)
+        clean = np.stack([form_image(g, setup.clean_echoes, m, method=opt.image_method).data for m in measured])
+        if setup.snr_db is None and not self.separate:
+            return clean, clean
+        data = ([setup.echoes + receiver_noise_echoes(g, setup.snr_db, r) for r in noise]
+                or [setup.echoes] * len(measured))
+        return clean, np.stack([form_image(g, d, m, method=opt.image_method).data for d, m in zip(data, measured)])
+
+
+def chain_plan(setup: ChainSetup) -> ChainPlan:
+    """The setup's :class:`ChainPlan`, built on first use and kept with the setup."""
+    plan = getattr(setup, "_plan", None)
+    if plan is None:
+        plan = ChainPlan(setup)
+        setup._plan = plan
+    return plan
+
+
+def scene_reference(setup: ChainSetup) -> SceneReference | None:
+    """The perfect-IMU reference of the setup's scene (:mod:`budget.mc.reference`), computed once
+    per setup: :data:`~budget.mc.reference.REFERENCE_DRAWS` trials with zero motion error and
+    receiver noise from the ``sar_reference`` stream (seed = the scene seed). None when the scene
+    is noise-free and PGA sees the metric scene itself (a perfect IMU then gives the ideal
+    response) or when ``options.scene_reference`` is "none"."""
+    if setup.options.scene_reference == "none":
+        return None
+    if setup.snr_db is None and setup.clean_echoes is setup.echoes:
+        return None
+    if not hasattr(setup, "_reference"):
+        zero = np.zeros((REFERENCE_DRAWS, setup.geom.n_pulses, 3))
+        outcomes = []
+        for lo in range(0, REFERENCE_DRAWS, FORMATION_BATCH):
+            hi = min(REFERENCE_DRAWS, lo + FORMATION_BATCH)
+            outcomes += run_trials(setup, zero[lo:hi], range(lo, hi), setup.options.scene_seed,
+                                   np.zeros(hi - lo), relative=False, stream=REFERENCE_STREAM)
+        setup._reference = reference_from_outcomes(outcomes, setup.options.acceptance,
+                                                   setup.options.max_residual_phase_rms_deg)
+    return setup._reference
+
+
+def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int, peak_range_cells: np.ndarray,
+               keep_detail: bool = False, *, relative: bool = True,
+               stream: int = SAR_STREAM) -> list[TrialOutcome]:
+    """Steps 2–4 for the trials ``trials`` whose APC errors at the pulse times are ``errors_m``
+    (B, n_pulses, 3): the B images are formed and measured together; PGA runs on each. After PGA
+    the image and the residual are judged relative to the scene's perfect-IMU reference when it
+    has one (:func:`scene_reference`; ``relative=False``: against the options' spec as it is)."""
+    g, opt, plan = setup.geom, setup.options, chain_plan(setup)
+    ref = scene_reference(setup) if relative else None
+    acc_after = opt.acceptance if ref is None else ref.acceptance
+    max_residual = opt.max_residual_phase_rms_deg if ref is None else ref.max_residual_phase_rms_deg
+    measured = -np.asarray(errors_m, dtype=float)  # true track is nominal; the IMU believes true − error
+    clean, img_pga = plan.form(setup, measured, trials, seed, stream)
+    hist = sfft.ifft(clean, axis=1)  # phase histories of the clean images (centred bins after fftshift)
+    energy = np.fft.fftshift((np.abs(hist) ** 2).sum(axis=2), axes=1)
+    m_before = plan.meter.measure(clean)
+    fail_before = failed_checks(m_before, opt.acceptance)
+    worst_before = m_before.worst()
+    mask = plan.mask
+    results, estimates = [], np.zeros(hist.shape[:2])
+    for b in range(len(trials)):
+        res = pga(img_pga[b], **_pga_kwargs(opt))
+        if res.usable_lines != 0:
+            estimates[b] = np.asarray(res.phase_error_rad, float)
+        results.append(res)
+    after_data = sfft.fft(hist * np.exp(-1j * np.fft.ifftshift(estimates, axes=1))[:, :, None], axis=1)
+    m_after = plan.meter.measure(after_data)
+    fail_after = failed_checks(m_after, acc_after)
+    worst_after = m_after.worst()
+    out = []
+    for b, trial in enumerate(trials):
+        res, estimate, cells = results[b], estimates[b], float(peak_range_cells[b])
+        psi = residual_phase_rad(g, None, measured[b])
+        truth = phase_on_bins(plan.template, g, psi)
+        before = {k: float(v[b]) for k, v in worst_before.items()}
+        after = {k: float(v[b]) for k, v in worst_after.items()}
+        before["residual_phase_rms_deg"] = _weighted_rms_deg(truth[mask], energy[b][mask])
+        before["pga_error_rms_deg"] = math.nan
+        failed = res.usable_lines == 0
+        window = getattr(res, "final_window", 0)
+        if not window:
+            window = res.history[-1]["window"] if res.history else PGA_MIN_WINDOW
+        cutoff = pga_bandwidth_cycles(window, mask.size, int(mask.sum()))
+        after["residual_phase_rms_deg"] = math.degrees(pga_residual_rms_rad(estimate, truth, mask, energy[b], cutoff))
+        after["pga_error_rms_deg"] = _weighted_rms_deg((estimate - truth)[mask], energy[b][mask])
+        # the analytic bounds' counterpart: the TRUE phase beyond PGA's window (PGA credited with nothing)
+        after["fast_phase_rms_deg"] = math.degrees(
+            pga_residual_rms_rad(np.zeros_like(truth), truth, mask, energy[b], cutoff))
+        before["fast_phase_rms_deg"] = after["fast_phase_rms_deg"]
+
+        migrated = opt.max_range_migration_cells is not None and cells > opt.max_range_migration_cells
+        reasons = {name for name in _IMAGE_REASONS if fail_after[name][b]}
+        if migrated:
+            reasons.add("range_migration")
+        if max_residual is not None and not after["residual_phase_rms_deg"] <= max_residual:
+            reasons.add("residual_phase_noise")
+        if failed:
+            reasons.add("pga_failed")
+        elif not res.converged:
+            reasons.add("pga_not_converged")
+        passed_before = not any(f[b] for f in fail_before.values()) and not migrated
+        ordered = [r for r in REASONS if r in reasons]
+        resid = after["residual_phase_rms_deg"] if math.isfinite(after["residual_phase_rms_deg"]) else 100.0
+        score = max(after["azimuth_broadening"], 0.0) + resid / 10.0 + cells / 10.0
+        detail = {}
+        if keep_detail:
+            image = plan.template.with_data
+            detail = {"image_before_db": image(clean[b]).magnitude_db(),
+                      "image_after_db": image(after_data[b]).magnitude_db(),
+                      "image_pga_input_db": image(img_pga[b]).magnitude_db(),
+                      "azimuth_m": plan.template.azimuth_m, "slant_range_m": plan.template.slant_range_m,
+                      "phase_truth_rad": truth, "phase_estimate_rad": estimate.copy(),
+                      "pga_bandwidth_cycles": cutoff,
+                      "evaluation_after": evaluate(m_after.table(b), acc_after).reasons}
+        out.append(TrialOutcome(trial=trial, passed_before=bool(passed_before), passed_after=not ordered,
+                                reasons=ordered, before=before, after=after, peak_range_cells=cells,
+                                pga_converged=bool(res.converged), pga_reason=res.reason, score=float(score),
+                                detail=detail))
+    return out
+
+
 def run_trial_errors(setup: ChainSetup, error_m: np.ndarray, trial: int, seed: int,
                      peak_range_cells: float, keep_detail: bool = False) -> TrialOutcome:
     """Steps 2–4 for one trial whose APC error at the pulse times is ``error_m`` (n_pulses, 3)."""
-    g, opt = setup.geom, setup.options
-    measured = -error_m  # true track is nominal; the IMU believes true − error
-    img_clean = form_image(g, setup.clean_echoes, measured, method=opt.image_method)
-    if setup.snr_db is None and setup.clean_echoes is setup.echoes:
-        img_pga = img_clean
-    else:
-        separate = setup.clean_echoes is not setup.echoes
-        extra = None
-        if setup.snr_db is not None:
-            noise = receiver_noise_echoes(g, setup.snr_db, trial_generator(seed, trial, SAR_STREAM))
-            extra = noise if extra is None else extra + noise
-        if separate:  # the PGA scene (clutter, scatterers) and the metric points are different scenes
-            data = setup.echoes if extra is None else setup.echoes + extra
-            img_pga = form_image(g, data, measured, method=opt.image_method)
-        else:  # image formation is linear: the noisy image = clean image + image of the noise
-            img_pga = img_clean.with_data(img_clean.data + form_image(g, extra, measured, method=opt.image_method).data)
-    psi = residual_phase_rad(g, None, measured)
-    truth = phase_on_bins(img_clean, g, psi)
-    mask = img_clean.aperture_mask()
-    energy = phase_history_energy(img_clean.data)
-    m_before = measure_targets(img_clean, g, setup.clean_scene, azimuth_search_cells=AZ_SEARCH_CELLS)
-    ev_before = evaluate(m_before, opt.acceptance)
-    before = _worst(m_before)
-    before["residual_phase_rms_deg"] = _weighted_rms_deg(truth[mask], energy[mask])
-    before["pga_error_rms_deg"] = math.nan
-
-    res = pga(img_pga.data, **_pga_kwargs(opt))
-    failed = res.usable_lines == 0
-    estimate = np.zeros_like(truth) if failed else np.asarray(res.phase_error_rad, float)
-    after_img = img_clean.with_data(apply_phase_estimate(img_clean.data, estimate))
-    m_after = measure_targets(after_img, g, setup.clean_scene, azimuth_search_cells=AZ_SEARCH_CELLS)
-    ev_after = evaluate(m_after, opt.acceptance)
-    after = _worst(m_after)
-    window = getattr(res, "final_window", 0)
-    if not window:
-        window = res.history[-1]["window"] if res.history else PGA_MIN_WINDOW
-    cutoff = pga_bandwidth_cycles(window, mask.size, int(mask.sum()))
-    after["residual_phase_rms_deg"] = math.degrees(pga_residual_rms_rad(estimate, truth, mask, energy, cutoff))
-    after["pga_error_rms_deg"] = _weighted_rms_deg((estimate - truth)[mask], energy[mask])
-    # the analytic bounds' counterpart: the TRUE phase beyond PGA's window (PGA credited with nothing)
-    after["fast_phase_rms_deg"] = math.degrees(pga_residual_rms_rad(np.zeros_like(truth), truth, mask, energy, cutoff))
-    before["fast_phase_rms_deg"] = after["fast_phase_rms_deg"]
-
-    migrated = opt.max_range_migration_cells is not None and peak_range_cells > opt.max_range_migration_cells
-    reasons = set(_image_reasons(ev_after))
-    if migrated:
-        reasons.add("range_migration")
-    if (opt.max_residual_phase_rms_deg is not None
-            and not after["residual_phase_rms_deg"] <= opt.max_residual_phase_rms_deg):
-        reasons.add("residual_phase_noise")
-    if failed:
-        reasons.add("pga_failed")
-    elif not res.converged:
-        reasons.add("pga_not_converged")
-    passed_before = ev_before.passed and not migrated
-    ordered = [r for r in REASONS if r in reasons]
-    resid = after["residual_phase_rms_deg"] if math.isfinite(after["residual_phase_rms_deg"]) else 100.0
-    score = max(after["azimuth_broadening"], 0.0) + resid / 10.0 + peak_range_cells / 10.0
-    detail = {}
-    if keep_detail:
-        detail = {"image_before_db": img_clean.magnitude_db(), "image_after_db": after_img.magnitude_db(),
-                  "image_pga_input_db": img_pga.magnitude_db(),
-                  "azimuth_m": img_clean.azimuth_m, "slant_range_m": img_clean.slant_range_m,
-                  "phase_truth_rad": truth, "phase_estimate_rad": estimate,
-                  "pga_bandwidth_cycles": cutoff, "evaluation_after": ev_after.reasons}
-    return TrialOutcome(trial=trial, passed_before=bool(passed_before), passed_after=not ordered,
-                        reasons=ordered, before=before, after=after,
-                        peak_range_cells=float(peak_range_cells), pga_converged=bool(res.converged),
-                        pga_reason=res.reason, score=float(score), detail=detail)
+    err = setup.geom.check_offset(error_m, "error_m")
+    return run_trials(setup, err[None], range(trial, trial + 1), seed, np.array([peak_range_cells]),
+                      keep_detail)[0]
 
 
 def _prefilter(model, rate_hz: float, kind: str, samples: int, seed: int):
@@ -310,11 +412,14 @@ def _prefilter(model, rate_hz: float, kind: str, samples: int, seed: int):
 
 
 def run_chunk(setup: ChainSetup, model, seed: int, start: int, stop: int,
-              keep_detail: bool = False) -> list[TrialOutcome]:
+              keep_detail: bool = False, only: tuple[int, int] | None = None) -> list[TrialOutcome]:
     """Trials ``start … stop−1`` (``start`` a multiple of the chunk size) of ``model``. The motion
     engine gives the APC error of the scenario's navigation — free-inertial, or aided in the
     scenario's correction mode (:func:`budget.motion.simulate_motion`, one path for both) —
-    after the optional IMU pre-filter."""
+    after the optional IMU pre-filter. The trials are imaged in batches of
+    :data:`FORMATION_BATCH` that start at multiples of it in the trial index. ``only`` = (lo, hi)
+    images only the trials lo … hi−1 of the chunk (its motion is still simulated whole, so the
+    numbers are those of the whole chunk): a chunk can be shared between workers."""
     opts = setup.options
     pre = None
     if opts.prefilter != "none":
@@ -324,7 +429,10 @@ def run_chunk(setup: ChainSetup, model, seed: int, start: int, stop: int,
                              keep_series=True, prefilter=pre)
     time_s, series, cells = motion.time_s, motion.position_error_m, motion.peak_range_cells.max(axis=1)
     out = []
-    for k in range(stop - start):
-        err = _to_pulses(time_s, series[k], setup.geom.pulse_times_s)
-        out.append(run_trial_errors(setup, err, start + k, seed, float(cells[k]), keep_detail))
+    lo, end = (start, stop) if only is None else (max(start, only[0]), min(stop, only[1]))
+    while lo < end:
+        hi = min(end, (lo // FORMATION_BATCH + 1) * FORMATION_BATCH)
+        errs = np.stack([_to_pulses(time_s, series[k - start], setup.geom.pulse_times_s) for k in range(lo, hi)])
+        out.extend(run_trials(setup, errs, range(lo, hi), seed, cells[lo - start:hi - start], keep_detail))
+        lo = hi
     return out

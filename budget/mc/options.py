@@ -71,6 +71,11 @@ class McOptions(BaseModel):
                               "realistic when the scene builder is available, else points. The "
                               "default stays 'points' while PGA's own estimation error on the "
                               "realistic scene fails every part (README, Monte Carlo section)")
+    scene_reference: Literal["perfect_imu", "none"] = Field(
+        "perfect_imu", description="on a scene with clutter or receiver noise, judge the image and the "
+                                   "PGA residual relative to what a perfect IMU gets on the same scene "
+                                   "(PGA's own clutter-limited error; budget.mc.reference) rather than "
+                                   "to the ideal response; none: the spec is applied as it is")
     clutter_to_target_db: float = Field(REALISTIC_CLUTTER_DB, ge=-80, le=0, allow_inf_nan=False,
                                         description="realistic scene: clutter pixel power over target peak")
     snr_db: float | None = Field(None, ge=-20, le=150, allow_inf_nan=False,

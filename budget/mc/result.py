@@ -72,7 +72,8 @@ class McResult:
     def worst_trials(self) -> list:
         return [o for _, _, o in self.agg.worst.items()]
 
-    def to_json_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """JSON-ready verdict with the options and scenario it was computed with (the CLI JSON)."""
         out = {"trials": self.trials, "seed": self.seed, "tc_s": self.tc_s,
                "scenario": self.scenario_name, "model": self.model_label,
                "p_pass_before": self.p_pass_before, "p_pass_after": self.p_pass_after,
@@ -92,10 +93,6 @@ class McResult:
         out.update(self.extra)
         return out
 
-    def to_dict(self) -> dict:
-        """Everything of :meth:`to_json_dict` (JSON-ready, with the options and scenario)."""
-        return self.to_json_dict()
-
     def to_frame(self) -> pd.DataFrame:
         """One row per metric: p50/p95 before and after PGA."""
         b, a = self.percentiles("before"), self.percentiles("after")
@@ -110,7 +107,10 @@ class McResult:
         if scene == "realistic":
             scene = (f"realistic scene ({j.get('n_targets')} scatterers, clutter "
                      f"{j.get('clutter_to_target_db'):g} dB, SNR {j.get('snr_db'):g} dB)")
-        return f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
+        line = f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
+        if j.get("reference_summary"):
+            line += j["reference_summary"] + "\n"
+        return line
 
     def _unspecified_line(self) -> str:
         text = self.unspecified_summary()

@@ -2,8 +2,14 @@
 
 Determinism: trials are cut into fixed chunks of ``options.chunk_trials`` (a multiple of the
 motion engine's 64-trial random-stream block); trial i always draws from streams keyed by
-(seed, i). Chunks are aggregated in chunk order whatever finishes first, so the same seed gives
-the same numbers for any worker count or backend.
+(seed, i), and is imaged in the formation batch of its index (:data:`~budget.mc.chain.FORMATION_BATCH`).
+Work is handed out in chunks, or in pieces of chunks when there are fewer than two chunks per
+worker (:func:`work_units`), and aggregated in trial order whatever finishes first, so the same
+seed gives the same numbers for any worker count or backend.
+
+Parallel speed: each worker process builds (or, forked, inherits) the setup once, runs with one
+BLAS thread (:func:`single_threaded_blas`), and returns only the small per-trial outcomes; the
+parent only aggregates them.
 
 Dask (``dask.distributed``) is the optional distributed backend: it is pure Python, installs
 from PyPI, runs the same code on a ``LocalCluster`` for testing and on a real cluster unchanged,
@@ -13,10 +19,13 @@ heavier runtime for what is an embarrassingly parallel map of chunks.
 
 from __future__ import annotations
 
+import ctypes
 import math
+import os
 import threading
 from collections import deque
 from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
 from functools import lru_cache
 from typing import Callable
 
@@ -24,23 +33,96 @@ from ..catalog.fill import resolve_unspecified
 from ..errors import InputError
 from ..scenario import Scenario
 from .aggregate import Aggregate
-from .chain import ChainSetup, run_chunk
+from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
 from .options import McOptions
 from .result import McResult
 
 ProgressFn = Callable[[int, int], None]
 
 
+#: (getter, setter) symbol names of the thread count of OpenBLAS builds (numpy's and scipy's wheels
+#: each ship their own copy, with these prefixes).
+_OPENBLAS_SYMBOLS = (("openblas_get_num_threads", "openblas_set_num_threads"),
+                     ("openblas_get_num_threads64_", "openblas_set_num_threads64_"),
+                     ("scipy_openblas_get_num_threads64_", "scipy_openblas_set_num_threads64_"),
+                     ("scipy_openblas_get_num_threads", "scipy_openblas_set_num_threads"))
+
+
+def _loaded_openblas() -> list[tuple]:
+    """(get, set) thread-count functions of every OpenBLAS loaded in this process (Linux: read
+    from /proc/self/maps; elsewhere none are found and nothing is changed)."""
+    try:
+        with open("/proc/self/maps") as f:
+            paths = {line.split()[-1] for line in f if "openblas" in line.lower()}
+    except OSError:
+        return []
+    out = []
+    for path in sorted(p for p in paths if os.path.isfile(p)):
+        try:
+            lib = ctypes.CDLL(path, mode=getattr(os, "RTLD_NOLOAD", 0) | ctypes.RTLD_LOCAL)
+        except OSError:
+            continue
+        for get, put in _OPENBLAS_SYMBOLS:
+            if hasattr(lib, get) and hasattr(lib, put):
+                out.append((getattr(lib, get), getattr(lib, put)))
+                break
+    return out
+
+
+@contextmanager
+def single_threaded_blas():
+    """Run the block with OpenBLAS on one thread, then restore its thread count. The chain's
+    matrix products are small (a few 10⁵ multiply-adds): BLAS threads only add hand-over
+    latency, and with one process per core they oversubscribe the machine (measured: a 64-trial
+    chunk took 6× the CPU time with OpenBLAS's default threads on a loaded 2-core machine)."""
+    libs = _loaded_openblas()
+    before = [int(get()) for get, _ in libs]
+    for _, put in libs:
+        put(1)
+    try:
+        yield
+    finally:
+        for (_, put), n in zip(libs, before):
+            put(n)
+
+
+def _worker_init() -> None:
+    """Process-pool worker: one BLAS/OpenMP thread (one worker per core does the parallelism)."""
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[var] = "1"
+    for _, put in _loaded_openblas():
+        put(1)
+
+
 @lru_cache(maxsize=8)
 def _cached_setup(scenario_json: str, options_json: str) -> ChainSetup:
-    return ChainSetup.build(Scenario.model_validate_json(scenario_json),
-                            McOptions.model_validate_json(options_json))
+    setup = ChainSetup.build(Scenario.model_validate_json(scenario_json),
+                             McOptions.model_validate_json(options_json))
+    chain_plan(setup)  # built here, so that forked workers inherit it with the setup
+    scene_reference(setup)  # likewise the perfect-IMU reference of a cluttered or noisy scene
+    return setup
 
 
 def _chunk_task(scenario_json: str, options_json: str, model, seed: int, start: int, stop: int,
-                keep_detail: bool):
-    """Top-level (picklable) task: one chunk, setup cached per process."""
-    return run_chunk(_cached_setup(scenario_json, options_json), model, seed, start, stop, keep_detail)
+                keep_detail: bool, only: tuple[int, int] | None = None):
+    """Top-level (picklable) task: one chunk (or the trials ``only`` of it), setup cached per
+    process, BLAS on one thread."""
+    with single_threaded_blas():
+        return run_chunk(_cached_setup(scenario_json, options_json), model, seed, start, stop, keep_detail, only)
+
+
+def work_units(trials: int, chunk_trials: int, workers: int) -> list[tuple[int, int, int, int]]:
+    """(chunk start, chunk stop, first trial, stop trial) of each task. Chunks are the unit of
+    the random streams; when there are fewer than two chunks per worker (e.g. the default 64
+    trials on 2 workers) each chunk is shared out in pieces of whole formation batches, so that
+    every worker has work. Which trials a task images never changes a number."""
+    chunks = [(s, min(s + chunk_trials, trials)) for s in range(0, trials, chunk_trials)]
+    pieces = 1 if workers <= 1 else max(1, math.ceil(2 * workers / len(chunks)))
+    out = []
+    for s, e in chunks:
+        size = max(FORMATION_BATCH, math.ceil((e - s) / pieces / FORMATION_BATCH) * FORMATION_BATCH)
+        out.extend((s, e, lo, min(lo + size, e)) for lo in range(s, e, size))
+    return out
 
 
 def model_label(model) -> str:
@@ -77,8 +159,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     model = resolution.model
     scen_json, opt_json = scenario.model_dump_json(), options.model_dump_json()
     _cached_setup(scen_json, opt_json)  # fail early (e.g. a scenario beyond the simulation limits)
-    step = options.chunk_trials
-    chunks = [(s, min(s + step, trials)) for s in range(0, trials, step)]
+    units = work_units(trials, options.chunk_trials, 1 if backend == "serial" else workers)
     agg = Aggregate(keep_worst=options.keep_worst, keep_trial_metrics=options.keep_trial_metrics)
     cancelled = False
 
@@ -88,35 +169,36 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
             progress(done, trials)
 
     if backend == "serial":
-        for s, e in chunks:
+        for s, e, _, _ in units:
             if cancel is not None and cancel.is_set():
                 cancelled = True
                 break
             consume(_chunk_task(scen_json, opt_json, model, seed, s, e, keep_detail), e)
     else:
         if backend == "processes":
-            pool = ProcessPoolExecutor(max_workers=workers)
-            submit = lambda s, e: pool.submit(_chunk_task, scen_json, opt_json, model, seed, s, e, keep_detail)  # noqa: E731
+            pool = ProcessPoolExecutor(max_workers=workers, initializer=_worker_init)
+            submit = lambda u: pool.submit(_chunk_task, scen_json, opt_json, model, seed, u[0], u[1],  # noqa: E731
+                                           keep_detail, (u[2], u[3]))
             result_of = lambda f: f.result()  # noqa: E731
         else:
             pool = None
-            submit = lambda s, e: client.submit(_chunk_task, scen_json, opt_json, model, seed, s, e,  # noqa: E731
-                                                keep_detail, pure=False)
+            submit = lambda u: client.submit(_chunk_task, scen_json, opt_json, model, seed, u[0], u[1],  # noqa: E731
+                                             keep_detail, (u[2], u[3]), pure=False)
             result_of = lambda f: f.result()  # noqa: E731
         window = max(2, 2 * (workers if backend == "processes" else max(workers, 2)))
         pending: deque = deque()
-        todo = deque(chunks)
+        todo = deque(units)
         try:
             while todo or pending:
                 while todo and len(pending) < window and not cancelled:
                     if cancel is not None and cancel.is_set():
                         cancelled = True
                         break
-                    s, e = todo.popleft()
-                    pending.append((e, submit(s, e)))
+                    u = todo.popleft()
+                    pending.append((u[3], submit(u)))
                 if not pending:
                     break
-                e, fut = pending.popleft()  # in chunk order: deterministic aggregation
+                e, fut = pending.popleft()  # in trial order: deterministic aggregation
                 consume(result_of(fut), e)
                 if cancel is not None and cancel.is_set():
                     cancelled = True
@@ -133,6 +215,3 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
                     options=options, scenario=scenario,
                     judged_on=_cached_setup(scen_json, opt_json).describe())
 
-
-def required_chunks(trials: int, options: McOptions) -> int:
-    return math.ceil(trials / options.chunk_trials)

@@ -45,6 +45,7 @@ from ..nav.platform import Disturbance, true_motion
 from ..nav.strapdown import InitialErrors, cross, propagate_errors
 from ..rng import STREAMS, trial_generator
 from ..scenario import Scenario
+from ..units import two_way_wavenumber_rad_m
 from .geometry import range_error, scene_targets
 from .phase import decompose_phase
 from .result import METRICS, MotionResult
@@ -193,7 +194,7 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
         c = motion.c_b_n
         apc_true = apc_true + (ctx.lever if c is None else np.matmul(c[..., w:, :, :], ctx.lever))
     m = stop - start
-    phase_scale = 4.0 * math.pi / ctx.wavelength
+    phase_scale = two_way_wavenumber_rad_m(ctx.wavelength)
     for k, target in enumerate(ctx.targets):
         dr = range_error(apc_true, err, target)
         dec = decompose_phase(dr * phase_scale)
@@ -313,4 +314,12 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                         targets_m=pts, position_error_m=out.pop("position_error_m", None),
                         range_error_m=out.pop("range_error_m", None),
                         aiding=ctx.plan.label() if ctx.plan else "none",
-                        prefilter=prefilter.kind if prefilter is not None else "none", **out)
+                        prefilter=prefilter.kind if prefilter is not None else "none",
+                        options={"disturbance": _dump(disturbance), "initial_errors": _dump(initial_errors),
+                                 "aiding_plan": _dump(aiding), "first_trial": first, "keep_series": keep_series},
+                        **out)
+
+
+def _dump(options) -> dict | None:
+    """JSON-ready dict of a pydantic options model (None stays None)."""
+    return None if options is None else options.model_dump(mode="json")

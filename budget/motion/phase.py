@@ -1,6 +1,7 @@
 """Phase error over the aperture and its Legendre decomposition (seed 004).
 
-Phase φ = 4π·Δr/λ (two-way; radar or sonar through the scenario's λ = c/f0, seed 003 (12)).
+Phase error φ = 4π·Δr/λ of the range error Δr = R_true − R_assumed (two-way; radar or sonar
+through the scenario's λ = c/f0, seed 003 (12); sign convention in :mod:`budget.units`).
 Over normalised aperture time u = 2(t − t_start)/(t_end − t_start) − 1 ∈ [−1, 1], the phase is
 fitted by least squares with Legendre polynomials P0 = 1, P1 = u, P2 = (3u² − 1)/2,
 P3 = (5u³ − 3u)/2: φ(u) ≈ c0 + c1·P1 + c2·P2 + c3·P3 + residual. Reported per trial:

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
 from ..scenario import Scenario
+from ..units import range_error_to_phase_error
 
 #: Per-trial metrics, each (T, K) (trials × scene points).
 METRICS = ("constant_rad", "linear_edge_rad", "quadratic_edge_rad", "cubic_edge_rad",
@@ -27,7 +28,9 @@ class MotionResult:
     times (0 … (N−1)/rate, N = round(Tc·rate) + 1); ``tc_s`` is the scenario's Tc.
     ``aiding`` says how the trajectory was aided (``none``: free-inertial; otherwise sensors,
     correction mode and warm-up — the APC error is then relative to its aperture-start value)
-    and ``prefilter`` which IMU pre-filter ran (``none``, ``kalman``, ``rts``).
+    and ``prefilter`` which IMU pre-filter ran (``none``, ``kalman``, ``rts``). ``options``: the
+    other inputs of :func:`~budget.motion.simulate_motion` (disturbance, initial errors, aiding plan,
+    first trial), JSON-ready.
     """
 
     scenario: Scenario
@@ -46,6 +49,7 @@ class MotionResult:
     range_error_m: np.ndarray | None = None
     aiding: str = "none"
     prefilter: str = "none"
+    options: dict = field(default_factory=dict)
 
     @property
     def n_trials(self) -> int:
@@ -63,28 +67,26 @@ class MotionResult:
         """Phase error series 4π·Δr/λ (T, K, N); needs the kept range-error series."""
         if self.range_error_m is None:
             raise ValueError("series were not kept (simulate_motion(..., keep_series=True))")
-        return 4.0 * np.pi * self.range_error_m / self.wavelength_m
+        return range_error_to_phase_error(self.range_error_m, self.wavelength_m)
 
-    def summary(self) -> dict:
-        """Trials, aperture and, per metric (scene point 0), rms, median and 95th percentile of |x|."""
-        out = {"scenario": self.scenario.name, "model": self.model_label, "trials": self.n_trials,
-               "seed": self.seed, "tc_s": self.tc_s, "n_samples": int(self.time_s.size),
-               "wavelength_m": self.wavelength_m, "range_resolution_m": self.scenario.range_resolution_m,
-               "aiding": self.aiding, "prefilter": self.prefilter}
+    def statistics(self) -> dict[str, dict[str, float]]:
+        """Per metric (scene point 0): rms, median and 95th percentile of |x| over the trials."""
+        out = {}
         for name in METRICS:
             a = np.abs(getattr(self, name)[:, 0])
             out[name] = {"rms": float(np.sqrt(np.mean(a**2))), "median": float(np.median(a)),
                          "p95": float(np.percentile(a, 95))}
         return out
 
-    def summary_text(self) -> str:
-        s = self.summary()
-        lines = [f"{s['scenario']} / {s['model']}: {s['trials']} trials, Tc = {s['tc_s']:.3g} s, "
-                 f"{s['n_samples']} samples, λ = {s['wavelength_m']:.4g} m (seed {s['seed']}); "
-                 f"aiding: {s['aiding']}; IMU pre-filter: {s['prefilter']}",
+    def summary(self) -> str:
+        """Trials, aperture and a table of :meth:`statistics` (one line per metric)."""
+        stats = self.statistics()
+        lines = [f"{self.scenario.name} / {self.model_label}: {self.n_trials} trials, Tc = {self.tc_s:.3g} s, "
+                 f"{self.time_s.size} samples, λ = {self.wavelength_m:.4g} m (seed {self.seed}); "
+                 f"aiding: {self.aiding}; IMU pre-filter: {self.prefilter}",
                  f"{'metric (|x|)':<22}{'rms':>12}{'median':>12}{'p95':>12}"]
         for name in METRICS:
-            m = s[name]
+            m = stats[name]
             lines.append(f"{name:<22}{m['rms']:>12.4g}{m['median']:>12.4g}{m['p95']:>12.4g}")
         return "\n".join(lines)
 
@@ -96,12 +98,16 @@ class MotionResult:
             data[name] = getattr(self, name).reshape(-1)
         return pd.DataFrame(data)
 
-    def to_json_dict(self) -> dict:
-        """The CLI's JSON: per-trial lists for scene point 0."""
+    def to_dict(self) -> dict:
+        """The CLI's JSON: inputs (scenario, model, seed, aiding, pre-filter, ``options``), the
+        :meth:`statistics` and per-trial lists for scene point 0."""
         return {"trials": self.n_trials, "tc_s": self.tc_s, "seed": self.seed,
                 "scenario": self.scenario.name, "model": self.model_label,
                 "aiding": self.aiding, "prefilter": self.prefilter,
                 "n_samples": int(self.time_s.size), "wavelength_m": self.wavelength_m,
+                "range_resolution_m": self.scenario.range_resolution_m,
+                "scenario_spec": self.scenario.model_dump(mode="json"), "options": dict(self.options),
+                "targets_m": np.asarray(self.targets_m).tolist(), "statistics": self.statistics(),
                 "peak_range_error_m": self.peak_range_error_m[:, 0].tolist(),
                 "peak_range_cells": self.peak_range_cells[:, 0].tolist(),
                 "quadratic_edge_rad": self.quadratic_edge_rad[:, 0].tolist(),

@@ -31,7 +31,6 @@ from scipy import optimize, stats
 from .. import units as u
 from ..errors import InputError
 from ..fileio import read_text
-from ..imu.noise_model import channel_unit
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
 
 REQUIRED = ("channel", "tau_s", "adev")
@@ -180,7 +179,7 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
                          field="tau_s", value=tau[i],
                          expected=f"τ ≤ {(n_phase - 2) // 2 / rate_hz:.6g} s for --samples {samples}")
     factor = u.CHANNEL_UNIT_TO_SI[unit]
-    si_unit = channel_unit(ch)
+    si_unit = u.channel_si_unit(ch)
     alpha = noise_type_from_slope(tau, adev)
     if has_ci:
         lo, hi = df["lci"].to_numpy(float), df["uci"].to_numpy(float)

@@ -60,6 +60,13 @@ class AllanResult:
         return pd.DataFrame({"tau_s": self.tau_s, "adev": self.adev, "lo": self.lo, "hi": self.hi,
                              "edf": self.edf, "n": self.n, "alpha": self.alpha})
 
+    def to_dict(self) -> dict:
+        """JSON-ready: inputs (channel, unit, rate, samples, confidence level, source) and the
+        Allan deviation per τ (``unit``) with its interval, EDF and noise exponent α."""
+        return {"channel": self.channel, "unit": self.unit, "rate_hz": float(self.rate_hz),
+                "samples": int(self.samples), "ci": float(self.ci), "source": self.source,
+                "notes": list(self.notes), **{k: v.tolist() for k, v in self.to_frame().items()}}
+
     def summary(self) -> str:
         name = self.channel or "series"
         i = int(np.argmin(self.adev))

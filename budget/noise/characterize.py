@@ -28,7 +28,6 @@ from pydantic import ValidationError
 from .. import units as u
 from ..catalog.schema import GRADES, PartSpec
 from ..errors import InputError, from_validation_error
-from ..imu.noise_model import channel_unit
 from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
 from .terms import TERMS, NoiseTerms, fit_noise_terms
@@ -46,15 +45,18 @@ class Characterization:
     allan: dict[str, AllanResult]
     combine_rule: str = COMBINE_RULE
     notes: list[str] = field(default_factory=list)
+    #: the fit options of :func:`characterize` (``taus``, ``terms``, ``model_error``, the given ``grade``)
+    options: dict = field(default_factory=dict)
 
-    def to_json(self) -> dict:
-        """``{"part": row fields, "channels": {ch: {Q, N, B, K, R}}, ...}`` (SI channel units)."""
-        return {"part": self.part.model_dump(), "combine_rule": self.combine_rule,
-                "channels": {ch: t.to_dict() for ch, t in self.channels.items()},
+    def to_dict(self) -> dict:
+        """``{"part": row fields, "channels": {ch: {Q, N, B, K, R}}, ..., "options": {...}}`` (SI
+        channel units)."""
+        return {"part": self.part.model_dump(mode="json"), "combine_rule": self.combine_rule,
+                "channels": {ch: dict(t.values) for ch, t in self.channels.items()},
                 "channel_units": {ch: t.unit for ch, t in self.channels.items()},
                 "uncertainty": {ch: t.sigmas for ch, t in self.channels.items()},
                 "resolved": {ch: t.resolved for ch, t in self.channels.items()},
-                "notes": list(self.notes)}
+                "notes": list(self.notes), "options": dict(self.options)}
 
     def to_frame(self) -> pd.DataFrame:
         rows = []
@@ -138,7 +140,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
             if np.ptp(x) == 0:
                 notes.append(f"{ch}: constant channel skipped")
                 continue
-            unit = channel_unit(ch)
+            unit = u.channel_si_unit(ch)
             allan[ch] = allan_deviation(x, data.rate_hz, taus, channel=ch, unit=unit)
         rate, origin = data.rate_hz, f"log {Path(data.source).name}"
         notes += [f"log repaired: {r}" for r in data.issues.repairs]
@@ -169,6 +171,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
         if extra:
             notes.append(f"{ch}: {', '.join(extra)} (no catalog column)")
     values = _row_values(fits)
+    given_grade = grade
     if grade is None:
         try:
             grade = infer_grade(values)
@@ -183,4 +186,6 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                         notes=f"axes combined by {COMBINE_RULE}", **values)
     except ValidationError as err:
         raise from_validation_error(err) from None
-    return Characterization(part, fits, allan, COMBINE_RULE, notes)
+    options = {"taus": taus if isinstance(taus, str) else np.asarray(taus, float).tolist(),
+               "terms": list(terms), "model_error": float(model_error), "grade": given_grade}
+    return Characterization(part, fits, allan, COMBINE_RULE, notes, options)

@@ -74,6 +74,13 @@ class KalmanResult:
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"signal": self.signal})
 
+    def to_dict(self) -> dict:
+        """JSON-ready: filter or RTS smoother, variance before/after, mean removed, transient
+        samples and the series length; the filtered series itself is in :meth:`to_frame`."""
+        return {"smoothed": bool(self.smoothed), "samples": int(self.signal.size),
+                "variance_before": float(self.variance_before), "variance_after": float(self.variance_after),
+                "mean_removed": float(self.mean_removed), "transient_samples": int(self.transient_samples)}
+
 
 class ArmaKalman:
     """Kalman filter / RTS smoother of seed 000 for one fitted ARMA model."""

@@ -55,6 +55,12 @@ class FrequencyResponse:
                              "magnitude_db": 20 * np.log10(np.maximum(self.magnitude, 1e-300)),
                              "phase_deg": self.phase_deg})
 
+    def to_dict(self) -> dict:
+        """JSON-ready: filter or smoother, sampling rate (Hz), DC gain, −3 dB frequency (Hz) and
+        the response per frequency."""
+        return {"smoother": bool(self.smoother), "rate_hz": float(self.rate_hz), "dc_gain": self.dc_gain,
+                "bandwidth_hz": self.bandwidth_hz, **{k: v.tolist() for k, v in self.to_frame().items()}}
+
     def summary(self) -> str:
         bw = self.bandwidth_hz
         return (f"{'smoother' if self.smoother else 'filter'} response: DC gain {self.dc_gain:.3g}, "

@@ -66,6 +66,14 @@ class ImuLog:
                 + ("; temperature" if self.temp_c is not None else ""))
         return head + "\n" + self.issues.summary()
 
+    def to_dict(self) -> dict:
+        """JSON-ready description of the log (source, rate, samples, channels with their source
+        units, the checks' report); the samples themselves are in :meth:`to_frame`."""
+        return {"source": self.source, "rate_hz": float(self.rate_hz), "n_samples": self.n_samples,
+                "duration_s": float(self.duration_s), "channels": list(self.channels),
+                "source_units": dict(self.source_units), "temperature": self.temp_c is not None,
+                "issues": self.issues.to_dict()}
+
     def to_frame(self) -> pd.DataFrame:
         """Channels in SI (rad/s, m/s²), indexed by time in seconds."""
         t = self.time_s if self.time_s is not None else np.arange(self.n_samples) / self.rate_hz

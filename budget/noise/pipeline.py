@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from ..units import channel_si_unit
 from .arma import DEFAULT_ORDERS, ArmaSelection, select_arma
 from .checks import CheckReport, check_series
 from .kalman import ArmaKalman, KalmanResult
@@ -22,11 +23,6 @@ from .preprocess import Preprocessed, preprocess
 
 AIC_DEFINITION = "AIC = ln(sigma2) + 2k/n, FPE = sigma2 (n+k)/(n-k), k = p+q, n = residuals"
 MOTION_WARNING = "the filter also attenuates real motion: see response_gain (1 = passed unchanged)"
-
-
-def channel_si_unit(channel: str) -> str:
-    """SI unit of a canonical channel name: rad/s for ``gyro_*``, m/s^2 for ``accel_*``."""
-    return "rad/s" if channel.startswith("gyro") else "m/s^2"
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,12 @@ class Preprocessed:
     def summary(self) -> str:
         return "; ".join(self.steps)
 
+    def to_dict(self) -> dict:
+        """JSON-ready: the steps done, outlier indices replaced, trend coefficients (highest power
+        first, t in samples/n), mean removed and the number of samples."""
+        return {"steps": list(self.steps), "samples": int(self.x.size), "outliers": self.outliers.tolist(),
+                "trend": np.asarray(self.trend, float).tolist(), "mean_removed": float(self.mean_removed)}
+
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"x": self.x})
 

@@ -36,6 +36,12 @@ class PsdResult:
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"freq_hz": self.freq_hz, "psd": self.psd})
 
+    def to_dict(self) -> dict:
+        """JSON-ready: channel, unit, sampling rate (Hz), the white level (unit/√Hz) and the
+        one-sided PSD (unit²/Hz) per frequency."""
+        return {"channel": self.channel, "unit": self.unit, "rate_hz": float(self.rate_hz),
+                "white_level": self.white_level(), "freq_hz": self.freq_hz.tolist(), "psd": self.psd.tolist()}
+
     def summary(self) -> str:
         return (f"{self.channel or 'series'}: Welch PSD, {self.freq_hz.size} bins to "
                 f"{self.freq_hz[-1]:.4g} Hz; white level {self.white_level():.4g} {self.unit}/√Hz")

@@ -86,8 +86,12 @@ class NoiseTerms:
     def model_adev(self, tau_s) -> np.ndarray:
         return adev_model(tau_s, **{k: (v or 0.0) for k, v in self.values.items()})
 
-    def to_dict(self) -> dict[str, float | None]:
-        return dict(self.values)
+    def to_dict(self) -> dict:
+        """JSON-ready: channel, unit, the τ range fitted (s), the coefficients Q, N, B, K, R under
+        ``values`` with their 1σ and whether each is resolved, and the fit's χ² and dof."""
+        return {"channel": self.channel, "unit": self.unit, "tau_range_s": [float(v) for v in self.tau_range_s],
+                "values": dict(self.values), "sigmas": dict(self.sigmas), "resolved": dict(self.resolved),
+                "chi2": float(self.chi2), "dof": int(self.dof)}
 
     def to_frame(self) -> pd.DataFrame:
         units = term_units(self.unit)

@@ -24,13 +24,12 @@ BOUND_MODES = ("paper", "derived", "no-autofocus")
 
 
 def mc_dict(result) -> dict:
-    """JSON-safe dict of an :class:`~budget.mc.McResult` (whatever its method is named)."""
-    fn = getattr(result, "to_dict", None) or getattr(result, "to_json_dict")
-    return fn()
+    """JSON-safe dict of an :class:`~budget.mc.McResult` (its :meth:`~budget.mc.McResult.to_dict`)."""
+    return result.to_dict()
 
 
 def check_vs_mc(record: Mapping, mc, target: float = MC_PASS_TARGET) -> dict:
-    """Does the analytic verdict (a :meth:`CheckResult.records` entry) agree with the Monte Carlo?
+    """Does the analytic verdict (a part record of :meth:`CheckResult.to_dict`) agree with the Monte Carlo?
 
     Compares the check's ``pass``/``fail`` with P(pass after PGA) ≥ ``target`` and its 95 %
     interval: a disagreement is stated only when the interval lies wholly on the other side of
@@ -74,7 +73,7 @@ class Report:
     provenance: dict = field(default_factory=dict)
 
     def check_frame(self) -> pd.DataFrame:
-        recs = self.check.records(0)
+        recs = self.check.to_dict()["scenarios"][0]["parts"]
         return pd.DataFrame([{"part_id": r["part_id"], "grade": r["grade"], "verdict": r["verdict"],
                               "binding": r["binding"], **r["margins"],
                               "flag (seed 004 vs fast phase / lever arm)": r.get("flag_reason") or ""}
@@ -98,7 +97,8 @@ class Report:
     def to_dict(self) -> dict:
         return {"scenario": self.scenario.model_dump(mode="json"), "derived": self.scenario.derived(),
                 "mode": self.mode, "bounds": self.bounds.to_dict(orient="records"),
-                "check": self.check.records(0), "mc": {pid: mc_dict(r) for pid, r in self.mc.items()},
+                "check": self.check.to_dict()["scenarios"][0]["parts"],
+                "mc": {pid: mc_dict(r) for pid, r in self.mc.items()},
                 "check_vs_mc": self.comparisons, "provenance": self.provenance}
 
     def summary(self) -> str:
@@ -187,7 +187,7 @@ def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence 
     if mc:
         first = next(iter(mc.values()))
         trials, seed = first.trials, first.seed
-    recs = {r["part_id"]: r for r in check.records(0)}
+    recs = {r["part_id"]: r for r in check.to_dict()["scenarios"][0]["parts"]}
     comparisons = [check_vs_mc(recs.get(pid, {"part_id": pid, "verdict": "not checked"}), r)
                    for pid, r in mc.items()]
     rep = Report(scenario=s, mode=mode, bounds=bounds_frame(s, assumptions), check=check, mc=mc,

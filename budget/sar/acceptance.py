@@ -16,11 +16,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
 import pandas as pd
 from pydantic import BaseModel, ConfigDict, Field
 
 from ..errors import InputError
-from .metrics import TargetMetricsTable
+from .metrics import TargetMetricArrays, TargetMetricsTable
 
 
 class Acceptance(BaseModel):
@@ -47,9 +48,18 @@ class Evaluation:
     passed: bool
     reasons: list[str]
     checks: pd.DataFrame
+    acceptance: Acceptance | None = None
 
-    def summary(self) -> dict:
-        return {"passed": self.passed, "n_failed_checks": len(self.reasons), "reasons": self.reasons}
+    def summary(self) -> str:
+        if self.passed:
+            return f"passed: all {len(self.checks)} checks within their limits"
+        return f"failed {len(self.reasons)} of {len(self.checks)} checks: " + "; ".join(self.reasons)
+
+    def to_dict(self) -> dict:
+        """JSON-safe: outcome, reasons, every check and the acceptance it was judged with."""
+        return {"passed": self.passed, "n_failed_checks": len(self.reasons), "reasons": list(self.reasons),
+                "acceptance": None if self.acceptance is None else self.acceptance.model_dump(),
+                "checks": self.checks.to_dict(orient="records")}
 
     def to_frame(self) -> pd.DataFrame:
         return self.checks
@@ -83,4 +93,36 @@ def evaluate(metrics: TargetMetricsTable, acceptance: Acceptance | None = None) 
             check(t, ax, "islr_db", m.islr_db, m.ideal_islr_db + acc.islr_margin_db
                   if acc.max_islr_db is None else acc.max_islr_db)
             check(t, ax, "abs_peak_shift_cells", abs(m.peak_shift_m) / m.cell_m, acc.max_peak_shift_cells)
-    return Evaluation(passed=not reasons, reasons=reasons, checks=pd.DataFrame(rows))
+    return Evaluation(passed=not reasons, reasons=reasons, checks=pd.DataFrame(rows), acceptance=acc)
+
+
+#: Checks of :func:`failed_checks`, in the order of :func:`evaluate`'s rows.
+CHECKS = ("peak_loss", "broadening", "pslr", "islr", "peak_shift")
+
+
+def failed_checks(metrics: TargetMetricArrays, acceptance: Acceptance | None = None) -> dict[str, np.ndarray]:
+    """:func:`evaluate` on a stack of images, without building its table: for each check of
+    :data:`CHECKS`, a boolean array (B,) that is True where any target (and any axis of
+    ``acceptance.axes``) fails it — the same comparisons value ≤ limit (NaN fails) with the same
+    limits as :func:`evaluate`. An image passes :func:`evaluate` when no entry is True."""
+    acc = acceptance or Acceptance()
+    for ax in acc.axes:
+        if ax not in ("azimuth", "range"):
+            raise InputError("unknown axis", field="axes", value=ax, expected="'azimuth' and/or 'range'")
+
+    def fails(value: np.ndarray, limit) -> np.ndarray:
+        return np.any(~(value <= limit), axis=-1)
+
+    out = {"peak_loss": fails(metrics["peak_loss_db"], acc.max_peak_loss_db)}
+    b = out["peak_loss"].shape
+    for name in CHECKS[1:]:
+        out[name] = np.zeros(b, dtype=bool)
+    for ax in acc.axes:
+        out["broadening"] |= fails(metrics[f"{ax}_broadening"], acc.max_broadening)
+        out["pslr"] |= fails(metrics[f"{ax}_pslr_db"], metrics[f"{ax}_ideal_pslr_db"] + acc.pslr_margin_db
+                             if acc.max_pslr_db is None else acc.max_pslr_db)
+        out["islr"] |= fails(metrics[f"{ax}_islr_db"], metrics[f"{ax}_ideal_islr_db"] + acc.islr_margin_db
+                             if acc.max_islr_db is None else acc.max_islr_db)
+        out["peak_shift"] |= fails(np.abs(metrics[f"{ax}_peak_shift_m"]) / metrics[f"{ax}_cell_m"],
+                                   acc.max_peak_shift_cells)
+    return out

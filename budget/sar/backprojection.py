@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import two_way_wavenumber_rad_m
 from .geometry import SarGeometry
 
 _UPSAMPLE = 16
@@ -42,7 +43,7 @@ def backproject(geom: SarGeometry, data: np.ndarray, measured_offset_m: np.ndarr
     pix = geom.scene_point_m(azimuth_m[:, None], slant_range_m[None, :]).reshape(-1, 3)
     acc = np.zeros(pix.shape[0], dtype=complex)
     block = max(1, _BLOCK_ELEMENTS // pix.shape[0])
-    k = 4j * np.pi / geom.wavelength_m
+    k = 1j * two_way_wavenumber_rad_m(geom.wavelength_m)
     for s in range(0, geom.n_pulses, block):
         p = apc[s:s + block]
         dist = np.sqrt(((p[:, None, :] - pix[None, :, :]) ** 2).sum(axis=-1))

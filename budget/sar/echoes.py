@@ -21,6 +21,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..errors import InputError
+from ..units import range_to_phase, two_way_wavenumber_at_frequency_rad_m, two_way_wavenumber_rad_m
 from .geometry import SarGeometry
 from .scene import Scene
 from .windows import ideal_irf
@@ -55,13 +56,13 @@ def simulate_echoes(geom: SarGeometry, scene: Scene, true_offset_m=None,
     apc = geom.nominal_apc_m() + geom.check_offset(true_offset_m, "true_offset_m")
     f_m = geom.range_band_freqs_hz
     r0 = float(geom.range_axis_m[0])
-    k_f = 4.0 * np.pi * f_m / geom.c_m_s
+    k_f = two_way_wavenumber_at_frequency_rad_m(f_m, geom.c_m_s)
     spec = np.zeros((geom.n_pulses, geom.band_bins), dtype=complex)
     if scene.targets:
         x, r, a = scene.target_arrays()
         pts = geom.scene_point_m(x, geom.ref_range_m + r)
         rng_nk = np.linalg.norm(apc[:, None, :] - pts[None, :, :], axis=-1)
-        carrier = a[None, :] * np.exp(-4j * np.pi * rng_nk / geom.wavelength_m)
+        carrier = a[None, :] * np.exp(1j * range_to_phase(rng_nk, geom.wavelength_m))
         # exp(−j 4π f_m (R − r0)/c) with f_m = m Δf on symmetric m: powers of one phasor
         # (cumulative product: one complex exponential per target and pulse instead of M)
         step = np.exp(-1j * (k_f[1] - k_f[0]) * (rng_nk - r0))
@@ -113,7 +114,7 @@ def _clutter_spectrum(geom: SarGeometry, scene: Scene, apc: np.ndarray,
         p = apc[s:s + chunk]
         rng_nq = np.sqrt((p[:, 0, None] - pts[None, :, 0]) ** 2 + (p[:, 1, None] - pts[None, :, 1]) ** 2
                          + (p[:, 2, None] - pts[None, :, 2]) ** 2)
-        ph = (-4.0 * np.pi / geom.wavelength_m) * rng_nq
+        ph = -two_way_wavenumber_rad_m(geom.wavelength_m) * rng_nq  # range_to_phase as one product
         b = amp[None, :] * (np.cos(ph) + 1j * np.sin(ph))
         idx = np.rint((rng_nq - r0) / step).astype(np.int64)
         ok = (idx >= 0) & (idx < n_fine)

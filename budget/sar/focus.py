@@ -10,7 +10,8 @@ Processing", §4.5; Jakowatz et al. 1996, "Spotlight-Mode SAR", §3.7). The sum 
 per pulse by an inverse FFT, zero-padded ``upsample``× so the profile can be read by linear
 interpolation at ΔR_n(p): with f_k = f_r + (k − K/2) Δf,
 
-    I(p) = Σ_n w_n exp(j 4π f_r ΔR_n(p) / c) · q_n(ΔR_n(p)),   q_n(r) = Σ_k v_k S(n, f_k) e^{j2π(k−K/2)Δf·2r/c},
+    I(p) = Σ_n w_n exp(j 4π f_r ΔR_n(p) / c) · q_n(ΔR_n(p)),
+    q_n(r) = Σ_k v_k S(n, f_k) e^{j2π(k−K/2)Δf·2r/c},
 
 with f_r the reference frequency; q_n is at baseband, so linear interpolation of the 8×
 oversampled profile loses < 2 % amplitude. A unit scatterer peaks at 1. ΔR is computed as
@@ -49,6 +50,7 @@ import pandas as pd
 from pydantic import BaseModel, ConfigDict, Field
 
 from ..errors import InputError, from_validation_error
+from ..units import two_way_wavenumber_at_frequency_rad_m as _wavenumber
 from .phase_history import C_M_S, PhaseHistory
 from .windows import Window
 
@@ -127,10 +129,11 @@ class GroundImage:
         ref = float(mag.max()) if reference is None else float(reference)
         return 20.0 * np.log10(np.maximum(mag, 1e-15 * max(ref, 1e-300)) / max(ref, 1e-300))
 
-    def summary(self) -> dict:
-        return {"label": self.label, "shape": list(self.data.shape), "spacing_m": self.grid.spacing_m,
-                "entropy": image_entropy(self.data), "contrast": image_contrast(self.data),
-                "peak": float(np.abs(self.data).max())}
+    def summary(self) -> str:
+        """One line: label, size, pixel spacing (m), entropy, contrast and peak magnitude."""
+        d = self.to_dict()
+        return (f"{d['label']}: {d['shape'][0]} × {d['shape'][1]} pixels at {d['spacing_m']:g} m; entropy "
+                f"{d['entropy']:.5g}, contrast {d['contrast']:.4g}, peak {d['peak']:.4g}")
 
     def to_frame(self) -> pd.DataFrame:
         """Magnitude (dB re. peak); index cross range v (m), columns ground range u (m)."""
@@ -138,7 +141,10 @@ class GroundImage:
                             columns=pd.Index(self.grid.u_m, name="range_m"))
 
     def to_dict(self) -> dict:
-        return self.summary()
+        """JSON-ready: label, shape, pixel spacing (m), entropy, contrast and peak magnitude."""
+        return {"label": self.label, "shape": list(self.data.shape), "spacing_m": self.grid.spacing_m,
+                "entropy": image_entropy(self.data), "contrast": image_contrast(self.data),
+                "peak": float(np.abs(self.data).max())}
 
 
 def image_entropy(data) -> float:
@@ -169,7 +175,7 @@ def _unit(a: np.ndarray) -> np.ndarray:
 
 def pulse_bins(ph: PhaseHistory, v_hat: np.ndarray, reference_antenna_m: np.ndarray) -> np.ndarray:
     """ω_n of eq. (3), rad/m, at the reference frequency."""
-    k_r = 4.0 * np.pi * ph.reference_frequency_hz / C_M_S
+    k_r = _wavenumber(ph.reference_frequency_hz, C_M_S)
     return k_r * ((_unit(ph.antenna_m) - _unit(reference_antenna_m)) @ v_hat)
 
 
@@ -204,8 +210,8 @@ def max_spacing_m(ph: PhaseHistory, grid_u_hat: np.ndarray, grid_v_hat: np.ndarr
     """Largest (azimuth, range) pixel spacing that samples the complex deramped image without
     aliasing: 2π / (extent of its spatial-frequency support), m."""
     f = np.array([ph.frequency_hz[0], ph.frequency_hz[-1]])
-    k = 4.0 * np.pi * f[:, None, None] / C_M_S * _unit(ph.antenna_m)[None]  # (2, n, 3)
-    k = k - 4.0 * np.pi * ph.reference_frequency_hz / C_M_S * _unit(reference_antenna_m)
+    k = _wavenumber(f[:, None, None], C_M_S) * _unit(ph.antenna_m)[None]  # (2, n, 3)
+    k = k - _wavenumber(ph.reference_frequency_hz, C_M_S) * _unit(reference_antenna_m)
     kv, ku = k @ grid_v_hat, k @ grid_u_hat
     return float(2.0 * np.pi / max(np.ptp(kv), 1e-12)), float(2.0 * np.pi / max(np.ptp(ku), 1e-12))
 
@@ -227,10 +233,10 @@ def _backproject_rows(ph: PhaseHistory, q: np.ndarray, step: float, w_az: np.nda
                       rows: slice, k_r: float) -> np.ndarray:
     """Eq. (2) on the grid rows ``rows`` (all columns), looping over blocks of pulses.
 
-    The grid is separable: with p = v v̂ + u û, |A − p|² − R0² = f(v) + g(u), f = v² − 2v A·v̂ + |A|² − R0²,
-    g = u² − 2u A·û (float64 on the axes, then float32), and ΔR = N / (R0 + √(R0² + N)) with
-    N = f + g: float32 keeps ΔR to ~1e-7 relative (0.003 rad at 70 m) because the rounding of the
-    square root only enters the denominator, ≈ 2 R0."""
+    The grid is separable: with p = v v̂ + u û, |A − p|² − R0² = f(v) + g(u),
+    f = v² − 2v A·v̂ + |A|² − R0², g = u² − 2u A·û (float64 on the axes, then float32), and
+    ΔR = N / (R0 + √(R0² + N)) with N = f + g: float32 keeps ΔR to ~1e-7 relative (0.003 rad at
+    70 m) because the rounding of the square root only enters the denominator, ≈ 2 R0."""
     v, u = grid.v_m[rows], grid.u_m
     n_ext = q.shape[1]
     acc = np.zeros(v.size * u.size, dtype=np.complex64)
@@ -276,7 +282,7 @@ def backproject(ph: PhaseHistory, grid: GroundGrid, options: FocusOptions) -> np
     q = np.pad(q, ((0, 0), (2, 2)))  # zeros beyond the span; index n_ext // 2 is still ΔR = 0
     w_az = Window.parse(options.azimuth_window).samples(ph.n_pulses)
     w_az = (w_az / w_az.sum()).astype(np.float32)
-    k_r = 4.0 * np.pi * ph.reference_frequency_hz / C_M_S
+    k_r = _wavenumber(ph.reference_frequency_hz, C_M_S)
     n_rows = max(1, _PIXEL_BLOCK // grid.u_m.size)
     blocks = [slice(r, min(r + n_rows, grid.v_m.size)) for r in range(0, grid.v_m.size, n_rows)]
 
@@ -297,7 +303,7 @@ def deramp(grid: GroundGrid, reference_frequency_hz: float) -> np.ndarray:
     a_c = grid.reference_antenna_m
     pix = grid.points_m()
     rng = np.linalg.norm(pix - a_c, axis=1) - np.linalg.norm(a_c)
-    k_r = 4.0 * np.pi * reference_frequency_hz / C_M_S
+    k_r = _wavenumber(reference_frequency_hz, C_M_S)
     return np.exp(-1j * k_r * rng).reshape(grid.v_m.size, grid.u_m.size).astype(np.complex64)
 
 

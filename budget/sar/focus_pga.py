@@ -124,7 +124,22 @@ class FocusResult:
     def recorded_af_rms_diff_rad(self) -> float | None:
         return self.comparison.get("rms_diff_rad")
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """A few lines: autofocus, entropy and contrast before → after, PGA outcome, difference
+        from the recorded solution."""
+        s = self.scalars()
+        diff = s["recorded_af_rms_diff_rad"]
+        lines = [f"autofocus {s['autofocus']} on {s['pulses']} pulses: entropy {s['entropy_before']:.5g} → "
+                 f"{s['entropy_after']:.5g}, contrast {s['contrast_before']:.4g} → {s['contrast_after']:.4g}"]
+        if self.pga:
+            lines.append(f"PGA: {self.pga.get('reason')}; {self.pga.get('usable_lines')} usable lines")
+        if diff is not None:
+            lines.append(f"rms difference from the recorded solution {diff:.3g} rad")
+        lines += [f"note: {n}" for n in self.notes]
+        return "\n".join(lines)
+
+    def scalars(self) -> dict:
+        """The scalar outcome: entropy and contrast before/after, PGA, comparison, timings (s)."""
         return {"autofocus": self.autofocus, "pulses": self.pulses,
                 "entropy_before": self.entropy_before, "entropy_after": self.entropy_after,
                 "contrast_before": image_contrast(self.before.data), "contrast_after": image_contrast(self.after.data),
@@ -143,7 +158,8 @@ class FocusResult:
         return df
 
     def to_dict(self) -> dict:
-        out = self.summary()
+        """JSON-ready: :meth:`scalars`, the estimate per pulse, the image grid and the ``options``."""
+        out = self.scalars()
         out.update({"phase_estimate_rad": self.phase_estimate_rad.tolist(),
                     "estimated_pulses": self.estimated_pulses.tolist(),
                     "recorded_phase_error_rad": (None if self.recorded_phase_error_rad is None
@@ -162,8 +178,9 @@ def _pga_on_image(image: GroundImage, kernel: str) -> tuple[np.ndarray, np.ndarr
     est, mask = pulse_estimate(image, res.phase_error_rad, res.estimated_bins)
     if res.usable_lines == 0:
         est = np.zeros_like(est)
-    info = res.summary()
-    info["usable_lines"] = int(res.usable_lines)
+    info = {"converged": res.converged, "reason": res.reason, "iterations": res.iterations,
+            "usable_lines": int(res.usable_lines), "final_window": res.final_window,
+            "phase_error_peak_to_peak_rad": float(np.ptp(res.phase_error_rad[res.estimated_bins]))}
     window = getattr(res, "final_window", 0) or None
     bandwidth = None
     if window:

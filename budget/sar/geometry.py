@@ -27,6 +27,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import pandas as pd
 from scipy.fft import next_fast_len
 
 from ..errors import InputError
@@ -185,7 +186,24 @@ class SarGeometry:
                              expected="finite metres")
         return a
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """A few lines: scenario, wavelength, aperture, PRF, samples, cells and windows."""
+        d = self.to_dict()
+        return (f"{d['scenario']} ({d['medium']}): λ = {d['wavelength_m']:.4g} m, v = {d['speed_m_s']:g} m/s, "
+                f"R0 = {d['ref_range_m']:g} m\n"
+                f"aperture {d['aperture_time_s']:.3g} s / {d['aperture_length_m']:.3g} m, PRF {d['prf_hz']:.4g} Hz, "
+                f"{d['n_pulses']} pulses × {d['n_range']} range bins\n"
+                f"cells {d['azimuth_cell_m']:.3g} m (azimuth) × {d['range_cell_m']:.3g} m (range); windows "
+                f"{d['window_azimuth']} / {d['window_range']}")
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row: every quantity of :meth:`to_dict` (scene extent as two columns)."""
+        d = self.to_dict()
+        ext = d.pop("scene_extent_m")
+        return pd.DataFrame([{**d, "scene_extent_azimuth_m": ext[0], "scene_extent_range_m": ext[1]}])
+
+    def to_dict(self) -> dict:
+        """JSON-ready geometry: scenario, wavelength, speed, ranges, aperture, sampling, cells, windows (SI)."""
         return {
             "scenario": self.scenario_name, "medium": self.medium,
             "wavelength_m": self.wavelength_m, "speed_m_s": self.speed_m_s,

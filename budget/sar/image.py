@@ -20,12 +20,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
+import scipy.fft as sfft
 
 from ..errors import InputError
+from ..units import range_to_phase
 from .backprojection import backproject
 from .geometry import SarGeometry
-from .mocomp import motion_compensate
-from .rda import range_doppler
+from .mocomp import MotionCompensator, motion_compensate
+from .rda import RangeDopplerPlan, range_doppler
 
 
 @dataclass
@@ -69,7 +71,13 @@ class SarImage:
         mag = np.abs(self.data)
         return 20 * np.log10(np.maximum(mag, 1e-12 * max(mag.max(), 1e-300)))
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        d = self.to_dict()
+        return (f"{d['method']} image {d['shape'][0]} × {d['shape'][1]} (azimuth × range), peak "
+                f"{d['peak']:.4g} at azimuth {d['peak_azimuth_m']:.3f} m, range offset {d['peak_range_m']:.3f} m")
+
+    def to_dict(self) -> dict:
+        """JSON-safe description (method, shape, spans in m, peak and its position); no pixels."""
         mag = np.abs(self.data)
         i, j = np.unravel_index(int(np.argmax(mag)), mag.shape)
         return {"method": self.method, "shape": list(self.data.shape),
@@ -88,7 +96,7 @@ def deramp_phase(wavelength_m: float, azimuth_m: np.ndarray, slant_range_m: np.n
                  ref_range_m: float) -> np.ndarray:
     """exp(−j 2π x²/(λ r) − j 4π (r − R_c)/λ) on the grid (n_az, n_r); see module docstring."""
     x, r = azimuth_m[:, None], slant_range_m[None, :]
-    return np.exp(-2j * np.pi * x ** 2 / (wavelength_m * r) - 4j * np.pi * (r - ref_range_m) / wavelength_m)
+    return np.exp(-2j * np.pi * x ** 2 / (wavelength_m * r) + 1j * range_to_phase(r - ref_range_m, wavelength_m))
 
 
 def default_bp_grid(geom: SarGeometry, margin_cells: float = 8.0) -> tuple[np.ndarray, np.ndarray]:
@@ -135,3 +143,51 @@ def form_image(geom: SarGeometry, data, measured_offset_m=None, method: str = "r
     return SarImage(data=img, azimuth_m=az, slant_range_m=rg, wavelength_m=geom.wavelength_m,
                     speed_m_s=geom.speed_m_s, ref_range_m=geom.ref_range_m,
                     aperture_time_s=geom.aperture_time_s, method=method)
+
+
+class RdaImageFormer:
+    """``form_image(geom, data, measured, "rda")`` for one geometry and a stack of measured
+    trajectories (B, n_pulses, 3): the same motion compensation, range-Doppler focusing and
+    deramp, with every geometry-only factor computed once (:class:`~budget.sar.mocomp.MotionCompensator`,
+    :class:`~budget.sar.rda.RangeDopplerPlan`, the deramp of the module docstring) and the
+    transforms of the B images done together along the trailing axes.
+
+    Data enter as range spectra (:meth:`range_spectrum`): echoes that every trajectory shares are
+    transformed once. ``template`` is a :class:`SarImage` with zero data on the image grid
+    (axes, aperture time) for what depends only on the grid.
+    """
+
+    def __init__(self, geom: SarGeometry):
+        self.geom = geom
+        self.mocomp = MotionCompensator(geom)
+        self.rda = RangeDopplerPlan(geom)
+        self.azimuth_m = geom.image_azimuth_axis_m
+        self.slant_range_m = geom.range_axis_m.copy()
+        self.deramp = deramp_phase(geom.wavelength_m, self.azimuth_m, self.slant_range_m, geom.ref_range_m)
+        self.template = SarImage(data=np.zeros((self.azimuth_m.size, self.slant_range_m.size), dtype=complex),
+                                 azimuth_m=self.azimuth_m, slant_range_m=self.slant_range_m,
+                                 wavelength_m=geom.wavelength_m, speed_m_s=geom.speed_m_s,
+                                 ref_range_m=geom.ref_range_m, aperture_time_s=geom.aperture_time_s, method="rda")
+
+    def range_spectrum(self, data) -> np.ndarray:
+        """DFT along range of range-compressed data (…, n_pulses, n_range), checked like :func:`form_image`."""
+        arr = np.asarray(data)
+        g = self.geom
+        if arr.shape[-2:] != (g.n_pulses, g.n_range):
+            raise InputError(f"data has shape {arr.shape}", field="data",
+                             expected=f"(…, {g.n_pulses}, {g.n_range}) range-compressed samples")
+        if not np.all(np.isfinite(arr)):
+            raise InputError("data holds NaN or infinite samples", field="data", expected="finite complex samples")
+        return sfft.fft(arr.astype(complex, copy=False), axis=-1)
+
+    def form(self, range_spectrum: np.ndarray, measured_offset_m: np.ndarray) -> np.ndarray:
+        """Image data (B, n_azimuth, n_range) of data with range spectrum ``range_spectrum``
+        ((n_pulses, n_range) shared or (B, n_pulses, n_range)) focused with the B measured APC
+        offsets ``measured_offset_m`` (B, n_pulses, 3), m."""
+        off = np.asarray(measured_offset_m, dtype=float)
+        if off.ndim != 3 or off.shape[1:] != (self.geom.n_pulses, 3) or not np.all(np.isfinite(off)):
+            raise InputError(f"APC offsets have shape {off.shape}", field="measured_offset_m",
+                             expected=f"finite (B, {self.geom.n_pulses}, 3) metres")
+        img = self.rda(self.mocomp.apply(range_spectrum, off))
+        img *= self.deramp
+        return img

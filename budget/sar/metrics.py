@@ -3,7 +3,8 @@
 For every target of the scene, :func:`measure_targets` finds its peak near the expected image
 position, takes the azimuth cut through the (sub-pixel) range of the peak and the range cut
 through its azimuth — band-limited interpolation across lines, 16× upsampling along them — and
-measures with :func:`budget.sar.irf.measure_cut`:
+measures with the definitions of :func:`budget.sar.irf.measure_cut` (all cuts of a stage at once,
+:func:`budget.sar.irf.measure_cuts`; :class:`TargetMeter` measures stacks of images):
 
 * ``width_3db_m`` and ``broadening`` = width / ideal − 1, the ideal being the window's own
   (window-aware): ``ideal_irf(window).width_3db_cells`` × one cell (azimuth λr/(2VT), range
@@ -25,7 +26,7 @@ import scipy.fft as sfft
 from ..errors import InputError
 from .geometry import SarGeometry
 from .image import SarImage
-from .irf import CutMeasurement, measure_cut, upsample_periodic
+from .irf import CutMeasurements, measure_cuts, upsample_periodic
 from .scene import Scene
 from .windows import Window, ideal_irf
 
@@ -91,7 +92,16 @@ class TargetMetricsTable:
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame([t.as_row() for t in self.targets]).set_index("target")
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        d = self.to_dict()
+        return (f"{d['n_targets']} targets ({d['window_azimuth']} × {d['window_range']} window), worst: "
+                f"broadening {d['worst_azimuth_broadening']:.3f} az / {d['worst_range_broadening']:.3f} rg, "
+                f"PSLR {max(d['worst_azimuth_pslr_db'], d['worst_range_pslr_db']):.1f} dB, ISLR "
+                f"{max(d['worst_azimuth_islr_db'], d['worst_range_islr_db']):.1f} dB, peak loss "
+                f"{d['worst_peak_loss_db']:.2f} dB")
+
+    def to_dict(self) -> dict:
+        """JSON-safe: the windows, the ISLR extent, the worst value of each metric and every target."""
         f = self.to_frame()
         out = {"n_targets": len(self.targets), "window_azimuth": self.window_azimuth,
                "window_range": self.window_range,
@@ -101,21 +111,23 @@ class TargetMetricsTable:
             out[f"worst_{col}"] = float(f[col].max())
         out["worst_abs_azimuth_peak_shift_m"] = float(f["azimuth_peak_shift_m"].abs().max())
         out["worst_abs_range_peak_shift_m"] = float(f["range_peak_shift_m"].abs().max())
+        out["targets"] = [{k: float(v) if isinstance(v, (float, np.floating)) else v for k, v in t.as_row().items()}
+                          for t in self.targets]
         return out
 
 
-def _frac_phasor(n: int, pos: float) -> np.ndarray:
-    """Weights v with line(pos) = (spectrum · v) / n for a band-limited periodic line of n samples."""
+def _frac_phasor(n: int, pos) -> np.ndarray:
+    """Weights v with line(pos) = (spectrum · v) / n for a band-limited periodic line of n samples
+    (``pos`` scalar or array: one row of weights per position, last axis n)."""
     m = np.fft.fftfreq(n) * n
-    return np.exp(2j * np.pi * m * pos / n) / n
+    return np.exp(2j * np.pi * m * np.asarray(pos, dtype=float)[..., None] / n) / n
 
 
-def _axis(meas: CutMeasurement, true_pos: float, cell: float, ideal) -> AxisMetrics:
-    ideal_w = ideal.width_3db_cells * cell
-    return AxisMetrics(width_3db_m=meas.width_3db, ideal_width_3db_m=ideal_w,
-                       broadening=meas.width_3db / ideal_w - 1.0, pslr_db=meas.pslr_db,
-                       ideal_pslr_db=ideal.pslr_db, islr_db=meas.islr_db, ideal_islr_db=ideal.islr_db,
-                       peak_shift_m=meas.peak_position - true_pos, cell_m=cell)
+def _frac_kernel(n: int, pos) -> np.ndarray:
+    """Weights u with line(pos) = samples · u: u = DFT(v) of :func:`_frac_phasor`, since
+    Σ_m (Σ_i x_i e^{−j2πmi/n}) v_m = Σ_i x_i DFT(v)_i — a cut through the image itself, no
+    image transform needed."""
+    return sfft.fft(_frac_phasor(n, pos), axis=-1)
 
 
 class _Cuts:
@@ -127,16 +139,178 @@ class _Cuts:
         self.dx = image.azimuth_spacing_m
         self.dr = float(image.slant_range_m[1] - image.slant_range_m[0])
         self.az0, self.rg0 = float(image.azimuth_m[0]), float(image.slant_range_m[0])
-        self.spec_r = sfft.fft(data, axis=1)  # azimuth cuts at a fractional range
-        self.spec_a = sfft.fft(data, axis=0)  # range cuts at a fractional azimuth
+        self.data = data
 
     def azimuth_line(self, range_m: float) -> np.ndarray:
         """Upsampled azimuth cut at slant range ``range_m``; sample i at az0 + i·dx/16."""
-        return upsample_periodic(self.spec_r @ _frac_phasor(self.n_r, (range_m - self.rg0) / self.dr), _UP)
+        return upsample_periodic(self.data @ _frac_kernel(self.n_r, (range_m - self.rg0) / self.dr), _UP)
 
     def range_line(self, azimuth_m: float) -> np.ndarray:
         """Upsampled range cut at ``azimuth_m``; sample j at rg0 + j·dr/16."""
-        return upsample_periodic(self.spec_a.T @ _frac_phasor(self.n_a, (azimuth_m - self.az0) / self.dx), _UP)
+        return upsample_periodic(_frac_kernel(self.n_a, (azimuth_m - self.az0) / self.dx) @ self.data, _UP)
+
+
+@dataclass(frozen=True)
+class TargetMetricArrays:
+    """Per-target metrics of a stack of images: every field (B, K) for B images and K targets
+    (names as the columns of :meth:`TargetMetricsTable.to_frame`; lengths m, levels dB)."""
+
+    values: dict[str, np.ndarray]
+    meter: "TargetMeter"
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.values[name]
+
+    def worst(self) -> dict[str, np.ndarray]:
+        """Worst value over the targets (and over azimuth/range for PSLR and ISLR), per image (B,)."""
+        v = self.values
+        return {"azimuth_broadening": v["azimuth_broadening"].max(axis=1),
+                "range_broadening": v["range_broadening"].max(axis=1),
+                "pslr_db": np.maximum(v["azimuth_pslr_db"], v["range_pslr_db"]).max(axis=1),
+                "islr_db": np.maximum(v["azimuth_islr_db"], v["range_islr_db"]).max(axis=1),
+                "peak_loss_db": v["peak_loss_db"].max(axis=1)}
+
+    def summary(self, b: int = 0) -> str:
+        """:meth:`TargetMetricsTable.summary` of image ``b``."""
+        return self.table(b).summary()
+
+    def to_frame(self, b: int = 0) -> pd.DataFrame:
+        """:meth:`TargetMetricsTable.to_frame` of image ``b``."""
+        return self.table(b).to_frame()
+
+    def to_dict(self) -> dict:
+        """JSON-ready: every field as nested lists [image][target]."""
+        return {k: np.asarray(v).tolist() for k, v in self.values.items()}
+
+    def table(self, b: int = 0) -> TargetMetricsTable:
+        """The metrics of image ``b`` as a :class:`TargetMetricsTable`."""
+        m, v = self.meter, self.values
+        out = []
+        for k in range(m.n_targets):
+            axes = {}
+            for name in ("azimuth", "range"):
+                axes[name] = AxisMetrics(**{f: float(v[f"{name}_{f}"][b, k]) for f in AxisMetrics.__dataclass_fields__})
+            out.append(TargetMetrics(index=k, azimuth_m=float(m.x_m[k]), range_m=float(m.r_off_m[k]),
+                                     amplitude=float(m.amplitude[k]), peak_amplitude=float(v["peak_amplitude"][b, k]),
+                                     peak_loss_db=float(v["peak_loss_db"][b, k]), **axes))
+        return TargetMetricsTable(targets=out, window_azimuth=m.window_azimuth.label,
+                                  window_range=m.window_range.label, islr_extent_cells=m.islr_extent_cells)
+
+
+class TargetMeter:
+    """:func:`measure_targets` for one geometry, scene and image grid, applied to stacks of images.
+
+    Everything that depends only on the scene and the grid is computed once (target positions in
+    samples, search boxes, ideal IRFs, nulls, extents); :meth:`measure` then takes every cut of
+    every target and image of a stack together: the pixel rows themselves (first stage) or one
+    matrix product per stage give the cuts, one upsampling transform the 16× lines,
+    :func:`~budget.sar.irf.measure_cuts` the measurements.
+    The three stages of each target are those of the module docstring: range cut at the pixel
+    row → azimuth cut at the range peak → range cut at the azimuth peak.
+    """
+
+    def __init__(self, geom: SarGeometry, scene: Scene, azimuth_m: np.ndarray, slant_range_m: np.ndarray,
+                 window: Window | str | None = None, *, search_cells: float = 6.0,
+                 islr_extent_cells: float | None = None, azimuth_search_cells: float | None = None):
+        if not isinstance(scene, Scene) or not scene.targets:
+            raise InputError("no point targets to measure", field="targets", expected="a scene with ≥ 1 target")
+        if islr_extent_cells is not None and not islr_extent_cells > 0:
+            raise InputError("ISLR extent must be positive", field="islr_extent_cells", value=islr_extent_cells)
+        az, rg = np.asarray(azimuth_m, dtype=float), np.asarray(slant_range_m, dtype=float)
+        self.n_a, self.n_r = az.size, rg.size
+        self.dx = float(az[1] - az[0])
+        self.dr = float(rg[1] - rg[0])
+        self.az0, self.rg0 = float(az[0]), float(rg[0])
+        self.window_azimuth = geom.window_azimuth if window is None else Window.parse(window)
+        self.window_range = geom.window_range if window is None else Window.parse(window)
+        self.ideal_az = ideal_irf(self.window_azimuth, islr_extent_cells)
+        self.ideal_rg = ideal_irf(self.window_range, islr_extent_cells)
+        self.islr_extent_cells = islr_extent_cells
+        x, r_off, a = scene.target_arrays()
+        self.x_m, self.r_off_m, self.amplitude = x, r_off, np.abs(a)
+        self.n_targets = x.size
+        self.r_m = geom.ref_range_m + r_off
+        self.cell_a = np.array([geom.azimuth_cell_m(rk) for rk in self.r_m])
+        self.cell_r = geom.range_cell_m
+        boxes = []
+        for k, (xk, rk_off, rk, cell_a) in enumerate(zip(x, r_off, self.r_m, self.cell_a)):
+            ie, je = (xk - self.az0) / self.dx, (rk - self.rg0) / self.dr
+            if not (0 <= ie <= self.n_a - 1 and 0 <= je <= self.n_r - 1):
+                raise InputError(f"target {k} at azimuth {xk:g} m, range {rk_off:g} m is outside the image",
+                                 row=k, field="targets", expected="targets inside the image grid")
+            ha = max(1, int(np.ceil((azimuth_search_cells or search_cells) * cell_a / self.dx)))
+            hr = max(1, int(np.ceil(search_cells * self.cell_r / self.dr)))
+            boxes.append((max(0, int(round(ie)) - ha), min(self.n_a, int(round(ie)) + ha + 1),
+                          max(0, int(round(je)) - hr), min(self.n_r, int(round(je)) + hr + 1)))
+        self.boxes = boxes
+        self.null_az_m = self.ideal_az.first_null_cells * self.cell_a
+        self.null_rg_m = self.ideal_rg.first_null_cells * self.cell_r
+        self.ext_az_m = None if islr_extent_cells is None else islr_extent_cells * self.cell_a
+        self.ext_rg_m = None if islr_extent_cells is None else islr_extent_cells * self.cell_r
+
+    def _range_cuts(self, data: np.ndarray, azimuth_m: np.ndarray | None, j0: np.ndarray,
+                    rows: np.ndarray | None = None) -> CutMeasurements:
+        """Range cuts of every image (B) and target (K) at ``azimuth_m`` (B, K), measured; with
+        ``rows`` (B, K) instead, the cuts through those pixel rows (band-limited interpolation
+        at an integer position gives the row itself)."""
+        if rows is None:
+            lines = np.matmul(_frac_kernel(self.n_a, (azimuth_m - self.az0) / self.dx), data)  # (B, K, n_r)
+        else:
+            lines = data[np.arange(data.shape[0])[:, None], rows]
+        up = upsample_periodic(lines, _UP).reshape(-1, self.n_r * _UP)
+        b = lines.shape[0]
+        ext = None if self.ext_rg_m is None else self.ext_rg_m
+        return measure_cuts(up, self.dr / _UP, self.rg0, expected_index=(j0 * _UP).ravel(), search_half=2 * _UP,
+                            null=np.broadcast_to(self.null_rg_m, (b, self.n_targets)).ravel(), extent=ext)
+
+    def _azimuth_cuts(self, data: np.ndarray, range_m: np.ndarray, i0: np.ndarray) -> CutMeasurements:
+        """Azimuth cuts of every image (B) and target (K) at slant range ``range_m`` (B, K), measured."""
+        kern = _frac_kernel(self.n_r, (range_m - self.rg0) / self.dr)  # (B, K, n_r)
+        lines = np.matmul(kern, np.swapaxes(data, -1, -2))  # (B, K, n_a)
+        up = upsample_periodic(lines, _UP).reshape(-1, self.n_a * _UP)
+        b = range_m.shape[0]
+        ext = None if self.ext_az_m is None else np.broadcast_to(self.ext_az_m, (b, self.n_targets)).ravel()
+        return measure_cuts(up, self.dx / _UP, self.az0, expected_index=(i0 * _UP).ravel(), search_half=2 * _UP,
+                            null=np.broadcast_to(self.null_az_m, (b, self.n_targets)).ravel(), extent=ext)
+
+    def measure(self, data) -> TargetMetricArrays:
+        """Metrics of every target in every image of ``data`` (B, n_a, n_r) or (n_a, n_r)."""
+        data = np.asarray(data)
+        if data.ndim == 2:
+            data = data[None]
+        if data.ndim != 3 or data.shape[1:] != (self.n_a, self.n_r) or min(data.shape[1:]) < 8:
+            raise InputError(f"image has shape {data.shape[-2:]}", field="image",
+                             expected=f"2-D, ≥ 8 × 8 pixels, on the grid ({self.n_a}, {self.n_r})")
+        if not np.all(np.isfinite(data)):
+            raise InputError("image holds NaN or infinite pixels", field="image", expected="finite values")
+        b, k_n = data.shape[0], self.n_targets
+        i0 = np.empty((b, k_n), dtype=np.int64)
+        j0 = np.empty((b, k_n), dtype=np.int64)
+        for k, (i_lo, i_hi, j_lo, j_hi) in enumerate(self.boxes):
+            box = np.abs(data[:, i_lo:i_hi, j_lo:j_hi]).reshape(b, -1)
+            bi, bj = np.unravel_index(np.argmax(box, axis=1), (i_hi - i_lo, j_hi - j_lo))
+            i0[:, k], j0[:, k] = i_lo + bi, j_lo + bj
+        # range cut at the pixel row → azimuth cut at the range peak → range cut at the azimuth peak
+        rc = self._range_cuts(data, None, j0, rows=i0)
+        ac = self._azimuth_cuts(data, rc.peak_position.reshape(b, k_n), i0)
+        rc = self._range_cuts(data, ac.peak_position.reshape(b, k_n), j0)
+        shape = (b, k_n)
+        peak = np.maximum(ac.peak_amplitude, rc.peak_amplitude).reshape(shape)
+        v = {"peak_amplitude": peak, "peak_loss_db": 20 * np.log10(self.amplitude[None, :] / peak)}
+        for name, meas, true_pos, cell, ideal in (("azimuth", ac, self.x_m, self.cell_a, self.ideal_az),
+                                                  ("range", rc, self.r_m, np.full(k_n, self.cell_r), self.ideal_rg)):
+            width = meas.width_3db.reshape(shape)
+            ideal_w = ideal.width_3db_cells * cell
+            v[f"{name}_width_3db_m"] = width
+            v[f"{name}_ideal_width_3db_m"] = np.broadcast_to(ideal_w, shape)
+            v[f"{name}_broadening"] = width / ideal_w[None, :] - 1.0
+            v[f"{name}_pslr_db"] = meas.pslr_db.reshape(shape)
+            v[f"{name}_ideal_pslr_db"] = np.full(shape, ideal.pslr_db)
+            v[f"{name}_islr_db"] = meas.islr_db.reshape(shape)
+            v[f"{name}_ideal_islr_db"] = np.full(shape, ideal.islr_db)
+            v[f"{name}_peak_shift_m"] = meas.peak_position.reshape(shape) - true_pos[None, :]
+            v[f"{name}_cell_m"] = np.broadcast_to(cell, shape)
+        return TargetMetricArrays(values=v, meter=self)
 
 
 def measure_targets(image: SarImage, geom: SarGeometry, scene: Scene, window: Window | str | None = None, *,
@@ -157,48 +331,9 @@ def measure_targets(image: SarImage, geom: SarGeometry, scene: Scene, window: Wi
         raise InputError(f"image has shape {data.shape}", field="image", expected="2-D, ≥ 8 × 8 pixels")
     if not np.all(np.isfinite(data)):
         raise InputError("image holds NaN or infinite pixels", field="image", expected="finite values")
-    if islr_extent_cells is not None and not islr_extent_cells > 0:
-        raise InputError("ISLR extent must be positive", field="islr_extent_cells", value=islr_extent_cells)
-    w_az = geom.window_azimuth if window is None else Window.parse(window)
-    w_rg = geom.window_range if window is None else Window.parse(window)
-    ideal_az, ideal_rg = ideal_irf(w_az, islr_extent_cells), ideal_irf(w_rg, islr_extent_cells)
-    cuts = _Cuts(image)
-    n_a, n_r, dx, dr, az0, rg0 = cuts.n_a, cuts.n_r, cuts.dx, cuts.dr, cuts.az0, cuts.rg0
-    cell_r = geom.range_cell_m
-    x, r_off, a = scene.target_arrays()
-    out = []
-    for k, (xk, rk_off, ak) in enumerate(zip(x, r_off, a)):
-        rk = geom.ref_range_m + rk_off
-        cell_a = geom.azimuth_cell_m(rk)
-        ie, je = (xk - az0) / dx, (rk - rg0) / dr
-        if not (0 <= ie <= n_a - 1 and 0 <= je <= n_r - 1):
-            raise InputError(f"target {k} at azimuth {xk:g} m, range {rk_off:g} m is outside the image",
-                             row=k, field="targets", expected="targets inside the image grid")
-        ha = max(1, int(np.ceil((azimuth_search_cells or search_cells) * cell_a / dx)))
-        hr = max(1, int(np.ceil(search_cells * cell_r / dr)))
-        i_lo, i_hi = max(0, int(round(ie)) - ha), min(n_a, int(round(ie)) + ha + 1)
-        j_lo, j_hi = max(0, int(round(je)) - hr), min(n_r, int(round(je)) + hr + 1)
-        box = np.abs(data[i_lo:i_hi, j_lo:j_hi])
-        bi, bj = np.unravel_index(int(np.argmax(box)), box.shape)
-        i0, j0 = i_lo + bi, j_lo + bj
-        ext_a = None if islr_extent_cells is None else islr_extent_cells * cell_a
-        ext_r = None if islr_extent_cells is None else islr_extent_cells * cell_r
-
-        az_pos = az0 + i0 * dx
-        # range cut at the pixel row → azimuth cut at the range peak → range cut at the azimuth peak
-        rc = measure_cut(cuts.range_line(az_pos), dr / _UP, rg0, expected_index=j0 * _UP,
-                         search_half=2 * _UP, null=ideal_rg.first_null_cells * cell_r, extent=ext_r)
-        ac = measure_cut(cuts.azimuth_line(rc.peak_position), dx / _UP, az0, expected_index=i0 * _UP,
-                         search_half=2 * _UP, null=ideal_az.first_null_cells * cell_a, extent=ext_a)
-        rc = measure_cut(cuts.range_line(ac.peak_position), dr / _UP, rg0, expected_index=j0 * _UP,
-                         search_half=2 * _UP, null=ideal_rg.first_null_cells * cell_r, extent=ext_r)
-        peak = max(ac.peak_amplitude, rc.peak_amplitude)
-        out.append(TargetMetrics(
-            index=k, azimuth_m=float(xk), range_m=float(rk_off), amplitude=float(abs(ak)),
-            peak_amplitude=float(peak), peak_loss_db=float(20 * np.log10(abs(ak) / peak)),
-            azimuth=_axis(ac, xk, cell_a, ideal_az), range=_axis(rc, rk, cell_r, ideal_rg)))
-    return TargetMetricsTable(targets=out, window_azimuth=w_az.label, window_range=w_rg.label,
-                              islr_extent_cells=islr_extent_cells)
+    meter = TargetMeter(geom, scene, image.azimuth_m, image.slant_range_m, window, search_cells=search_cells,
+                        islr_extent_cells=islr_extent_cells, azimuth_search_cells=azimuth_search_cells)
+    return meter.measure(data).table(0)
 
 
 def irf_cuts(image: SarImage, geom: SarGeometry, scene: Scene, index: int = 0) -> dict[str, np.ndarray]:

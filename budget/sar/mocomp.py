@@ -19,7 +19,9 @@ left; with measured ≠ true the residual true − measured enters the data exac
 from __future__ import annotations
 
 import numpy as np
+import scipy.fft as sfft
 
+from ..units import range_to_phase, two_way_wavenumber_at_frequency_rad_m
 from .geometry import SarGeometry
 
 
@@ -39,9 +41,82 @@ def motion_compensate(geom: SarGeometry, data: np.ndarray, measured_offset_m: np
     dr_c = los_range_change_m(geom, measured_offset_m, centre)[:, 0]
     f = np.fft.fftfreq(geom.n_range, 1.0 / geom.range_sample_rate_hz)
     spec = np.fft.fft(data, axis=1)
-    spec *= np.exp(4j * np.pi * (geom.carrier_frequency_hz + f)[None, :] * dr_c[:, None] / geom.c_m_s)
+    k = two_way_wavenumber_at_frequency_rad_m(geom.carrier_frequency_hz + f, geom.c_m_s)
+    spec *= np.exp(1j * k[None, :] * dr_c[:, None])
     out = np.fft.ifft(spec, axis=1)
     refs = geom.scene_point_m(np.zeros(geom.n_range), geom.range_axis_m)
     dr = los_range_change_m(geom, measured_offset_m, refs) - dr_c[:, None]
-    out *= np.exp(4j * np.pi * dr / geom.wavelength_m)
+    out *= np.exp(-1j * range_to_phase(dr, geom.wavelength_m))
     return out
+
+
+def cis(phase_rad: np.ndarray) -> np.ndarray:
+    """e^{jφ} of a real array, built from cos and sin (cheaper than the complex exponential)."""
+    phase_rad = np.asarray(phase_rad, dtype=float)
+    out = np.empty(phase_rad.shape, dtype=complex)
+    np.cos(phase_rad, out=out.real)
+    np.sin(phase_rad, out=out.imag)
+    return out
+
+
+class MotionCompensator:
+    """:func:`motion_compensate` for one geometry and a stack of measured trajectories.
+
+    The same two steps as :func:`motion_compensate` (see the module docstring); what does not
+    depend on the trajectory is computed once: the nominal ranges to the scene centre and to the
+    reference points of every range bin, and the range frequencies. The first-order phase
+    exp(+j 4π (f0 + f_k) Δr_c / c) of the DFT bin f_k = k Δf, k = S·a + b (0 ≤ b < S), is the
+    product (e^{jθ0} e^{jSθa}) · e^{jθb}, θ0 = 4π f0 Δr_c / c, θ = 4π Δf Δr_c / c: a few phasors
+    per pulse and one complex product per sample instead of one complex exponential per sample
+    (rounding ≈ 2 ulp). Input is the range spectrum of the data (DFT along range), so data that
+    every trajectory shares is transformed once.
+    """
+
+    #: S of the first-order factorisation k = S·a + b.
+    STEP = 8
+
+    def __init__(self, geom: SarGeometry):
+        self.n_range = geom.n_range
+        self.wavelength_m = geom.wavelength_m
+        nom = geom.nominal_apc_m()
+        self.nominal_apc_m = nom
+        self.centre_m = np.asarray(geom.scene_centre_m, dtype=float)
+        refs = geom.scene_point_m(np.zeros(geom.n_range), geom.range_axis_m)
+        self.reference_points_m = refs
+        self.nominal_centre_range_m = np.linalg.norm(nom - self.centre_m[None, :], axis=-1)
+        self.nominal_reference_range_m = np.linalg.norm(nom[:, None, :] - refs[None], axis=-1)
+        k = np.rint(np.fft.fftfreq(geom.n_range) * geom.n_range).astype(np.int64)  # f_k = k Δf
+        a = np.floor_divide(k, self.STEP)
+        self._a_values = np.arange(a.min(), a.max() + 1)
+        self._b_values = np.arange(self.STEP)
+        self._gather = (a - a.min()) * self.STEP + (k - a * self.STEP)  # bin → (a, b) flattened
+        self.carrier_wavenumber_rad_m = two_way_wavenumber_at_frequency_rad_m(geom.carrier_frequency_hz, geom.c_m_s)
+        self.bin_wavenumber_rad_m = two_way_wavenumber_at_frequency_rad_m(
+            geom.range_sample_rate_hz / geom.n_range, geom.c_m_s)
+
+    def centre_range_change_m(self, offset_m: np.ndarray) -> np.ndarray:
+        """Δr_c = |p_nom + δp − C| − |p_nom − C| for stacked offsets (…, n_pulses, 3), m."""
+        d = self.nominal_apc_m + offset_m - self.centre_m
+        return np.sqrt(np.sum(d * d, axis=-1)) - self.nominal_centre_range_m
+
+    def _first_order(self, dr_c: np.ndarray) -> np.ndarray:
+        """exp(+j 4π (f0 + f_k) Δr_c / c) on the range DFT bins (numpy order), (…, n_pulses, n_range)."""
+        theta = self.bin_wavenumber_rad_m * dr_c[..., None]
+        coarse = cis(self.carrier_wavenumber_rad_m * dr_c[..., None] + (self.STEP * self._a_values) * theta)
+        fine = cis(self._b_values * theta)
+        outer = (coarse[..., :, None] * fine[..., None, :]).reshape(dr_c.shape + (-1,))
+        return np.take(outer, self._gather, axis=-1)
+
+    def apply(self, range_spectrum: np.ndarray, offset_m: np.ndarray) -> np.ndarray:
+        """Motion-compensated data (B, n_pulses, n_range) from the range spectrum of the data
+        ((n_pulses, n_range), shared, or (B, n_pulses, n_range)) and B measured offsets
+        (B, n_pulses, 3) m."""
+        off = np.asarray(offset_m, dtype=float)
+        dr_c = self.centre_range_change_m(off)  # (B, n_pulses)
+        out = sfft.ifft(range_spectrum * self._first_order(dr_c), axis=-1)
+        p = self.nominal_apc_m + off  # reference points lie on x = 0, z = 0 at ground range y_r
+        y = self.reference_points_m[:, 1]
+        d_off = np.sqrt((p[..., 0:1] * p[..., 0:1] + (p[..., 1:2] - y) ** 2) + p[..., 2:3] * p[..., 2:3])
+        dr = (d_off - self.nominal_reference_range_m) - dr_c[..., None]
+        out *= cis(-range_to_phase(dr, self.wavelength_m))
+        return out

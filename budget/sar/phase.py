@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.polynomial import legendre
 
+from ..units import phase_to_range, range_to_phase
 from .geometry import SarGeometry
 from .image import SarImage
 from .mocomp import los_range_change_m
@@ -37,7 +38,7 @@ def los_offset_for_phase(geom: SarGeometry, phase_rad, point_m: np.ndarray | Non
     c = geom.scene_centre_m if point_m is None else np.asarray(point_m, dtype=float)
     los = geom.nominal_apc_m() - c[None, :]
     los /= np.linalg.norm(los, axis=1, keepdims=True)
-    return (-psi * geom.wavelength_m / (4.0 * np.pi))[:, None] * los
+    return phase_to_range(psi, geom.wavelength_m)[:, None] * los
 
 
 def residual_phase_rad(geom: SarGeometry, true_offset_m=None, measured_offset_m=None,
@@ -48,7 +49,7 @@ def residual_phase_rad(geom: SarGeometry, true_offset_m=None, measured_offset_m=
     tru = geom.check_offset(true_offset_m, "true_offset_m")
     mea = geom.check_offset(measured_offset_m, "measured_offset_m")
     d = los_range_change_m(geom, tru, c)[:, 0] - los_range_change_m(geom, mea, c)[:, 0]
-    return -4.0 * np.pi * d / geom.wavelength_m
+    return range_to_phase(d, geom.wavelength_m)
 
 
 def phase_on_bins(image: SarImage, geom: SarGeometry, psi_pulses) -> np.ndarray:

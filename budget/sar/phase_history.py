@@ -23,8 +23,9 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..units import C_LIGHT, two_way_wavenumber_at_frequency_rad_m
 
-C_M_S = 299_792_458.0
+C_M_S = C_LIGHT
 
 
 @dataclass
@@ -135,7 +136,8 @@ class PhaseHistory:
         if not self.has_recorded_autofocus:
             raise InputError("the phase history has no recorded autofocus solution", field="af")
         f = self.reference_frequency_hz if frequency_hz is None else float(frequency_hz)
-        net = self.recorded_phase_correction_rad - 4.0 * np.pi * f * self.recorded_range_correction_m / C_M_S
+        k = two_way_wavenumber_at_frequency_rad_m(f, C_M_S)
+        net = self.recorded_phase_correction_rad - k * self.recorded_range_correction_m
         return -np.unwrap(net)
 
     def _replace(self, **changes) -> "PhaseHistory":
@@ -146,7 +148,19 @@ class PhaseHistory:
         return PhaseHistory(**kw, notes=list(self.notes))
 
     # --- result protocol --------------------------------------------------------------------
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """A few lines: pulses, frequencies, band, track length, sources and notes."""
+        d = self.description()
+        lines = [f"{d['pulses']} pulses × {d['frequencies']} frequencies, {d['frequency_min_hz'] / 1e9:.4g}–"
+                 f"{d['frequency_max_hz'] / 1e9:.4g} GHz (bandwidth {d['bandwidth_hz'] / 1e6:.4g} MHz); track "
+                 f"{d['track_length_m']:.4g} m at mean range {d['scene_range_mean_m']:.5g} m",
+                 f"sources: {', '.join(map(str, d['sources']))}; recorded autofocus: "
+                 f"{'yes' if d['recorded_autofocus'] else 'no'}"]
+        lines += [f"note: {n}" for n in d["notes"]]
+        return "\n".join(lines)
+
+    def description(self) -> dict:
+        """Scalar description: sizes, frequency band (Hz), track length (m), sources, notes."""
         track = np.linalg.norm(np.diff(self.antenna_m, axis=0), axis=1).sum()
         out = {"pulses": self.n_pulses, "frequencies": self.n_frequencies,
                "frequency_min_hz": float(self.frequency_hz[0]), "frequency_max_hz": float(self.frequency_hz[-1]),
@@ -172,4 +186,5 @@ class PhaseHistory:
         return df
 
     def to_dict(self) -> dict:
-        return {"summary": self.summary(), "pulses": self.to_frame().reset_index().to_dict(orient="records")}
+        """JSON-ready: :meth:`description` and one record per pulse (:meth:`to_frame`)."""
+        return {**self.description(), "pulse_records": self.to_frame().reset_index().to_dict(orient="records")}

@@ -34,7 +34,15 @@ class IrfMetrics:
     peak_loss_db: np.ndarray
     window: str
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """One line: window, trials and the medians of PSLR, ISLR, width and peak loss."""
+        d = self.to_dict()
+        return (f"{d['window']} window, {d['trials']} trials: median PSLR {d['median_pslr_db']:.2f} dB, ISLR "
+                f"{d['median_islr_db']:.2f} dB, width {d['median_width_cells']:.3g} cells, peak loss "
+                f"{d['median_peak_loss_db']:.2f} dB")
+
+    def to_dict(self) -> dict:
+        """JSON-ready: window, trials and the medians of the metrics (dB, cells)."""
         med = lambda a: float(np.median(a))
         return {"window": self.window, "trials": int(self.pslr_db.size),
                 "median_pslr_db": med(self.pslr_db), "median_islr_db": med(self.islr_db),

@@ -121,9 +121,10 @@ class Scene(BaseModel):
         """Peak power |a|² of the strongest target (1 without targets)."""
         return max((t.amplitude ** 2 for t in self.targets), default=1.0)
 
-    def summary(self) -> dict:
-        return {"n_targets": len(self.targets), "clutter_to_target_db": self.clutter_to_target_db,
-                "snr_db": self.snr_db}
+    def summary(self) -> str:
+        clutter = "no clutter" if self.clutter_to_target_db is None else f"clutter {self.clutter_to_target_db:g} dB"
+        noise = "noise-free" if self.snr_db is None else f"SNR {self.snr_db:g} dB"
+        return f"{len(self.targets)} point targets, {clutter}, {noise}"
 
     def to_dict(self) -> dict:
         """JSON-safe dict: the settings and every target."""

@@ -18,7 +18,9 @@ import numpy as np
 import pandas as pd
 
 from .. import units as u
+from ..fileio import json_safe
 from ..aiding.nonlinear import HeadingModel, ddf2_rts, kf_rts, simulate_heading_truth
+from .params import params_dict
 from .transfer_alignment import TransferParams, imaging_slice, s_turn_trajectory
 
 
@@ -44,8 +46,18 @@ class MisalignmentResult:
     params: MisalignmentParams
     table: pd.DataFrame
 
-    def summary(self) -> dict:
-        return self.table.set_index("heading_sigma_deg")["ddf2_gain"].to_dict()
+    def to_dict(self) -> dict:
+        """JSON-ready: the parameters, the DDF2-RTS gain per initial heading σ (deg) and the table."""
+        gain = self.table.set_index("heading_sigma_deg")["ddf2_gain"]
+        return json_safe({"params": params_dict(self.params),
+                          "ddf2_gain": {str(k): float(v) for k, v in gain.items()},
+                          "table": self.table.to_dict(orient="records")})
+
+    def summary(self) -> str:
+        """One line per initial heading σ: the DDF2-RTS gain over KF-RTS."""
+        gain = self.table.set_index("heading_sigma_deg")["ddf2_gain"]
+        return "\n".join([f"large misalignment, {self.params.trials} trials: DDF2-RTS gain over KF-RTS"]
+                         + [f"  heading σ {k:g} deg: {v:.3g}" for k, v in gain.items()])
 
     def to_frame(self) -> pd.DataFrame:
         return self.table.copy()

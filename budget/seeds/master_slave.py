@@ -37,7 +37,9 @@ from ..aiding.ins_error_model import ImuErrorModel, NominalTrajectory
 from ..aiding.measurements import ARCSEC_RAD
 from ..aiding.system import InitialUncertainty, build_system, simulate_truth
 from ..aiding_spec import MasterInsAiding
+from ..fileio import json_safe
 from ..presets import get_preset
+from .params import params_dict
 
 
 @dataclass(frozen=True)
@@ -79,10 +81,21 @@ class MasterSlaveResult:
     table: pd.DataFrame
     final_rms: dict
 
-    def summary(self) -> dict:
+    def to_dict(self) -> dict:
+        """JSON-ready: the parameters, worst-period p95 variation per quantity, final RMS, table."""
         worst = self.table.groupby("quantity")["p95"].max().to_dict()
-        return {"trials": self.params.trials, "duration_s": self.params.duration_s,
-                "p95_variation_worst_period": worst, "final_rms": self.final_rms}
+        return json_safe({"params": params_dict(self.params), "trials": self.params.trials,
+                          "duration_s": self.params.duration_s, "p95_variation_worst_period": worst,
+                          "final_rms": self.final_rms, "table": self.table.to_dict(orient="records")})
+
+    def summary(self) -> str:
+        """A few lines: trials, duration, the worst-period p95 variation per quantity, final RMS."""
+        worst = self.table.groupby("quantity")["p95"].max()
+        lines = [f"master–slave, {self.params.trials} trials over {self.params.duration_s:g} s; "
+                 "p95 variation within an imaging period (worst period):"]
+        lines += [f"  {q}: {v:.3g}" for q, v in worst.items()]
+        lines.append("final rms: " + ", ".join(f"{k} {v:.3g}" for k, v in self.final_rms.items()))
+        return "\n".join(lines)
 
     def to_frame(self) -> pd.DataFrame:
         return self.table.copy()

@@ -30,8 +30,11 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ..fileio import json_safe
 from ..presets import get_preset
 from ..sar.point_target import azimuth_irf_metrics
+from ..units import two_way_wavenumber_rad_m
+from .params import params_dict
 
 
 @dataclass(frozen=True)
@@ -71,11 +74,24 @@ class PrfResult:
     params: PrfParams
     table: pd.DataFrame
 
-    def summary(self) -> dict:
+    def worst(self) -> dict:
+        """Per case: worst PSLR (dB), |shift| (m) and width (cells) over the targets."""
         g = self.table.groupby("case")
         return {"worst_pslr_db": g["pslr_db"].max().to_dict(),
                 "worst_shift_m": g["shift_m"].apply(lambda s: s.abs().max()).to_dict(),
                 "worst_width_cells": g["width_cells"].max().to_dict()}
+
+    def to_dict(self) -> dict:
+        """JSON-ready: the parameters, :meth:`worst` and the table."""
+        return json_safe({"params": params_dict(self.params), **self.worst(),
+                          "table": self.table.to_dict(orient="records")})
+
+    def summary(self) -> str:
+        """One line per case: worst PSLR, |shift| and width over the targets."""
+        w = self.worst()
+        return "\n".join([f"PRF slaving, {self.params.trials} trials (worst over targets):"]
+                         + [f"  {c}: PSLR {w['worst_pslr_db'][c]:.2f} dB, shift {w['worst_shift_m'][c]:.3g} m, "
+                            f"width {w['worst_width_cells'][c]:.3g} cells" for c in w["worst_pslr_db"]])
 
     def to_frame(self) -> pd.DataFrame:
         return self.table.copy()
@@ -108,7 +124,7 @@ def run_prf_slaving(params: PrfParams = PrfParams(), *, rng: np.random.Generator
             xt = a * L
             sel = np.abs(x_nominal - xt) <= L / 2
             u_true, u_nom = x_true[:, sel] - xt, x_nominal[sel] - xt
-            phi = 4 * math.pi / lam * (np.sqrt(r0 ** 2 + u_true ** 2) - np.sqrt(r0 ** 2 + u_nom ** 2))
+            phi = two_way_wavenumber_rad_m(lam) * (np.sqrt(r0 ** 2 + u_true ** 2) - np.sqrt(r0 ** 2 + u_nom ** 2))
             m = azimuth_irf_metrics(phi, params.window)
             dx = x_true[:, sel] - x_nominal[sel]
             rows.append({"case": case, "target_x_m": xt, "pulses": int(sel.sum()),

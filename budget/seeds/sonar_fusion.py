@@ -11,7 +11,8 @@ Tc = 10 s, depression 20°). The towfish sways and heaves (noise-driven oscillat
 motion, so the residual is the estimate's error e = δp − δp̂. The residual range error on the
 line of sight u = (0, cos ψ, −sin ψ) is Δr = −u·e (seed 003 (11): the y term is (x/r)Δx, the z
 term (h/r)Δz) and the phase error φ = 4πf/c·Δr (12) over the last Tc of the run (after a
-warm-up; ``apertures`` consecutive apertures per trial are pooled). The azimuth impulse response of a single point target is the FFT of the windowed
+warm-up; ``apertures`` consecutive apertures per trial are pooled). The azimuth impulse
+response of a single point target is the FFT of the windowed
 exp(jφ) (:mod:`budget.sar.point_target`; metrics by :func:`budget.sar.irf.measure_cut`).
 
 Modelling choices (the paper prints no sensor numbers; all are fields of :class:`SonarParams`):
@@ -52,8 +53,10 @@ from ..aiding.ins_error_model import ImuErrorModel, NominalTrajectory
 from ..aiding.system import (InitialUncertainty, build_system, embed_ins_truth, simulate_measurements,
                              simulate_truth, transfer_truth)
 from ..aiding_spec import DvlAiding, FlexureConfig, GnssAiding
+from ..fileio import json_safe
 from ..presets import get_preset
 from ..sar.point_target import azimuth_irf_metrics
+from .params import params_dict
 
 CASES = ("uncompensated", "ins", "gps", "dvl", "fused")
 
@@ -106,11 +109,20 @@ class SonarResult:
         t = self.table[(self.table.case == "ins") | (self.table.estimator == estimator)]
         return str(t.loc[t[metric].idxmin(), "case"])
 
-    def summary(self) -> dict:
-        return {"trials": self.params.trials, "best_pslr_rts": self.best("pslr_db"),
-                "best_islr_rts": self.best("islr_db"), "best_range_rms_kf":
-                    self.best("range_error_rms_m", "kf"), "ideal": self.ideal,
-                "table": self.table.to_dict(orient="records")}
+    def to_dict(self) -> dict:
+        """JSON-ready: the parameters, the best cases, the error-free IRF and the table."""
+        return json_safe({"params": params_dict(self.params), "trials": self.params.trials,
+                          "best_pslr_rts": self.best("pslr_db"), "best_islr_rts": self.best("islr_db"),
+                          "best_range_rms_kf": self.best("range_error_rms_m", "kf"), "ideal": self.ideal,
+                          "table": self.table.to_dict(orient="records")})
+
+    def summary(self) -> str:
+        """A few lines: the best case per metric and the error-free IRF."""
+        return (f"sonar fusion, {self.params.trials} trials: best PSLR (RTS) {self.best('pslr_db')}, "
+                f"best ISLR (RTS) {self.best('islr_db')}, best range rms (KF) "
+                f"{self.best('range_error_rms_m', 'kf')}\n"
+                f"error-free IRF: PSLR {self.ideal['median_pslr_db']:.2f} dB, "
+                f"ISLR {self.ideal['median_islr_db']:.2f} dB")
 
     def to_frame(self) -> pd.DataFrame:
         return self.table.copy()
@@ -121,12 +133,10 @@ def run_sonar_fusion(params: SonarParams = SonarParams(), *, rng: np.random.Gene
     dt = 1.0 / sc.imu_rate_hz
     n_ap = int(round(sc.tc_s / dt))
     n = int(round(params.warmup_s / dt)) + params.apertures * n_ap
-    imu = ImuErrorModel(
-        gyro_bias_rad_s=u.deg_h_to_rad_s(params.gyro_drift_deg_h),
-        gyro_gm_sigma_rad_s=u.deg_h_to_rad_s(params.gyro_gm_deg_h), gyro_gm_tau_s=params.gyro_gm_tau_s,
-        gyro_arw_rad_s_rt_hz=u.deg_rt_h_to_rad_s_rt_hz(params.gyro_arw_deg_rt_h),
-        accel_bias_m_s2=u.ug_to_m_s2(params.accel_bias_ug),
-        accel_vrw_m_s2_rt_hz=u.ug_rt_hz_to_m_s2_rt_hz(params.accel_vrw_ug_rt_hz))
+    imu = ImuErrorModel.from_datasheet(
+        gyro_bias_deg_h=params.gyro_drift_deg_h, gyro_gm_deg_h=params.gyro_gm_deg_h,
+        gyro_gm_tau_s=params.gyro_gm_tau_s, gyro_arw_deg_rt_h=params.gyro_arw_deg_rt_h,
+        accel_bias_ug=params.accel_bias_ug, accel_vrw_ug_rt_hz=params.accel_vrw_ug_rt_hz)
     lvl, hdg = math.radians(params.initial_level_deg), math.radians(params.initial_heading_deg)
     init = InitialUncertainty(params.initial_position_m, params.initial_velocity_m_s, (lvl, lvl, hdg))
     traj = NominalTrajectory.straight_level(sc.platform_speed_m_s, dt, n)
@@ -139,7 +149,7 @@ def run_sonar_fusion(params: SonarParams = SonarParams(), *, rng: np.random.Gene
     ins_truth = simulate_truth(build_system(traj, imu, [], init), params.trials, rng)
     psi = math.radians(sc.depression_deg)
     los = np.array([0.0, math.cos(psi), -math.sin(psi)])
-    k_phase = 4 * math.pi * sc.carrier_frequency_hz / sc.c_m_s      # seed 003 (12)
+    k_phase = u.two_way_wavenumber_at_frequency_rad_m(sc.carrier_frequency_hz, sc.c_m_s)  # seed 003 (12)
     sway = simulate_flexure(FlexureConfig(frequency_hz=1 / params.sway_period_s, damping_ratio=0.3,
                                           amplitude_m=(0.0, params.sway_m, 0.0)), dt, n, params.trials, rng)
     heave = simulate_flexure(FlexureConfig(frequency_hz=1 / params.heave_period_s, damping_ratio=0.3,
@@ -173,5 +183,5 @@ def run_sonar_fusion(params: SonarParams = SonarParams(), *, rng: np.random.Gene
                      "peak_loss_db": float(np.median(m.peak_loss_db)),
                      "range_error_rms_m": float(np.sqrt(np.mean(resid ** 2))),
                      "los_error_rms_m": float(np.sqrt(np.mean(dr ** 2)))})
-    ideal = azimuth_irf_metrics(np.zeros(n_ap), params.window).summary()
+    ideal = azimuth_irf_metrics(np.zeros(n_ap), params.window).to_dict()
     return SonarResult(params, pd.DataFrame(rows), ideal)

@@ -35,6 +35,8 @@ from ..aiding.chain import run_aided
 from ..aiding.ins_error_model import ImuErrorModel, NominalTrajectory
 from ..aiding.system import InitialUncertainty, build_system, simulate_truth
 from ..aiding_spec import FlexureConfig, MasterInsAiding
+from ..fileio import json_safe
+from .params import params_dict
 
 MOUNTING_ANGLES_DEG = (-0.3051, -0.0877, -0.1015)
 LEVER_ARM_M = (0.175, -0.180, 0.002)
@@ -109,9 +111,16 @@ class TransferResult:
         cols = [c for c in t.columns if c.endswith(("_rmse", "_predicted"))]
         return {c: float(1 - t.loc["rts", c] / t.loc["kf", c]) for c in cols}
 
-    def summary(self) -> dict:
-        return {"trials": self.params.trials, "improvement_rts_vs_kf": self.improvement(True),
-                "table": self.table.to_dict(orient="records")}
+    def to_dict(self) -> dict:
+        """JSON-ready: the parameters, the RTS-over-KF improvement (flexure modelled) and the table."""
+        return json_safe({"params": params_dict(self.params), "trials": self.params.trials,
+                          "improvement_rts_vs_kf": self.improvement(True),
+                          "table": self.table.to_dict(orient="records")})
+
+    def summary(self) -> str:
+        """One line per quantity: the RMSE reduction of the smoother over the filter."""
+        return "\n".join([f"transfer alignment, {self.params.trials} trials: RMSE reduction of RTS over KF "
+                          "(flexure modelled)"] + [f"  {k}: {v:.1%}" for k, v in self.improvement(True).items()])
 
     def to_frame(self) -> pd.DataFrame:
         return self.table.copy()
@@ -120,10 +129,9 @@ class TransferResult:
 def run_transfer_alignment(params: TransferParams = TransferParams(), *,
                            rng: np.random.Generator) -> TransferResult:
     traj = s_turn_trajectory(params)
-    imu = ImuErrorModel(gyro_bias_rad_s=u.deg_h_to_rad_s(params.gyro_drift_deg_h),
-                        gyro_arw_rad_s_rt_hz=u.deg_rt_h_to_rad_s_rt_hz(params.gyro_arw_deg_rt_h),
-                        accel_bias_m_s2=u.ug_to_m_s2(params.accel_bias_ug),
-                        accel_vrw_m_s2_rt_hz=u.ug_rt_hz_to_m_s2_rt_hz(params.accel_vrw_ug_rt_hz))
+    imu = ImuErrorModel.from_datasheet(gyro_bias_deg_h=params.gyro_drift_deg_h,
+                                       gyro_arw_deg_rt_h=params.gyro_arw_deg_rt_h,
+                                       accel_bias_ug=params.accel_bias_ug, accel_vrw_ug_rt_hz=params.accel_vrw_ug_rt_hz)
     flex = FlexureConfig(frequency_hz=params.flex_frequency_hz, damping_ratio=params.flex_damping,
                          amplitude_m=params.flex_amplitude_m)
     init = InitialUncertainty(params.master_sigma_position_m, params.master_sigma_velocity_m_s,

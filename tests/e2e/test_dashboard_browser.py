@@ -21,7 +21,7 @@ ARTIFACTS = REPO / "test-artifacts"  # gitignored; the page fixture creates it
 
 
 def _expected(scenario: Scenario) -> tuple[list[tuple[str, str]], str]:
-    recs = check_parts(list(load_catalog().values()), scenario, "paper").records(0)
+    recs = check_parts(list(load_catalog().values()), scenario, "paper").to_dict()["scenarios"][0]["parts"]
     n = {v: sum(r["verdict"] == v for r in recs) for v in ("pass", "fail", "unknown")}
     return ([(r["part_id"], r["verdict"]) for r in recs],
             f"{n['pass']} pass · {n['fail']} fail · {n['unknown']} unknown")

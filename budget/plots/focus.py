@@ -9,8 +9,8 @@ import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from .focus_pga import FocusResult
-from .png import db_to_gray, write_png
+from ..sar.focus_pga import FocusResult
+from ..sar.png import db_to_gray, write_png
 
 _GAP_PX = 6
 

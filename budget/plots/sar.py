@@ -1,4 +1,4 @@
-"""Plotly figures: image in dB, IRF cuts against the ideal, PGA phase estimate against truth."""
+"""SAR figures (plotly): image in dB, IRF cuts against the ideal, PGA phase estimate against truth."""
 
 from __future__ import annotations
 
@@ -6,12 +6,12 @@ import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from .geometry import SarGeometry
-from .image import SarImage
-from .metrics import irf_cuts
-from .pga import PgaResult
-from .phase import remove_linear
-from .scene import Scene
+from ..sar.geometry import SarGeometry
+from ..sar.image import SarImage
+from ..sar.metrics import irf_cuts
+from ..sar.pga import PgaResult
+from ..sar.phase import remove_linear
+from ..sar.scene import Scene
 
 
 def image_figure(image: SarImage, *, dynamic_range_db: float = 50.0, title: str | None = None) -> go.Figure:

@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import plotly.graph_objects as go
 
-from ..imu.noise_model import channel_unit
-from ..plots.export import write_html
-from .metric import adev_variance
-from .report import GapReport
+from ..gap.metric import adev_variance
+from ..gap.report import GapReport
+from ..units import channel_si_unit
+from .export import write_html
 
 MEASURED = "#1f1f1f"
 BEFORE = "#d62728"
@@ -27,7 +27,7 @@ AFTER = "#2ca02c"
 
 
 def _unit(channel: str) -> str:
-    return channel_unit(channel)
+    return channel_si_unit(channel)
 
 
 def adev_figure(report: GapReport, channel: str) -> go.Figure:

@@ -6,7 +6,7 @@ import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from .result import MotionResult
+from ..motion.result import MotionResult
 
 _AXES = ("x along-track", "y cross-track", "z up")
 

@@ -1,0 +1,64 @@
+"""The perfect-IMU reference of a cluttered scene (budget.mc.reference): limits as documented."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from budget.mc import McOptions
+from budget.mc.chain import ChainSetup, scene_reference
+from budget.mc.reference import REFERENCE_QUANTILE, reference_from_outcomes
+from budget.presets import get_preset
+from budget.sar.acceptance import Acceptance
+
+_KEYS = ("pslr_db", "islr_db", "azimuth_broadening", "range_broadening", "peak_loss_db", "residual_phase_rms_deg")
+
+
+def _outcomes(rng, n=16):
+    """Zero-error outcomes written here: ideal Taylor-like image before PGA, PGA-degraded after."""
+    out = []
+    for _ in range(n):
+        before = {"pslr_db": -35.2, "islr_db": -27.1, "azimuth_broadening": 0.0, "range_broadening": 0.0,
+                  "peak_loss_db": 0.0, "residual_phase_rms_deg": 3.0}
+        after = {"pslr_db": rng.uniform(-30, -24), "islr_db": rng.uniform(-25, -21),
+                 "azimuth_broadening": rng.uniform(0, 0.05), "range_broadening": 0.0,
+                 "peak_loss_db": rng.uniform(0, 0.3), "residual_phase_rms_deg": rng.uniform(0.5, 2.0)}
+        out.append(SimpleNamespace(before=before, after=after, passed_after=False))
+    return out
+
+
+def test_limits_follow_the_documented_rules():
+    rng = np.random.default_rng(3)
+    outs = _outcomes(rng)
+    acc = Acceptance(max_peak_shift_cells=1000.0)
+    ref = reference_from_outcomes(outs, acc, 1.0)
+    q = {k: np.quantile([o.after[k] for o in outs], REFERENCE_QUANTILE) for k in _KEYS}
+    eff = ref.effective()
+    assert eff["pslr_db"] == pytest.approx(max(-35.2 + 3.0, q["pslr_db"] + 3.0))
+    assert eff["islr_db"] == pytest.approx(max(-27.1 + 3.0, q["islr_db"] + 3.0))
+    assert eff["broadening"] == pytest.approx((1 + q["azimuth_broadening"]) * 1.1 - 1)
+    assert eff["peak_loss_db"] == pytest.approx(q["peak_loss_db"] + 1.5)
+    assert eff["residual_phase_rms_deg"] == pytest.approx(math.hypot(1.0, q["residual_phase_rms_deg"]))
+    assert any("PSLR" in f for f in ref.scene_fails_spec)  # q95 PSLR > −32.2 dB: the scene alone fails
+    assert "perfect-IMU reference" in ref.summary() and len(ref.to_frame()) == len(_KEYS)
+
+
+def test_absolute_user_limits_stay_absolute():
+    outs = _outcomes(np.random.default_rng(4))
+    ref = reference_from_outcomes(outs, Acceptance(max_pslr_db=-20.0, max_islr_db=-15.0), None)
+    assert ref.effective()["pslr_db"] == -20.0 and ref.effective()["islr_db"] == -15.0
+    assert ref.max_residual_phase_rms_deg is None
+
+
+def test_a_clean_points_scene_has_no_reference_and_a_cluttered_one_has():
+    scen = get_preset("automotive_24ghz")
+    assert scene_reference(ChainSetup.build(scen, McOptions(scene="points"))) is None
+    setup = ChainSetup.build(scen, McOptions(scene="realistic"))
+    ref = scene_reference(setup)
+    assert ref is not None and ref.draws == 16
+    assert scene_reference(setup) is ref  # computed once per setup
+    assert setup.describe()["reference"]["limits"] == ref.effective()
+    assert scene_reference(ChainSetup.build(scen, McOptions(scene="realistic", scene_reference="none"))) is None
