@@ -4,11 +4,10 @@ For one channel, the model is simulated S times at the log's rate and length
 (:mod:`budget.gap.simulate`) and every signature of :mod:`budget.gap.signatures` is compared
 with the mean over the realizations through a standardized difference z:
 
-* ADEV at each octave τ_k: the measured Allan variance over the mean of the S realizations is
-  F(ν_meas, S·ν) distributed (each estimate χ²_ν/ν with ν = EDF from NIST SP 1065 Table 5 and
-  the noise type of the *model* curve; ν_meas, for a measured table, from its published
-  interval); z = Φ⁻¹ of its F probability (:func:`adev_z`), exact in the skewed tails of the
-  long τ where ν is a few;
+* ADEV at each octave τ_k: z = (ln σ̂_meas − mean ln σ̂_model) / s_k,
+  s_k² = v_meas,k + v_k/S, v = 1/(2·EDF) (var of ln σ̂ for a χ² estimate with EDF degrees of
+  freedom; EDF from NIST SP 1065 Table 5 with the noise type of the *model* curve, or, for a
+  measured table, from its published interval);
 * PSD in octave bands: z = (ln P̄_meas − ln P̄_model)/√(v_b(1 + 1/S)),
   v_b = 1.056·c(n)/(K·n) for n bins and K Welch segments (1.056: 50 %-overlapped Hann
   segments; c(n) = 1 + (8/9)(n−1)/n + (1/18)(n−2)/n: correlation of adjacent Hann bins);
@@ -174,35 +173,12 @@ def adev_variance(model: ModelSummary, grid: SignatureGrid) -> np.ndarray:
     return 0.5 / edf
 
 
-def adev_z(meas_avar: np.ndarray, model_avar: np.ndarray, edf_meas: np.ndarray,
-           edf_model: np.ndarray) -> np.ndarray:
-    """Normal scores of the Allan variances: σ̂²_meas/σ̄²_model ~ F(ν_meas, ν_model), mapped to
-    z = Φ⁻¹(F-cdf) through the smaller tail (exact, not the log-normal approximation: at the
-    longest τ of a record ν is 2–5 and ln χ²_ν is skewed — a measured Allan variance 3× the
-    model's is far less likely than one 3× below it). Where the F tail underflows, Paulson's
-    cube-root normal approximation of F (Abramowitz & Stegun 26.6.15) takes over."""
-    r = np.asarray(meas_avar, float) / np.asarray(model_avar, float)
-    n1 = np.broadcast_to(np.asarray(edf_meas, float), r.shape)
-    n2 = np.broadcast_to(np.asarray(edf_model, float), r.shape)
-    with np.errstate(all="ignore"):
-        # F cdf through the regularized incomplete beta, each tail computed directly
-        den = n1 * r + n2
-        cdf = special.betainc(0.5 * n1, 0.5 * n2, n1 * r / den)
-        sf = special.betainc(0.5 * n2, 0.5 * n1, n2 / den)
-        z = np.where(sf < cdf, -special.ndtri(sf), special.ndtri(cdf))
-        z = np.where(np.minimum(sf, cdf) > 1e-300, z, np.nan)
-        a, b = 2.0 / (9.0 * n1), 2.0 / (9.0 * n2)
-        c = np.cbrt(r)
-        paulson = ((1.0 - b) * c - (1.0 - a)) / np.sqrt(b * c * c + a)
-    return np.where(np.isfinite(z), z, paulson)
-
-
 def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapTerms:
     """Standardized differences of every statistic (module docstring)."""
     S = model.n_real
-    edf_mod = 0.5 / adev_variance(model, grid)
-    edf_meas = meas.edf if meas.edf is not None else edf_mod
-    z = [adev_z(meas.avar, model.avar, edf_meas, S * edf_mod)]
+    v_mod = adev_variance(model, grid)
+    v_meas = 0.5 / meas.edf if meas.edf is not None else v_mod
+    z = [(0.5 * np.log(meas.avar) - model.ln_adev) / np.sqrt(v_meas + v_mod / S)]
     tau = grid.tau_s
     kinds = ["adev"] * tau.size
     where = [f"τ = {t:.4g} s" for t in tau]
