@@ -134,7 +134,7 @@ def test_fast_kernels_match_their_direct_forms():
     savgol_filter(mode="interp"); the phase ramp by cumulative products equals the direct
     exponential (seeded random inputs)."""
     from scipy.signal import savgol_filter
-    from budget.sar.pga import _ramp, _savgol
+    from budget.sar.pga_lines import _ramp, _savgol
     rng = np.random.default_rng(11)
     for span, length in ((313, 145), (64, 7), (101, 71)):
         x = rng.standard_normal(span)

@@ -95,30 +95,25 @@ iterations (default 30). An increment of 0.05 rad moves ≤ 0.25 % of the main-l
 returned ``image`` is the input corrected with the accumulated estimate; ``converged=False`` with
 reason "did not converge …" is reported, never dropped: the caller decides what it means (the
 fast-phase stage runs only after convergence).
+
+Code: this module drives the iterations and holds the policy; the operations on the candidate
+lines (steps 2–5) are in :mod:`budget.sar.pga_lines`, the fast-phase stage in
+:mod:`budget.sar.pga_fast`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import numpy as np
 import pandas as pd
 import scipy.fft as sfft
-from scipy.signal import savgol_coeffs
 
 from ..errors import InputError
+from .pga_fast import _fast_bands
+from .pga_lines import (_LN2, _SG_STRETCH_INC, _Lines, _centre, _detrend, _integrated_estimate, _line_weights,
+                        _lowpass, _predicted_noise, _refine, _window, _window_width, _wrms)
 
-_LN2 = float(np.log(2.0))
-# Savitzky–Golay length of the increment smoothing in units of n/W (see _lowpass): increments are
-# smoothed a little beyond the window's phase bandwidth.
-_SG_STRETCH_INC = 2.5
-_SG_MAX_FRACTION = 0.7
-# Fast-phase bands: the span is the bins where the candidate lines' energy is within 10 dB of its
-# peak; lines less than 2 range lines apart form one jackknife group.
-_SPAN_FRACTION = 0.1
-_GROUP_GAP_LINES = 1
-_MIN_GROUPS = 3
 # First window on clutter (step 3, "auto"): this many times the measured width, which holds the
 # tails of a blurred response below win_db.
 _FIRST_SCALE = 3.0
@@ -213,96 +208,6 @@ def apply_phase_correction(image_data, phase_error_rad) -> np.ndarray:
     return sfft.fft(sfft.ifft(g, axis=0) * np.exp(-1j * np.fft.ifftshift(phi))[:, None], axis=0)
 
 
-def _window_width(summed: np.ndarray, win_db: float, win_scale: float) -> int:
-    """Width (samples) of the region around index 0 where ``summed`` stays within ``win_db``."""
-    n = summed.size
-    thr = summed[0] * 10 ** (-win_db / 10)
-    below = summed[1:n // 2] < thr
-    right = int(np.argmax(below)) if below.any() else n // 2
-    below = summed[::-1][:n // 2] < thr
-    left = int(np.argmax(below)) if below.any() else n // 2
-    return int(np.ceil(win_scale * (right + left + 1)))
-
-
-def _line_weights(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(SCR, kernel weight) per centre-shifted line (step 4) from the window's ``rows``. A
-    clutter-only line centred on its brightest of n samples holds ≈ (W − 1 + H_n) c in a W-sample
-    window (H_n ≈ ln n + 0.577, the mean maximum of n unit exponentials), so the SCR is counted
-    beyond that bias b = (H_n − 1)/W; the weight SCR/(2 SCR + 1) per unit clutter then leaves
-    clutter-only lines ≈ 0."""
-    n = pw.shape[0]
-    w_in = max(rows.size, 1)
-    bias = (np.log(n) + 0.5772 - 1.0) / w_in
-    scr = np.maximum(pw[rows].sum(axis=0) / (w_in * c_line) - 1.0 - bias, 0.0)
-    return scr, scr / (2.0 * scr + 1.0) / (w_in * c_line)
-
-
-def _detrend(phi: np.ndarray, weight: np.ndarray) -> np.ndarray:
-    """``phi`` less its least-squares constant + linear term in the bin index, weighted (closed form)."""
-    k = np.arange(phi.size, dtype=float)
-    sw = weight.sum()
-    if sw <= 0:
-        return phi
-    km, pm = (weight * k).sum() / sw, (weight * phi).sum() / sw
-    var = (weight * (k - km) ** 2).sum()
-    slope = (weight * (k - km) * (phi - pm)).sum() / var if var > 0 else 0.0
-    return phi - pm - slope * (k - km)
-
-
-@lru_cache(maxsize=128)
-def _savgol_parts(length: int) -> tuple[np.ndarray, np.ndarray]:
-    """(coefficients, end-fit operator) of a cubic Savitzky–Golay filter of ``length`` bins: the
-    interior output is the dot product of the coefficients with the ``length`` bins around it; the
-    ``length``//2 outputs at each end are the least-squares cubic through the first (last)
-    ``length`` bins evaluated there (scipy's mode="interp")."""
-    v = np.vander(np.arange(length, dtype=float), 4)
-    return savgol_coeffs(length, 3, use="dot"), v @ np.linalg.pinv(v)
-
-
-def _savgol(x: np.ndarray, length: int) -> np.ndarray:
-    """Cubic Savitzky–Golay filter of ``length`` (odd, ≤ x.size) bins, mode="interp"."""
-    coef, ends = _savgol_parts(length)
-    half = length // 2
-    out = np.empty_like(x)
-    out[half:x.size - half] = np.correlate(x, coef, mode="valid")
-    out[:half] = ends[:half] @ x[:length]
-    out[x.size - half:] = ends[length - half:] @ x[x.size - length:]
-    return out
-
-
-def _lowpass(phi: np.ndarray, mask: np.ndarray, window: float, stretch: float = 1.0) -> np.ndarray:
-    """``phi`` over the bins of ``mask`` (first to last) smoothed by a cubic Savitzky–Golay filter
-    of ``stretch`` · n/``window`` bins, at most ``_SG_MAX_FRACTION`` of the span (longer, the
-    local fit becomes one global cubic). Lines windowed to W samples carry phase that varies at
-    most W/2 cycles per n bins (a W-sample function's DFT), so faster wiggles of an estimate are
-    its noise; a cubic SG filter of L bins passes ≈ 2.5/L cycles per bin (−3 dB), so
-    ``stretch`` = 5 matches that bandwidth. A local cubic keeps polynomial errors exact (a
-    truncated DCT rings at the ends)."""
-    idx = np.nonzero(mask)[0]
-    if idx.size < 8 or window <= 0:
-        return phi
-    lo, hi = idx[0], idx[-1] + 1
-    span = hi - lo
-    length = min(int(stretch * phi.size / window), int(_SG_MAX_FRACTION * span)) | 1
-    length = min(length, span if span % 2 else span - 1)
-    if length < 7:
-        return phi
-    out = phi.copy()
-    out[lo:hi] = _savgol(phi[lo:hi], length)
-    return out
-
-
-def _predicted_noise(scr: np.ndarray) -> float:
-    """Per-bin rms (rad) of a common-phase estimate from lines of per-bin signal-to-clutter
-    ratios ``scr``: 1/√(2 Σ SCR_r) (white clutter, high SCR; Jakowatz & Wahl 1993)."""
-    total = float(np.sum(scr))
-    return float(np.sqrt(0.5 / total)) if total > 0 else float("inf")
-
-
-def _wrms(phi: np.ndarray, weight: np.ndarray) -> float:
-    return float(np.sqrt(np.sum(weight * phi ** 2) / max(weight.sum(), 1e-300)))
-
-
 def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fraction: float,
            min_window: int, first_window: str, band_snr: float) -> None:
     if g.ndim != 2 or g.shape[0] < 16 or g.shape[1] < 1:
@@ -319,105 +224,6 @@ def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fract
         raise InputError("invalid PGA settings", field="max_iter/tol_rad/line_fraction/min_window/band_snr",
                          expected="max_iter ≥ 1, tol_rad > 0, 0 < line_fraction ≤ 1, min_window ≥ 3, "
                                   "band_snr ≥ 1")
-
-
-@dataclass
-class _Lines:
-    """The candidate lines' phase histories and clutter levels, and the settings of a run."""
-
-    hist: np.ndarray  # (n, L) phase histories, numpy order
-    c_line: np.ndarray  # clutter level per line
-    kernel: str
-    tol_rad: float
-    win_db: float
-    win_scale: float
-    shrink: float
-    min_window: int
-    band_db: float
-    smooth: float
-
-    def __post_init__(self) -> None:
-        n = self.hist.shape[0]
-        self.freq = np.fft.fftfreq(n)
-        self.pos = self.freq * n  # signed sample index: the centre-shifted peak sits at 0
-        self.cols = np.arange(self.hist.shape[1])
-        energy = (self.hist.real ** 2 + self.hist.imag ** 2).sum(axis=1)
-        self.n_signal_bins = int(np.sum(energy >= _SPAN_FRACTION * energy.max()))
-
-
-def _ramp(n: int, shift: np.ndarray) -> np.ndarray:
-    """e^{−j2π f_k s_l} (n × L): the phase ramp that moves line l by s_l samples, f_k the DFT
-    frequencies in numpy order (cycles per sample), as powers of z_l = e^{−j2π s_l/n} (a cumulative
-    product: ≈ 10⁻¹³ from the direct exponential, ~7× faster)."""
-    n_pos, n_neg = (n - 1) // 2 + 1, n // 2
-    z = np.exp(-2j * np.pi * np.asarray(shift, dtype=float) / n)
-    powers = np.cumprod(np.broadcast_to(z, (max(n_pos - 1, n_neg), z.size)), axis=0)  # z^1, z^2, …
-    out = np.empty((n, z.size), dtype=complex)
-    out[0] = 1.0
-    out[1:n_pos] = powers[:n_pos - 1]
-    out[n_pos:] = np.conj(powers[:n_neg][::-1])  # f = −n_neg … −1 cycles per n samples: z^{−m} = conj(z^m)
-    return out
-
-
-def _centre(d: _Lines, phi_np: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Step 2, first part: (phase histories of the centre-shifted lines, the lines, their
-    intensity) of the lines corrected with ``phi_np`` (numpy order): each line's brightest point
-    (parabolic fit) moved to index 0 by a phase ramp on its phase history."""
-    n = d.hist.shape[0]
-    corr = d.hist * np.exp(-1j * phi_np)[:, None]
-    mag = np.abs(sfft.fft(corr, axis=0))
-    peaks = np.argmax(mag, axis=0)
-    cols = d.cols
-    a_m, a_0, a_p = mag[(peaks - 1) % n, cols], mag[peaks, cols], mag[(peaks + 1) % n, cols]
-    den = a_m - 2 * a_0 + a_p
-    frac = np.where(den < 0, 0.5 * (a_m - a_p) / np.where(den < 0, den, -1.0), 0.0)
-    corr *= _ramp(n, peaks + frac)
-    shifted = sfft.fft(corr, axis=0)
-    return corr, shifted, shifted.real ** 2 + shifted.imag ** 2
-
-
-@lru_cache(maxsize=64)
-def _window(n: int, width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(rows (numpy order) of a centred window of ``width`` samples out of n; e^{j2πx/n} on them,
-    a column; the window as an (n, 1) 0/1 column). Cached: read-only."""
-    rows = np.flatnonzero(np.abs(np.fft.fftfreq(n) * n) <= width / 2.0)
-    column = np.zeros((n, 1))
-    column[rows] = 1.0
-    return rows, np.exp(2j * np.pi * rows / n)[:, None], column
-
-
-def _refine(d: _Lines, h_shift: np.ndarray, shifted: np.ndarray, width: float,
-            w_line: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Step 2, second part, and step 3 for the lines of non-zero weight: each line's centre
-    refined to the centroid given by the mean phase slope of its windowed phase history (unbiased
-    for a sinc, unlike the parabolic peak fit), windowed again and scaled by √weight. Returns
-    (the lines used, mask over the candidates; windowed lines; their centred phase histories).
-
-    The mean slope Σ_k h(k+1) h*(k) of the windowed line's phase history h = IDFT(w) is computed in
-    the image domain: circularly it is (1/n) Σ_x |w(x)|² e^{j2πx/n} (Wiener–Khinchin), less the
-    wrap-around term h(0) h*(n−1), h(0) = Σ w/n, h(n−1) = Σ w(x) e^{−j2πx/n}/n."""
-    n = d.hist.shape[0]
-    used = w_line > 0
-    rows, rot, column = _window(n, width)
-    w_in = shifted[rows][:, used]
-    circ = ((w_in.real ** 2 + w_in.imag ** 2) * rot).sum(axis=0) / n
-    wrap = w_in.sum(axis=0) * np.conj((w_in * np.conj(rot)).sum(axis=0)) / (n * n)
-    slope = np.angle(circ - wrap)
-    win = sfft.fft(h_shift[:, used] * _ramp(n, slope * n / (2.0 * np.pi)), axis=0)
-    win *= column * np.sqrt(w_line[used])[None, :]
-    return used, win, np.fft.fftshift(sfft.ifft(win, axis=0), axes=0)
-
-
-def _integrated_estimate(d: _Lines, big_g: np.ndarray, win: np.ndarray, weight: np.ndarray) -> np.ndarray:
-    """Phase estimate (centred bins, not detrended) from windowed lines ``win`` and their
-    centred phase histories ``big_g`` (step 4 and the integration of step 5)."""
-    n = big_g.shape[0]
-    if d.kernel == "ml":
-        dphi = np.angle((big_g[1:] * np.conj(big_g[:-1])).sum(axis=1)) * (weight[1:] > 0) * (weight[:-1] > 0)
-        return np.concatenate([[0.0], np.cumsum(dphi)])
-    d_g = np.fft.fftshift(sfft.ifft(win * (2j * np.pi * d.pos / n)[:, None], axis=0), axes=0)
-    grad = np.where(weight > 0, np.imag(np.conj(big_g) * d_g).sum(axis=1) / np.maximum(weight, 1e-300), 0.0)
-    return np.concatenate([[0.0], np.cumsum(0.5 * (grad[1:] + grad[:-1]))])
 
 
 def _random_walk_rms(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray, n_bins: int) -> float:
@@ -496,91 +302,6 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
             break
     return {"phi": phi_c, "width": int(width), "history": history, "converged": converged, "scr": scr,
             "weight": weight}
-
-
-@lru_cache(maxsize=16)
-def _dct_basis(span: int) -> np.ndarray:
-    """Orthonormal DCT-II basis (rows: index m = 0 … span−1, m/2 cycles over the span)."""
-    i = np.arange(span) + 0.5
-    basis = np.cos(np.pi * np.arange(span)[:, None] * i[None, :] / span) * np.sqrt(2.0 / span)
-    basis[0] /= np.sqrt(2.0)
-    return basis
-
-
-def _groups(lines: np.ndarray) -> np.ndarray:
-    """Jackknife group per candidate line (sorted range indices): runs of adjacent range lines
-    share one, since their clutter and their scatterer are correlated (range oversampling)."""
-    return np.concatenate([[0], np.cumsum(np.diff(lines) > _GROUP_GAP_LINES)])
-
-
-def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi: int, m_lo: int,
-          m_hi: int, groups: np.ndarray, band_snr: float) -> tuple[np.ndarray, dict]:
-    """The phase in DCT band m_lo < m ≤ m_hi over the bins lo … hi−1, estimated with the ML kernel
-    at window ``width`` on the ``centred`` lines (:func:`_centre` on the converged estimate)
-    corrected with the bands ``added`` so far (centred bins), and kept only if significant: band
-    power P = Σ a_m² against its delete-one-group jackknife variance V = Σ v_m (Efron & Stein
-    1981; groups of adjacent lines), kept when P ≥ ``band_snr`` · V and then scaled by the Wiener
-    gain 1 − V/P. Returns (phase to add, centred bins; the band's record)."""
-    n = d.hist.shape[0]
-    h_shift, shifted, pw = centred
-    if np.any(added):
-        h_shift = h_shift * np.exp(-1j * np.fft.ifftshift(added))[:, None]
-    _, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
-    record = {"window": int(width), "m_lo": int(m_lo), "m_hi": int(m_hi), "band_rms_rad": 0.0,
-              "noise_rms_rad": float("nan"), "gain": 0.0}
-    if not np.any(w_line > 0):
-        return np.zeros(n), record
-    keep, _, big_g = _refine(d, h_shift, shifted, width, w_line)
-    # lines of zero weight carry nothing: their groups are not data
-    starts = np.flatnonzero(np.diff(groups[keep], prepend=-1))  # groups are runs of sorted lines
-    n_g = starts.size
-    if n_g < _MIN_GROUPS:
-        return np.zeros(n), record
-    prod = big_g[lo + 1:hi] * np.conj(big_g[lo:hi - 1])  # G(k) G*(k−1) inside the span
-    per_group = np.add.reduceat(prod, starts, axis=1)
-    total = per_group.sum(axis=1)
-    est = np.concatenate([[0.0], np.cumsum(np.angle(total))])
-    jk = np.concatenate([np.zeros((1, n_g)), np.cumsum(np.angle(total[:, None] - per_group), axis=0)])
-    basis = _dct_basis(hi - lo)[m_lo + 1:m_hi + 1]
-    coef = basis @ est
-    coef_jk = basis @ jk
-    var = (n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)
-    power, noise = float(np.sum(coef ** 2)), float(np.sum(var))
-    span = hi - lo
-    record.update(band_rms_rad=float(np.sqrt(power / span)), noise_rms_rad=float(np.sqrt(noise / span)))
-    out = np.zeros(n)
-    if power > 0 and power >= band_snr * noise:
-        record["gain"] = 1.0 - noise / power
-        out[lo:hi] = record["gain"] * (coef @ basis)
-    return out, record
-
-
-def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
-                band_snr: float) -> tuple[np.ndarray, list[dict]]:
-    """The fast-phase stage: the bands beyond the settled window ``width`` estimated one octave at
-    a time, band (m_{j−1}, m_j] of the DCT over the span at window 2^j·W, the narrowest window that
-    sees it (m_j = ⌊2^j W · span/n⌋: W samples see W/2 cycles per n bins), each kept only where
-    significant (:func:`_band`). Returns the estimate with the kept bands added, and the records."""
-    n = d.hist.shape[0]
-    energy = np.fft.fftshift((d.hist.real ** 2 + d.hist.imag ** 2).sum(axis=1))
-    idx = np.nonzero(energy >= _SPAN_FRACTION * energy.max())[0]
-    groups = _groups(lines)
-    if idx.size < 16:
-        return phi_c, []
-    lo, hi = int(idx[0]), int(idx[-1]) + 1
-    span = hi - lo
-    w, m_prev = width, int(width * span // n)
-    records = []
-    centred = _centre(d, np.fft.ifftshift(phi_c))  # the lines centred once, on the converged estimate
-    added = np.zeros(n)
-    while m_prev < span - 1 and w < n:
-        w = min(2 * w, n)
-        m_hi = min(int(w * span // n), span - 1)
-        add, rec = _band(d, centred, added, w, lo, hi, m_prev, m_hi, groups, band_snr)
-        added += add
-        records.append(rec)
-        m_prev = m_hi
-    return phi_c + added, records
 
 
 def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 0.05,

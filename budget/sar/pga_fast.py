@@ -1,0 +1,104 @@
+"""PGA's fast-phase stage (:mod:`budget.sar.pga`, "Fast-phase stage"): after convergence, the
+phase above the settled window's bandwidth, estimated one DCT octave at a time with the narrowest
+window that sees it and kept only where it is significant against its jackknife noise."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from .pga_lines import _SPAN_FRACTION, _Lines, _centre, _line_weights, _refine, _window
+
+# lines less than 2 range lines apart form one jackknife group
+
+
+_GROUP_GAP_LINES = 1
+
+
+_MIN_GROUPS = 3
+
+
+@lru_cache(maxsize=16)
+def _dct_basis(span: int) -> np.ndarray:
+    """Orthonormal DCT-II basis (rows: index m = 0 … span−1, m/2 cycles over the span)."""
+    i = np.arange(span) + 0.5
+    basis = np.cos(np.pi * np.arange(span)[:, None] * i[None, :] / span) * np.sqrt(2.0 / span)
+    basis[0] /= np.sqrt(2.0)
+    return basis
+
+
+def _groups(lines: np.ndarray) -> np.ndarray:
+    """Jackknife group per candidate line (sorted range indices): runs of adjacent range lines
+    share one, since their clutter and their scatterer are correlated (range oversampling)."""
+    return np.concatenate([[0], np.cumsum(np.diff(lines) > _GROUP_GAP_LINES)])
+
+
+def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi: int, m_lo: int,
+          m_hi: int, groups: np.ndarray, band_snr: float) -> tuple[np.ndarray, dict]:
+    """The phase in DCT band m_lo < m ≤ m_hi over the bins lo … hi−1, estimated with the ML kernel
+    at window ``width`` on the ``centred`` lines (:func:`_centre` on the converged estimate)
+    corrected with the bands ``added`` so far (centred bins), and kept only if significant: band
+    power P = Σ a_m² against its delete-one-group jackknife variance V = Σ v_m (Efron & Stein
+    1981; groups of adjacent lines), kept when P ≥ ``band_snr`` · V and then scaled by the Wiener
+    gain 1 − V/P. Returns (phase to add, centred bins; the band's record)."""
+    n = d.hist.shape[0]
+    h_shift, shifted, pw = centred
+    if np.any(added):
+        h_shift = h_shift * np.exp(-1j * np.fft.ifftshift(added))[:, None]
+    _, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
+    record = {"window": int(width), "m_lo": int(m_lo), "m_hi": int(m_hi), "band_rms_rad": 0.0,
+              "noise_rms_rad": float("nan"), "gain": 0.0}
+    if not np.any(w_line > 0):
+        return np.zeros(n), record
+    keep, _, big_g = _refine(d, h_shift, shifted, width, w_line)
+    # lines of zero weight carry nothing: their groups are not data
+    starts = np.flatnonzero(np.diff(groups[keep], prepend=-1))  # groups are runs of sorted lines
+    n_g = starts.size
+    if n_g < _MIN_GROUPS:
+        return np.zeros(n), record
+    prod = big_g[lo + 1:hi] * np.conj(big_g[lo:hi - 1])  # G(k) G*(k−1) inside the span
+    per_group = np.add.reduceat(prod, starts, axis=1)
+    total = per_group.sum(axis=1)
+    est = np.concatenate([[0.0], np.cumsum(np.angle(total))])
+    jk = np.concatenate([np.zeros((1, n_g)), np.cumsum(np.angle(total[:, None] - per_group), axis=0)])
+    basis = _dct_basis(hi - lo)[m_lo + 1:m_hi + 1]
+    coef = basis @ est
+    coef_jk = basis @ jk
+    var = (n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)
+    power, noise = float(np.sum(coef ** 2)), float(np.sum(var))
+    span = hi - lo
+    record.update(band_rms_rad=float(np.sqrt(power / span)), noise_rms_rad=float(np.sqrt(noise / span)))
+    out = np.zeros(n)
+    if power > 0 and power >= band_snr * noise:
+        record["gain"] = 1.0 - noise / power
+        out[lo:hi] = record["gain"] * (coef @ basis)
+    return out, record
+
+
+def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
+                band_snr: float) -> tuple[np.ndarray, list[dict]]:
+    """The fast-phase stage: the bands beyond the settled window ``width`` estimated one octave at
+    a time, band (m_{j−1}, m_j] of the DCT over the span at window 2^j·W, the narrowest window that
+    sees it (m_j = ⌊2^j W · span/n⌋: W samples see W/2 cycles per n bins), each kept only where
+    significant (:func:`_band`). Returns the estimate with the kept bands added, and the records."""
+    n = d.hist.shape[0]
+    energy = np.fft.fftshift((d.hist.real ** 2 + d.hist.imag ** 2).sum(axis=1))
+    idx = np.nonzero(energy >= _SPAN_FRACTION * energy.max())[0]
+    groups = _groups(lines)
+    if idx.size < 16:
+        return phi_c, []
+    lo, hi = int(idx[0]), int(idx[-1]) + 1
+    span = hi - lo
+    w, m_prev = width, int(width * span // n)
+    records = []
+    centred = _centre(d, np.fft.ifftshift(phi_c))  # the lines centred once, on the converged estimate
+    added = np.zeros(n)
+    while m_prev < span - 1 and w < n:
+        w = min(2 * w, n)
+        m_hi = min(int(w * span // n), span - 1)
+        add, rec = _band(d, centred, added, w, lo, hi, m_prev, m_hi, groups, band_snr)
+        added += add
+        records.append(rec)
+        m_prev = m_hi
+    return phi_c + added, records
