@@ -19,15 +19,14 @@ heavier runtime for what is an embarrassingly parallel map of chunks.
 
 from __future__ import annotations
 
-import ctypes
 import math
-import os
 import threading
 from collections import deque
 from concurrent.futures import ProcessPoolExecutor
-from contextlib import contextmanager
 from functools import lru_cache
 from typing import Callable
+
+from threadpoolctl import threadpool_limits
 
 from ..catalog.fill import resolve_unspecified
 from ..errors import InputError
@@ -40,58 +39,14 @@ from .result import McResult
 ProgressFn = Callable[[int, int], None]
 
 
-#: (getter, setter) symbol names of the thread count of OpenBLAS builds (numpy's and scipy's wheels
-#: each ship their own copy, with these prefixes).
-_OPENBLAS_SYMBOLS = (("openblas_get_num_threads", "openblas_set_num_threads"),
-                     ("openblas_get_num_threads64_", "openblas_set_num_threads64_"),
-                     ("scipy_openblas_get_num_threads64_", "scipy_openblas_set_num_threads64_"),
-                     ("scipy_openblas_get_num_threads", "scipy_openblas_set_num_threads"))
-
-
-def _loaded_openblas() -> list[tuple]:
-    """(get, set) thread-count functions of every OpenBLAS loaded in this process (Linux: read
-    from /proc/self/maps; elsewhere none are found and nothing is changed)."""
-    try:
-        with open("/proc/self/maps") as f:
-            paths = {line.split()[-1] for line in f if "openblas" in line.lower()}
-    except OSError:
-        return []
-    out = []
-    for path in sorted(p for p in paths if os.path.isfile(p)):
-        try:
-            lib = ctypes.CDLL(path, mode=getattr(os, "RTLD_NOLOAD", 0) | ctypes.RTLD_LOCAL)
-        except OSError:
-            continue
-        for get, put in _OPENBLAS_SYMBOLS:
-            if hasattr(lib, get) and hasattr(lib, put):
-                out.append((getattr(lib, get), getattr(lib, put)))
-                break
-    return out
-
-
-@contextmanager
 def single_threaded_blas():
-    """Run the block with OpenBLAS on one thread, then restore its thread count. The chain's
-    matrix products are small (a few 10⁵ multiply-adds): BLAS threads only add hand-over
-    latency, and with one process per core they oversubscribe the machine (measured: a 64-trial
-    chunk took 6× the CPU time with OpenBLAS's default threads on a loaded 2-core machine)."""
-    libs = _loaded_openblas()
-    before = [int(get()) for get, _ in libs]
-    for _, put in libs:
-        put(1)
-    try:
-        yield
-    finally:
-        for (_, put), n in zip(libs, before):
-            put(n)
-
-
-def _worker_init() -> None:
-    """Process-pool worker: one BLAS/OpenMP thread (one worker per core does the parallelism)."""
-    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ[var] = "1"
-    for _, put in _loaded_openblas():
-        put(1)
+    """Context manager: BLAS on one thread inside the block, restored after (threadpoolctl finds
+    every BLAS loaded in the process — numpy's and scipy's wheels each ship their own OpenBLAS).
+    The chain's matrix products are small (a few 10⁵ multiply-adds): BLAS threads only add
+    hand-over latency, and with one process per core they oversubscribe the machine (measured: a
+    64-trial chunk took 6× the CPU time with OpenBLAS's default threads on a loaded 2-core
+    machine)."""
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 @lru_cache(maxsize=8)
@@ -176,7 +131,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
             consume(_chunk_task(scen_json, opt_json, model, seed, s, e, keep_detail), e)
     else:
         if backend == "processes":
-            pool = ProcessPoolExecutor(max_workers=workers, initializer=_worker_init)
+            pool = ProcessPoolExecutor(max_workers=workers)
             submit = lambda u: pool.submit(_chunk_task, scen_json, opt_json, model, seed, u[0], u[1],  # noqa: E731
                                            keep_detail, (u[2], u[3]))
             result_of = lambda f: f.result()  # noqa: E731
