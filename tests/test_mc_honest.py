@@ -259,15 +259,8 @@ def _clutter_options(clutter_db: float = -20.0, **kw):
     return McOptions(scene="realistic", clutter_to_target_db=clutter_db, snr_db=30.0, unspecified="zero", **kw)
 
 
-_CLUTTER_20 = pytest.mark.xfail(strict=False, reason="measured: 0.94 [0.85, 0.98] (3 trials over the residual "
-                                "limit √(1° ² + q95²), 1 over the PSLR limit). The limits sit at the 95 % quantile "
-                                "of 16 perfect-IMU draws + the spec's margin, so a perfect IMU itself fails a few "
-                                "% of trials where PGA's clutter-limited error is largest (−20 dB); README, "
-                                "Monte Carlo section")
-
-
 @pytest.mark.slow
-@pytest.mark.parametrize("clutter_db", [-25.0, pytest.param(-20.0, marks=_CLUTTER_20)])
+@pytest.mark.parametrize("clutter_db", [-25.0, -20.0])
 def test_clutter_scene_small_error_passes(clutter_db):
     """A navigation-grade part (HG9900, catalog) on the realistic scene (SNR 30 dB, lever arm 0):
     its errors are far inside every bound, so the verdict must pass. The image and PGA's residual

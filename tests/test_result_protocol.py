@@ -347,9 +347,10 @@ def _build_target_metric_arrays():
 def _build_scene_reference():
     from budget.mc import McOptions
     from budget.mc.chain import ChainSetup, scene_reference
+    from budget.mc.reference import REFERENCE_DRAWS
     from budget.presets import get_preset
     setup = ChainSetup.build(get_preset(SCENARIO), McOptions(scene="realistic", pga_max_iter=7))
-    return scene_reference(setup), {"draws": 16}
+    return scene_reference(setup), {"draws": REFERENCE_DRAWS}
 
 
 def _build_pga():

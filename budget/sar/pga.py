@@ -56,14 +56,26 @@ Steps (Wahl et al. 1994, steps 1–5):
 Fast-phase stage (``fast_phase=True``, after convergence). The settled window W sees phase up to
 K = W·n_ap/(2n) cycles per aperture (:mod:`budget.sar.residual`); a faster component (a vibration,
 a random walk's fine structure) puts its paired echoes outside the window. Over the span of bins
-where the candidate lines' energy is within 10 dB of its peak, the DCT band (m_{j−1}, m_j],
+where the candidate lines' energy is within 10 dB of its peak and at least twice its 5th
+percentile (signal ≥ noise: on a noisy image the out-of-band bins hold receiver noise only, and a
+basis stretched over them cannot follow the in-band phase), the accumulated estimate is first
+cut back to what the settled window sees (Legendre terms to the cubic and DCT cosines up to
+m_0 = ⌊W·span/n⌋, least squares weighted by the lines' energy per bin): what the early, wider
+windows left above it is, on clutter, mostly their clutter × clutter random walk, and nothing
+earns a place above the window without the test below (measured on the realistic airborne X-band
+scene, −25 dB, 64 perfect-IMU draws: the 99 % quantile of PGA's residual beyond the window falls
+from 1.36° to 1.31°, and STIM300's P(pass) rises from 0.59 to 0.72 in 32 trials, its residual
+p95 from 7.5° to 3.2°: the early windows' noise grows with the error they start from). Then the
+DCT band (m_{j−1}, m_j],
 m_j = ⌊2^j W · span/n⌋ (DCT index m ↔ m/2 cycles over the span), is estimated at the window 2^j W —
 the narrowest that sees it, so the one with the most signal per unit clutter — on the lines
 corrected with everything found so far, octave by octave up to the whole line. A band is kept only
 if significant: its power P = Σ a_m² must reach ``band_snr`` (default 9, i.e. 3× in rms) times its
 noise power V = Σ var(a_m), the delete-one-group jackknife variance of the coefficients (Efron &
 Stein 1981; a group = a run of adjacent range lines, whose clutter is correlated by the range
-oversampling; a band seen by fewer than 3 groups is not kept); it is then scaled by the Wiener gain
+oversampling; a band seen by fewer than 3 groups — one or two scatterers, a calibration reflector —
+is judged against the closed form instead, (m_j − m_{j−1}) / (2 Σ_r SCR_r), which covers first-order
+clutter only); it is then scaled by the Wiener gain
 1 − V/P. The jackknife measures whatever the noise is — first-order clutter, the clutter × clutter
 random walk of wide windows, neighbouring scatterers in the same line — where the closed form
 1/√(2 Σ SCR_r) only covers the first. On clean points every band of a real fast error is
@@ -178,7 +190,8 @@ class PgaResult:
         out = self._scalars()
 
         def _js(h):
-            return {k: (float(v) if isinstance(v, (float, np.floating)) else int(v)) for k, v in h.items()}
+            return {k: (float(v) if isinstance(v, (float, np.floating)) else v if isinstance(v, str) else int(v))
+                    for k, v in h.items()}
 
         out.update({"candidate_lines": self.candidate_lines, "clutter_level": float(self.clutter_level),
                     "predicted_noise_rad": float(self.predicted_noise_rad),

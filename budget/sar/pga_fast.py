@@ -9,6 +9,7 @@ from functools import lru_cache
 import numpy as np
 
 from .pga_lines import _SPAN_FRACTION, _Lines, _centre, _line_weights, _refine, _window
+from .residual import highpass_phase
 
 # lines less than 2 range lines apart form one jackknife group
 
@@ -17,6 +18,10 @@ _GROUP_GAP_LINES = 1
 
 
 _MIN_GROUPS = 3
+
+
+# the span holds bins whose energy is at least this many times the 5th percentile (signal ≥ noise)
+_SPAN_FLOOR = 2.0
 
 
 @lru_cache(maxsize=16)
@@ -46,27 +51,32 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
     h_shift, shifted, pw = centred
     if np.any(added):
         h_shift = h_shift * np.exp(-1j * np.fft.ifftshift(added))[:, None]
-    _, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
+    scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
     record = {"window": int(width), "m_lo": int(m_lo), "m_hi": int(m_hi), "band_rms_rad": 0.0,
-              "noise_rms_rad": float("nan"), "gain": 0.0}
+              "noise_rms_rad": float("nan"), "gain": 0.0, "noise_from": "jackknife"}
     if not np.any(w_line > 0):
         return np.zeros(n), record
     keep, _, big_g = _refine(d, h_shift, shifted, width, w_line)
     # lines of zero weight carry nothing: their groups are not data
     starts = np.flatnonzero(np.diff(groups[keep], prepend=-1))  # groups are runs of sorted lines
     n_g = starts.size
-    if n_g < _MIN_GROUPS:
-        return np.zeros(n), record
     prod = big_g[lo + 1:hi] * np.conj(big_g[lo:hi - 1])  # G(k) G*(k−1) inside the span
     per_group = np.add.reduceat(prod, starts, axis=1)
     total = per_group.sum(axis=1)
     est = np.concatenate([[0.0], np.cumsum(np.angle(total))])
-    jk = np.concatenate([np.zeros((1, n_g)), np.cumsum(np.angle(total[:, None] - per_group), axis=0)])
     basis = _dct_basis(hi - lo)[m_lo + 1:m_hi + 1]
     coef = basis @ est
-    coef_jk = basis @ jk
-    var = (n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)
-    power, noise = float(np.sum(coef ** 2)), float(np.sum(var))
+    if n_g >= _MIN_GROUPS:
+        jk = np.concatenate([np.zeros((1, n_g)), np.cumsum(np.angle(total[:, None] - per_group), axis=0)])
+        coef_jk = basis @ jk
+        noise = float(np.sum((n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)))
+    else:
+        # one or two scatterers (a calibration reflector): no jackknife; the closed form — white
+        # per-bin phase noise of variance 1/(2 Σ SCR) (Jakowatz & Wahl 1993), σ² per orthonormal
+        # DCT coefficient — covers first-order clutter only (no neighbours' sidelobes)
+        noise = (m_hi - m_lo) * 0.5 / max(float(np.sum(scr[keep])), 1e-300)
+        record["noise_from"] = "closed_form"
+    power = float(np.sum(coef ** 2))
     span = hi - lo
     record.update(band_rms_rad=float(np.sqrt(power / span)), noise_rms_rad=float(np.sqrt(noise / span)))
     out = np.zeros(n)
@@ -84,13 +94,23 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     significant (:func:`_band`). Returns the estimate with the kept bands added, and the records."""
     n = d.hist.shape[0]
     energy = np.fft.fftshift((d.hist.real ** 2 + d.hist.imag ** 2).sum(axis=1))
-    idx = np.nonzero(energy >= _SPAN_FRACTION * energy.max())[0]
+    # the span: bins within 10 dB of the peak energy that also hold at least as much signal as
+    # noise (twice the floor, the 5th percentile: out-of-band bins of a noisy image are noise
+    # only, and a basis stretched over them cannot follow the in-band phase)
+    idx = np.nonzero(energy >= max(_SPAN_FRACTION * energy.max(), _SPAN_FLOOR * np.percentile(energy, 5)))[0]
     groups = _groups(lines)
     if idx.size < 16:
         return phi_c, []
     lo, hi = int(idx[0]), int(idx[-1]) + 1
     span = hi - lo
     w, m_prev = width, int(width * span // n)
+    # Beyond the settled window the accumulated estimate holds what the early, wider windows put
+    # there — on clutter mostly their clutter × clutter random walk. It must pass the same test
+    # as any other phase there: drop it over the span (weighted by the lines' energy, so bins
+    # with little signal do not steer the fit) and let the bands below re-estimate what is
+    # significant.
+    phi_c = phi_c.copy()
+    phi_c[lo:hi] -= highpass_phase(phi_c[lo:hi], m_prev / 2.0, energy[lo:hi])
     records = []
     centred = _centre(d, np.fft.ifftshift(phi_c))  # the lines centred once, on the converged estimate
     added = np.zeros(n)

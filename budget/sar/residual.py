@@ -22,7 +22,9 @@ quadratic would otherwise leak into the "fast" part.)
 
 * Monte Carlo: the residual r = (PGA estimate − true phase) high-passed above 2K, its rms
   weighted by the aperture's signal energy per bin (the weight with which a phase error moves
-  main-lobe energy into sidelobes: a small phase error of rms σ moves σ² of it);
+  main-lobe energy into sidelobes: a small phase error of rms σ moves σ² of it), the fit of the
+  removable part weighted by the same energy (bins that carry little signal — a Taylor window's
+  ends — do not decide what is called removable where the signal is);
   :func:`pga_residual_rms_rad`;
 * analytic: the true phase high-passed above 2K (PGA is credited with nothing beyond its settled
   window, a worst case: on clean isolated points its early wide-window iterations also remove part
@@ -56,25 +58,44 @@ def pga_bandwidth_cycles(final_window_samples: float, n_bins: int, n_aperture_bi
 
 
 @lru_cache(maxsize=32)
-def _removable_projector(n: int, n_cos: int) -> np.ndarray:
-    """I − B B⁺ for B = [P0…P3 (Legendre), DCT-II cosines 1…n_cos] on n points."""
+def _removable_basis(n: int, n_cos: int) -> np.ndarray:
+    """B = [P0…P3 (Legendre), DCT-II cosines 1…n_cos] on n points (n × columns; read-only)."""
     u = np.linspace(-1.0, 1.0, n)
     cols = [np.polynomial.legendre.legval(u, np.eye(4)[k]) for k in range(min(4, n))]
     i = np.arange(n) + 0.5
     cols += [np.cos(np.pi * j * i / n) for j in range(1, min(n_cos, n - 1) + 1)]
     b = np.stack(cols, axis=1)
+    b.setflags(write=False)
+    return b
+
+
+@lru_cache(maxsize=32)
+def _removable_projector(n: int, n_cos: int) -> np.ndarray:
+    """I − B B⁺ for B of :func:`_removable_basis`."""
+    b = _removable_basis(n, n_cos)
     return np.eye(n) - b @ np.linalg.pinv(b)
 
 
-def highpass_phase(phase_rad, cutoff_cycles: float) -> np.ndarray:
+def highpass_phase(phase_rad, cutoff_cycles: float, weight=None) -> np.ndarray:
     """The part of ``phase_rad`` (rad, over the aperture bins) beyond PGA's bandwidth of
     ``cutoff_cycles`` cycles per aperture: least-squares residual after the Legendre terms up to
-    the cubic and the DCT-II cosines up to index ⌊2·cutoff⌋ (module docstring)."""
+    the cubic and the DCT-II cosines up to index ⌊2·cutoff⌋ (module docstring). ``weight``
+    (≥ 0 per bin, e.g. the signal energy) makes the fit weighted least squares: bins that carry
+    no signal then do not steer what is called removable where the signal is."""
     x = np.asarray(phase_rad, dtype=float)
     n = x.size
     if n < 6:
         return np.zeros(n)
-    return _removable_projector(n, int(math.floor(2.0 * cutoff_cycles))) @ x
+    n_cos = int(math.floor(2.0 * cutoff_cycles))
+    if weight is None:
+        return _removable_projector(n, n_cos) @ x
+    w = np.asarray(weight, dtype=float)
+    if w.shape != x.shape or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
+        raise ValueError("weight must be finite, ≥ 0, not all zero, one per bin")
+    b = _removable_basis(n, n_cos)
+    sw = np.sqrt(w / w.max())
+    coef, *_ = np.linalg.lstsq(b * sw[:, None], x * sw, rcond=None)
+    return x - b @ coef
 
 
 def pga_residual_rms_rad(estimate_rad, truth_rad, mask, weight, cutoff_cycles: float) -> float:
@@ -83,10 +104,10 @@ def pga_residual_rms_rad(estimate_rad, truth_rad, mask, weight, cutoff_cycles: f
     m = np.asarray(mask, bool) & np.isfinite(truth_rad) & np.isfinite(estimate_rad)
     if m.sum() < 8:
         return math.nan
-    r = highpass_phase(np.asarray(estimate_rad, float)[m] - np.asarray(truth_rad, float)[m], cutoff_cycles)
     w = np.asarray(weight, float)[m]
     if not np.any(w > 0):
         w = np.ones_like(w)
+    r = highpass_phase(np.asarray(estimate_rad, float)[m] - np.asarray(truth_rad, float)[m], cutoff_cycles, w)
     return float(math.sqrt(np.sum(w * r * r) / np.sum(w)))
 
 
