@@ -176,6 +176,10 @@ def test_probit_crossing_recovers_a_known_curve():
     assert fit["method"] == "probit" and fit["lo"] < 0.5 < fit["hi"] and fit["hi"] / fit["lo"] < 1.5
     sep = probit_crossing(s, [64] * 8 + [0] * 9, [64] * 17)
     assert sep["lo"] == pytest.approx(s[7]) and sep["hi"] == pytest.approx(s[8])
+    # one pass of 16 at the smallest scale and none above: the crossing is below the grid
+    below = probit_crossing(s, [1] + [0] * 16, [16] * 17)
+    assert below["method"] == "below the grid" and below["hi"] == pytest.approx(s[0])
+    assert math.isnan(below["scale"])
 
 
 def test_cheapest_passing_decides_on_the_lower_wilson_bound():
@@ -228,6 +232,23 @@ def test_single_term_0p1_and_10x_as_the_bounds_predict(preset, term):
         assert lo.ci_after[0] >= 0.9, (ratio, lo.summary())
     elif ratio <= 0.05:
         assert lo.p_pass_after <= 0.1, (ratio, lo.summary())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("term", ["accel_bias", "gyro_bias", "accel_vrw", "gyro_arw"])
+def test_single_term_0p1_passes_and_10x_fails_on_the_sonar_geometry(term):
+    """The second geometry of the Done-when: the 100 kHz SAS preset (Tc = 10 s, λ = 1.5 cm,
+    δr = 5 cm), lever arm 0. Its PGA-limited bounds are 1× the paper's for the biases and ARW and
+    0.15× for VRW (δr/λ = 3.3, against 16 on airborne X-band where VRW at 0.1× must fail), so every
+    term at 0.1× must pass after PGA (lower 95 % Wilson bound ≥ 0.9, 64 trials). At 10× the noise
+    terms and the accelerometer bias fail (P ≤ 0.1); a gyro turn-on bias drawn with 1σ = 10× its
+    bound is a Gaussian draw, and one within twice the bound (|z| < 0.2) has probability 16 %:
+    measured 10/64 pass, so it is held to P ≤ 0.25."""
+    scen = _zero_lever("sas_100khz")
+    lo = run_mc(scen, single_term_model(scen, term, 0.1), 64, 1, options=McOptions(unspecified="zero"))
+    assert lo.ci_after[0] >= 0.9, lo.summary()
+    hi = run_mc(scen, single_term_model(scen, term, 10.0), 64, 1, options=McOptions(unspecified="zero"))
+    assert hi.p_pass_after <= (0.25 if term == "gyro_bias" else 0.1), hi.summary()
 
 
 @pytest.mark.slow

@@ -95,7 +95,8 @@ def crossing_scale(scales: Sequence[float], p_pass: Sequence[float], level: floa
 def probit_crossing(scales: Sequence[float], passes: Sequence[int], trials: Sequence[int],
                     level: float = 0.5, confidence: float = 0.95) -> dict:
     """Scale where P(pass) = ``level`` from a probit fit on log10(scale) (module docstring):
-    ``{"scale", "lo", "hi", "method"}``; nan when every scale fails, inf when every one passes."""
+    ``{"scale", "lo", "hi", "method"}``; nan when every scale fails, inf when every one passes,
+    nan with the open interval beyond the grid when the fitted crossing lies outside it."""
     s = np.asarray(scales, float)
     k = np.asarray(passes, float)
     n = np.asarray(trials, float)
@@ -119,6 +120,12 @@ def probit_crossing(scales: Sequence[float], passes: Sequence[int], trials: Sequ
             cov = np.asarray(res.cov_params())
             if b < 0 and np.all(np.isfinite(cov)):
                 x50 = (z - a) / b
+                # a crossing outside the grid is an extrapolation of one or two mixed counts:
+                # report which side of the grid it is on, not a number
+                if x50 < x.min():
+                    return {"scale": math.nan, "lo": 0.0, "hi": float(s.min()), "method": "below the grid"}
+                if x50 > x.max():
+                    return {"scale": math.nan, "lo": float(s.max()), "hi": math.inf, "method": "above the grid"}
                 grad = np.array([-1.0 / b, -(z - a) / b ** 2])  # d x50 / d(a, b)
                 se = float(math.sqrt(max(grad @ cov @ grad, 0.0)))
                 q = float(norm.ppf(0.5 + confidence / 2.0))

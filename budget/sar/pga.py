@@ -85,8 +85,9 @@ The records are in :attr:`PgaResult.fast_bands`.
 Measured, realistic airborne X-band scene (:meth:`budget.sar.Scene.realistic`, SNR 30 dB) with NO
 motion error, through the Monte Carlo chain (:mod:`budget.mc.chain`: residual beyond K, energy
 weighted), 3 scenes × 8 noise draws, median per scene: clutter −20 / −25 / −35 dB leaves
-0.5–1.2 / 0.4–1.3 / 0.1–0.2° rms beyond the window (whole-line start with the former smoothed
-restart: 5.9–9.1 / 2.8–3.7 / 2.5–4.5°). For scale, an unconstrained per-bin estimator at the
+0.49–0.93 / 0.27–0.45 / 0.02–0.04° rms beyond the window (before the cut-back of the fast-phase
+stage 0.5–1.2 / 0.4–1.3 / 0.1–0.2°; whole-line start with the former smoothed restart:
+5.9–9.1 / 2.8–3.7 / 2.5–4.5°). For scale, an unconstrained per-bin estimator at the
 settled window's SCR would leave 1/√(2 Σ SCR_r) × √(fraction of the aperture's degrees of freedom
 beyond K) = 4.9–9.5 / 2.7–3.9 / 1.6–2.1° there: the windowed estimate is band-limited, so its noise
 stays mostly inside K — where, at 3–6° rms for −20 dB, it still lifts a Taylor PSLR. A sinusoid of
@@ -94,7 +95,7 @@ stays mostly inside K — where, at 3–6° rms for −20 dB, it still lifts a T
 at 1.4° (before: 12.1°: the increments' smoothing to the measured width discarded it). Monte
 Carlo, airborne X-band, points scene, lever arm 0, 64 trials: P(pass after PGA) for ARW at 0.1 /
 0.3× its paper bound 1.00 / 0.95 (before 0.98 / 0.77), VRW at 0.03 / 0.05× 1.00 / 0.67 (before
-0.25 / 0.06).
+0.25 / 0.06); with the cut-back ARW 1.00 / 1.00, VRW 1.00 / 0.70.
 
 Usable lines: candidates whose final-window SCR is ≥ ``min_scr_db``. None → "no usable
 scatterers": estimate zero, image unchanged, ``usable_lines = 0``.
