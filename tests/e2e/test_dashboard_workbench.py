@@ -77,7 +77,7 @@ def test_real_log_on_model_gap(page, dashboard_url):
     page.get_by_role("button", name="Run").click()
     result = page.locator("#gap-result")
     expect(result).to_contain_text("effect(s) named", timeout=600_000)
-    expect(page.get_by_text("gap before (mean z²)")).to_be_visible()
+    expect(page.get_by_text("gap before (mean z²)", exact=True)).to_be_visible()
     _idle(page)
     page.screenshot(path=str(ARTIFACTS / "model_gap_real_log.png"), full_page=True)
 
