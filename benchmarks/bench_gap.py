@@ -14,7 +14,8 @@ model's at the τ where the effect shows most (quantization: at τ = dt; heavy t
 4. with ``--real``: cross-validation on the two shared ADIS16405 logs (fit on log 1, test on
    log 2) when ``../shared/data`` is present.
 
-Run from the repository root: ``python3 benchmarks/bench_gap.py [--quick] [--jobs 2] [--real]``.
+Run from the repository root: ``python3 benchmarks/bench_gap.py [--quick] [--jobs 2] [--real]
+[--low-frequency] [--decorrelate]`` (the last two: the options of :func:`budget.gap.run_gap`).
 """
 
 from __future__ import annotations
@@ -42,10 +43,10 @@ SHARED_LOGS = ROOT.parent / "shared" / "data" / "logs"
 
 
 def run_one(args) -> dict:
-    name, n, seed = args
+    name, n, seed, opts = args
     x, temp, truth = gt.make(name, n, 1000 + seed)
     t0, c0 = time.perf_counter(), time.process_time()
-    rep = run_gap(log_from_arrays(x, gt.RATE, temp_c=temp), BASE, seed=seed, max_steps=4)
+    rep = run_gap(log_from_arrays(x, gt.RATE, temp_c=temp), BASE, seed=seed, max_steps=4, **opts)
     out = {"name": name, "seed": seed, "time": time.perf_counter() - t0,
            "cpu": time.process_time() - c0, "truth": truth,
            "steps": [(s.name, s.channel, dict(s.params)) for s in rep.steps],
@@ -53,8 +54,8 @@ def run_one(args) -> dict:
     return out
 
 
-def timing(n: int) -> None:
-    r = run_one(("rate_random_walk", n, 0))
+def timing(n: int, opts: dict) -> None:
+    r = run_one(("rate_random_walk", n, 0, opts))
     named = ", ".join(f"{a}@{b}" for a, b, _ in r["steps"]) or "none"
     load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
     print(f"{n / gt.RATE / 60:.0f} min, 100 Hz, 6 channels (hidden rate random walk): {r['time']:.1f} s "
@@ -116,13 +117,18 @@ def main() -> None:
     ap.add_argument("--jobs", type=int, default=1, help="processes (the machine has 2 cores)")
     ap.add_argument("--effects", default=",".join(gt.ALL), help="comma-separated subset")
     ap.add_argument("--real", action="store_true", help="cross-validate the real ADIS16405 logs")
+    ap.add_argument("--low-frequency", action="store_true",
+                    help="run_gap(low_frequency=True): the record's low-frequency bands too")
+    ap.add_argument("--decorrelate", action="store_true",
+                    help="run_gap(decorrelate=True): spectral terms summed decorrelated")
     args = ap.parse_args()
+    opts = {"low_frequency": args.low_frequency, "decorrelate": args.decorrelate}
     n = gt.ONE_HOUR
     if args.quick:
         args.seeds, args.fp_seeds, n = 2, 4, 60_000
-    timing(n)
-    tasks = [(name, n, s) for name in args.effects.split(",") if name for s in range(args.seeds)]
-    tasks += [(None, n, 5000 + s) for s in range(args.fp_seeds)]
+    timing(n, opts)
+    tasks = [(name, n, s, opts) for name in args.effects.split(",") if name for s in range(args.seeds)]
+    tasks += [(None, n, 5000 + s, opts) for s in range(args.fp_seeds)]
     with ProcessPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
         results = list(pool.map(run_one, tasks))
     detection([r for r in results if r["name"] is not None], args.seeds)

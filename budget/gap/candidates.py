@@ -20,6 +20,7 @@ Parameters are SI channel units (see :mod:`budget.imu.noise_model`); θ is the s
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from scipy import ndimage, optimize, stats
@@ -27,6 +28,8 @@ from scipy import ndimage, optimize, stats
 from ..imu.effects import lowpass_gain2, vibration_acov, vibration_psd
 from ..imu.registry import EFFECT_NAMES
 from ..imu.flicker import flicker_bank
+from . import lowfreq
+from . import regression_var as rv
 from . import theory as th
 from .fitting import Candidate, LinearVariance, amp2_start
 from .signatures import overlapping_avar
@@ -41,7 +44,8 @@ class WhiteNoise(LinearVariance):
     def shapes(self, ctx):
         g = ctx.grid
         psd = np.full(g.nperseg // 2 + 1, 2.0) if g.has_psd else None
-        return th.Increment(1.0 / g.tau_s, psd, 2.0 / g.dt_s)
+        low = ctx.low_from_psd(np.full(ctx.low_freq().size, 2.0))
+        return th.Increment(1.0 / g.tau_s, psd, 2.0 / g.dt_s, low=low)
 
 
 class Quantization(LinearVariance):
@@ -54,7 +58,8 @@ class Quantization(LinearVariance):
         g = ctx.grid
         psd = th.psd_quantization(ctx.freq(), g.dt_s) if g.has_psd else None
         var = 6.0 / g.dt_s ** 2
-        return th.Increment(3.0 / g.tau_s ** 2, psd, var, -0.6 * var ** 2)
+        low = ctx.low_from_psd(th.psd_quantization(ctx.low_freq(), g.dt_s))
+        return th.Increment(3.0 / g.tau_s ** 2, psd, var, -0.6 * var ** 2, low=low)
 
 
 class BiasInstability(LinearVariance):
@@ -66,7 +71,11 @@ class BiasInstability(LinearVariance):
         psd = th.psd_flicker(g.nperseg, g.dt_s, g.n_samples, g.m) if g.has_psd else None
         tau, var = flicker_bank(1.0, g.dt_s, g.dt_s * (g.n_samples - 1))
         dvar = float(np.sum(2.0 * var * -np.expm1(-g.dt_s / tau)))
-        return th.Increment(avar, psd, dvar)
+        low = ctx.low_from_psd(sum(v * th.psd_gm(ctx.low_freq(), g.dt_s, t) for t, v in zip(tau, var)))
+        # the slope / temperature-coefficient variance a raised bias instability implies
+        sv = _flicker_slope_var(g.n_samples, g.rate_hz) if g.time_w is not None else 0.0
+        tv = rv.flicker_weight_variance(g.temp_w, g.dt_s, g.n_samples) if g.temp_w is not None else 0.0
+        return th.Increment(avar, psd, dvar, low=low, slope_var=sv, temp_var=tv)
 
 
 class RateRandomWalk(LinearVariance):
@@ -77,7 +86,9 @@ class RateRandomWalk(LinearVariance):
         psd = th.psd_rrw(ctx.freq(), g.dt_s) if g.has_psd else None
         sv = th.random_walk_weight(g.time_w, g.dt_s) if g.time_w is not None else 0.0
         tv = th.random_walk_weight(g.temp_w, g.dt_s) if g.temp_w is not None else 0.0
-        return th.Increment(th.avar_rrw(g.m, g.dt_s), psd, g.dt_s, slope_var=sv, temp_var=tv)
+        low = (lowfreq.random_walk_low(g.n_samples, g.dt_s, g.low_k_max)
+               if g.has_low and ctx.meas.low is not None else None)
+        return th.Increment(th.avar_rrw(g.m, g.dt_s), psd, g.dt_s, slope_var=sv, temp_var=tv, low=low)
 
 
 class RateRamp(Candidate):
@@ -130,8 +141,11 @@ class TemperatureSensitivity(Candidate):
             c = d - d.mean()
             v = float(np.einsum("i,i->", c, c)) / c.size
             cum4 = float(np.mean(c ** 4)) - 3.0 * v * v
+            # deterministic: the coefficients of T itself (the cross term with the noise averages out)
+            low = lowfreq.coefficients_sq(T, g.low_k_max) if g.has_low else None
             ctx.cache[key] = th.Increment(avar, th.psd_of_series(T, g.dt_s, g.nperseg), v, cum4,
-                                          slope=float(np.einsum("i,i->", g.time_w, T)), temp=1.0)
+                                          slope=float(np.einsum("i,i->", g.time_w, T)), temp=1.0,
+                                          low=low)
         return ctx.cache[key]
 
     def starts(self, ctx):
@@ -144,7 +158,7 @@ class TemperatureSensitivity(Candidate):
     def increment(self, theta, ctx):
         u, c = self._unit(ctx), float(theta[0])
         return th.Increment(u.avar * c * c, u.psd * c * c, u.diff_var * c * c, u.diff_cum4 * c ** 4,
-                            slope=u.slope * c, temp=c)
+                            slope=u.slope * c, temp=c, low=None if u.low is None else u.low * c * c)
 
     def params(self, theta, ctx):
         return {"coefficient": float(theta[0])}
@@ -212,10 +226,33 @@ class Sinusoid(Candidate):
         g, f, a2 = ctx.grid, self._f(theta, ctx), math.exp(2.0 * theta[1])
         psd = th.psd_sinusoid(ctx.freq(), g.nperseg, g.dt_s, f) * a2 if g.has_psd else None
         var = 2.0 * a2 * math.sin(math.pi * f * g.dt_s) ** 2
-        return th.Increment(th.avar_sinusoid(g.m, g.dt_s, f) * a2, psd, var, -1.5 * var * var)
+        low = None
+        if g.has_low and ctx.meas.low is not None:
+            key = ("sin_low", f)
+            if key not in ctx.cache:  # exact (the record's leakage falls only as 1/Δk²)
+                ctx.cache[key] = lowfreq.sinusoid_low(g.n_samples, g.dt_s, g.low_k_max, f)
+            low = ctx.cache[key] * a2
+        return th.Increment(th.avar_sinusoid(g.m, g.dt_s, f) * a2, psd, var, -1.5 * var * var, low=low)
 
     def params(self, theta, ctx):
         return {"frequency_hz": self._f(theta, ctx), "amplitude": math.exp(theta[1])}
+
+
+def _time_weights(n_samples: int, rate_hz: float) -> np.ndarray:
+    t = np.arange(n_samples) / rate_hz
+    tc = t - t.mean()
+    return tc / np.dot(tc, tc)  # the slope statistic's weights (SignatureGrid.time_w)
+
+
+@lru_cache(maxsize=4)
+def _flicker_slope_var(n_samples: int, rate_hz: float) -> float:
+    return rv.flicker_weight_variance(_time_weights(n_samples, rate_hz), 1.0 / rate_hz, n_samples)
+
+
+@lru_cache(maxsize=4)
+def _gm_slope_table(n_samples: int, rate_hz: float) -> rv.GaussMarkovTable:
+    dt = 1.0 / rate_hz
+    return rv.GaussMarkovTable(_time_weights(n_samples, rate_hz), dt, 2.0 * dt, 0.5 * n_samples * dt)
 
 
 class GaussMarkov(Candidate):
@@ -241,7 +278,16 @@ class GaussMarkov(Candidate):
         g, tau, s2 = ctx.grid, self._tau(theta, ctx), math.exp(2.0 * theta[1])
         psd = th.psd_gm(ctx.freq(), g.dt_s, tau) * s2 if g.has_psd else None
         dvar = 2.0 * s2 * -math.expm1(-g.dt_s / tau)
-        return th.Increment(th.avar_gm(g.m, g.dt_s, tau)[0] * s2, psd, dvar)
+        low = ctx.low_from_psd(th.psd_gm(ctx.low_freq(), g.dt_s, tau) * s2)
+        sv = s2 * _gm_slope_table(g.n_samples, g.rate_hz)(tau) if g.time_w is not None else 0.0
+        tv = 0.0
+        if g.temp_w is not None:
+            if "gm_temp" not in ctx.cache:
+                ctx.cache["gm_temp"] = rv.GaussMarkovTable(g.temp_w, g.dt_s, 2.0 * g.dt_s,
+                                                           0.5 * g.n_samples * g.dt_s)
+            tv = s2 * ctx.cache["gm_temp"](tau)
+        return th.Increment(th.avar_gm(g.m, g.dt_s, tau)[0] * s2, psd, dvar, low=low,
+                            slope_var=sv, temp_var=tv)
 
     def params(self, theta, ctx):
         return {"tau_s": self._tau(theta, ctx), "sigma": math.exp(theta[1])}
@@ -281,8 +327,9 @@ class Outliers(Candidate):
         p, mag = self._pm(theta, ctx)
         v = p * mag * mag
         psd = np.full(g.nperseg // 2 + 1, 2.0 * v * g.dt_s)
+        low = ctx.low_from_psd(np.full(ctx.low_freq().size, 2.0 * v * g.dt_s))
         return th.Increment(v * g.dt_s / g.tau_s, psd, 2.0 * v, 2.0 * p * mag ** 4 - 6.0 * p * p * mag ** 4,
-                            outliers=(p, mag))
+                            outliers=(p, mag), low=low)
 
     def params(self, theta, ctx):
         p, mag = self._pm(theta, ctx)
@@ -317,8 +364,11 @@ class Lowpass(Candidate):
     def increment(self, theta, ctx):
         g, f = ctx.grid, ctx.freq()
         dpsd = ctx.model.psd * (lowpass_gain2(f, self._fc(theta, ctx), g.dt_s) - 1.0)
+        low = None
+        if g.has_low and ctx.model.low is not None:
+            low = ctx.model.low * (lowpass_gain2(ctx.low_freq(), self._fc(theta, ctx), g.dt_s) - 1.0)
         return th.Increment(th.avar_from_psd(dpsd, f, g.m, g.dt_s), dpsd,
-                            th.diff_var_from_psd(dpsd, f, g.dt_s))
+                            th.diff_var_from_psd(dpsd, f, g.dt_s), low=low)
 
     def params(self, theta, ctx):
         return {"cutoff_hz": self._fc(theta, ctx)}
@@ -412,7 +462,9 @@ class Vibration(Candidate):
         s2 = sigma * sigma
         psd = vibration_psd(ctx.freq(), f0, w, g.dt_s) * s2
         rho1 = float(vibration_acov(np.array([1.0]), f0, w, g.dt_s)[0])
-        return th.Increment(th.avar_vibration(g.m, g.dt_s, f0, w) * s2, psd, 2.0 * s2 * (1.0 - rho1))
+        low = ctx.low_from_psd(vibration_psd(ctx.low_freq(), f0, w, g.dt_s) * s2)
+        return th.Increment(th.avar_vibration(g.m, g.dt_s, f0, w) * s2, psd, 2.0 * s2 * (1.0 - rho1),
+                            low=low)
 
     def params(self, theta, ctx):
         f0, w, sigma = self._p(theta, ctx)
@@ -464,7 +516,8 @@ class HeavyTailed(Candidate):
         p2 = th.student_t_tails(nu, scale, gauss_var, 2.0 * g.tail_k * sig_r)
         tails = (max(p1 * n, 0.0), max(p2 * n, 0.0))
         psd = np.full(g.nperseg // 2 + 1, 2.0 * dens * dens)
-        return th.Increment(dens * dens / g.tau_s, psd, 2.0 * var, cum4, tails=tails)
+        low = ctx.low_from_psd(np.full(ctx.low_freq().size, 2.0 * dens * dens))
+        return th.Increment(dens * dens / g.tau_s, psd, 2.0 * var, cum4, tails=tails, low=low)
 
     def params(self, theta, ctx):
         dens, nu = self._p(theta)

@@ -27,7 +27,7 @@ from .inputs import check_compatible, load_measured, load_model
 from .metric import NullModel
 from .report import GapReport
 from .signatures import SignatureGrid, series_signature
-from .workflow import DEFAULT_REALIZATIONS, _state, _with_rate, run_gap
+from .workflow import DEFAULT_REALIZATIONS, _state, _whitened, _with_rate, run_gap
 
 
 @dataclass
@@ -109,13 +109,16 @@ def cross_validate(fit_measured, test_measured, model, *, seed: int = 0,
     chans, _ = check_compatible(meas, base, from_catalog, channels, False)
     base = _with_rate(base, meas.rate_hz)
     fitted = _with_rate(fit.updated_model, meas.rate_hz)
-    grid = SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c)
+    grid = SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c,
+                                 bool(gap_kw.get("low_frequency", False)))
     sig = {ch: series_signature(meas.series[ch], grid, lattice=True) for ch in chans}
     mean = {ch: float(np.mean(meas.series[ch])) for ch in chans}
     test_seed = seed + 1  # other random streams than the fit's
 
+    grids = {ch: grid for ch in chans}
+
     def evaluate(m: NoiseModel, only=None) -> dict:
-        return {ch: _state(m, ch, grid, sig[ch], mean[ch], realizations, test_seed)
+        return {ch: _state(m, ch, grids[ch], sig[ch], mean[ch], realizations, test_seed)
                 for ch in (only or chans)}
 
     def table(states: dict) -> dict[str, ChannelTest]:
@@ -128,7 +131,12 @@ def cross_validate(fit_measured, test_measured, model, *, seed: int = 0,
                                   not band.beyond(ch, sz))
         return out
 
-    base_states, fitted_states = evaluate(base), evaluate(fitted)
+    base_states = evaluate(base)
+    if gap_kw.get("decorrelate", False):
+        # the test log's metric: its spectral terms decorrelated on the base model's realizations
+        base_states = _whitened(base_states)
+    grids = {ch: st.grid for ch, st in base_states.items()}
+    fitted_states = evaluate(fitted)
     null = NullModel.fit({ch: (s.loo, s.layout) for ch, s in base_states.items()}, alpha)
     # forward selection on the test log, in the order the effects were named: an effect is
     # kept when it improves the test log given the effects kept before it (so one that does

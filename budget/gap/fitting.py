@@ -18,6 +18,7 @@ import numpy as np
 from scipy import optimize
 
 from ..imu import Effect
+from . import lowfreq
 from . import theory as th
 from .effect_size import db_terms, kurtosis_size
 from .metric import ModelSummary, adev_variance, gap_terms
@@ -55,6 +56,17 @@ class FitContext:
         if "freq" not in self.cache:
             self.cache["freq"] = self.grid.freq_hz
         return self.cache["freq"]
+
+    def low_freq(self) -> np.ndarray:
+        """f_k of the low-frequency coefficients (Hz; empty without them)."""
+        if "low_freq" not in self.cache:
+            self.cache["low_freq"] = self.grid.low_freq_hz
+        return self.cache["low_freq"]
+
+    def low_from_psd(self, psd: np.ndarray) -> np.ndarray | None:
+        """ΔE c_k² of a stationary term whose one-sided PSD at :meth:`low_freq` is ``psd``
+        (``None`` when the channel has no low-frequency coefficients)."""
+        return lowfreq.from_psd(psd, self.dt) if self.grid.has_low and self.meas.low is not None else None
 
     def adev_residual(self) -> tuple[np.ndarray, np.ndarray]:
         """Allan-variance residual (measured − model) and its least-squares weights."""
@@ -169,15 +181,36 @@ class LinearVariance(Candidate):
         a2 = amp2_start(ctx, unit.avar)
         if a2 <= 0 and unit.psd is not None:
             a2 = psd_amp2_start(ctx, unit.psd)
-        return [np.array([0.5 * math.log(a2)])] if a2 > 0 else []
+        out = [np.array([0.5 * math.log(a2)])] if a2 > 0 else []
+        # a second start from the low-frequency bands, where a slow term may show more clearly
+        # than in the last few Allan τ (2–5 degrees of freedom)
+        b2 = low_amp2_start(ctx, unit.low) if unit.low is not None else 0.0
+        if b2 > 0 and (a2 <= 0 or abs(math.log(b2 / a2)) > 0.5):
+            out.append(np.array([0.5 * math.log(b2)]))
+        return out
 
     def increment(self, theta, ctx):
         u, a2 = self._unit(ctx), math.exp(2.0 * theta[0])
         return th.Increment(u.avar * a2, None if u.psd is None else u.psd * a2, u.diff_var * a2,
-                            u.diff_cum4 * a2 * a2, slope_var=u.slope_var * a2, temp_var=u.temp_var * a2)
+                            u.diff_cum4 * a2 * a2, slope_var=u.slope_var * a2, temp_var=u.temp_var * a2,
+                            low=None if u.low is None else u.low * a2)
 
     def params(self, theta, ctx):
         return {self.param: math.exp(theta[0])}
+
+
+def low_amp2_start(ctx: FitContext, unit_low: np.ndarray) -> float:
+    """Amplitude² of a unit low-frequency shape from the band residual measured − model,
+    weighted least squares with the weights of the band means' variance (∝ model²/n)."""
+    if ctx.meas.low is None or ctx.model.low is None:
+        return 0.0
+    st, n = ctx.grid.low_starts, ctx.grid.low_counts
+    mod = lowfreq.band_means(ctx.model.low, st)
+    resid = lowfreq.band_means(ctx.meas.low, st) - mod
+    shape = lowfreq.band_means(unit_low, st)
+    w = n / mod ** 2
+    den = float(np.sum(w * shape ** 2))
+    return float(np.sum(w * shape * resid) / den) if den > 0 else 0.0
 
 
 def psd_amp2_start(ctx: FitContext, unit_psd: np.ndarray) -> float:

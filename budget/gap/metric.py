@@ -17,9 +17,14 @@ with the mean over the realizations through a standardized difference z:
 * tail count: Freeman–Tukey z = (√c + √(c+1) − √(4μ+1)) / √(D(1 + 1/S)) for a Poisson count c
   of mean μ (dispersion D ≥ 1 from the realizations);
 * time slope and temperature coefficient: Student t with S − 1 degrees of freedom from the
-  realizations' scatter, mapped to a normal score.
+  realizations' scatter, mapped to a normal score;
+* low-frequency bands (below the first Welch band; when the grid has them): mean c̄² of the
+  detrended record's DCT coefficients in octave bands, z = normal score of c̄²_meas/c̄²_model under F(n, S·n)
+  (:mod:`budget.gap.lowfreq`).
 
-**Gap** of a channel = mean of z² over its K terms (≈ 1 when the log follows the model);
+**Gap** of a channel = mean of z² over its K terms (≈ 1 when the log follows the model), the
+spectral terms (ADEV, PSD bands, low-frequency bands) taken decorrelated when the workflow has
+fitted a whitening (:mod:`budget.gap.whitening`);
 overall gap = mean of the channel gaps. **Null distribution**: each realization in turn is
 treated as the measurement and compared with the other S − 1 (leave one out); the covariance C
 of those z vectors (pooled over channels, eigenvalues de-biased) makes the gap a weighted
@@ -38,12 +43,14 @@ import numpy as np
 from scipy import special, stats
 
 from ..noise.allan import edf_simple, noise_type_from_slope
+from . import lowfreq
 from .signatures import Signature, SignatureGrid, band_counts, band_means
 from .theory import Increment
 
 #: Relative variance of one Welch bin (50 % overlap, Hann) per segment.
 WELCH_VAR = 1.056
-KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "tails2", "slope", "temperature")
+KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "tails2", "slope", "temperature",
+         "psd_low")
 
 
 @dataclass(frozen=True)
@@ -66,6 +73,10 @@ class ModelSummary:
     slope_var: float = 0.0
     temp_coef: float | None = None
     temp_var: float = 0.0
+    #: E c_k² of the low-frequency coefficients (unit²): the realizations' mean plus predicted
+    #: increments; ``low_sim``: the realizations' part alone (its scatter sets the F score)
+    low: np.ndarray | None = None
+    low_sim: np.ndarray | None = None
 
     @classmethod
     def from_signatures(cls, sigs: list[Signature]) -> "ModelSummary":
@@ -90,6 +101,9 @@ class ModelSummary:
             if sigs[0].temp_coef is not None:
                 t = np.array([s.temp_coef for s in sigs])
                 kw.update(temp_coef=float(t.mean()), temp_var=float(t.var(ddof=1)) if S > 1 else 0.0)
+            if sigs[0].low is not None:
+                low = np.mean([s.low for s in sigs], axis=0)
+                kw.update(low=low, low_sim=low)
         return cls(**kw)
 
     def predict(self, inc: Increment, grid: SignatureGrid) -> "ModelSummary":
@@ -113,6 +127,8 @@ class ModelSummary:
                 kw["tails2"] = _tails_with_outliers(self, inc.outliers, grid, 2.0, self.tails2)
             if inc.tails is not None:
                 kw["tails"], kw["tails2"] = inc.tails
+            if self.low is not None and inc.low is not None:
+                kw["low"] = self.low + inc.low
         return replace(self, **kw)
 
 
@@ -138,10 +154,17 @@ class GapTerms:
     where: list[str]           # "τ = 0.64 s", "1.56–3.12 Hz", "19.9 Hz", ""
     locus: np.ndarray          # τ (s) for adev, band centre / line frequency (Hz), nan otherwise
     line_hz: float | None = None
+    #: z with the spectral block decorrelated (:mod:`budget.gap.whitening`), what Σz² sums;
+    #: ``None``: the z themselves
+    zw: np.ndarray | None = None
+
+    @property
+    def objective_z(self) -> np.ndarray:
+        return self.z if self.zw is None else self.zw
 
     @property
     def sum_sq(self) -> float:
-        return float(np.sum(self.z ** 2))
+        return float(np.sum(self.objective_z ** 2))
 
     @property
     def n_terms(self) -> int:
@@ -153,7 +176,8 @@ class GapTerms:
 
     def share(self) -> dict[str, float]:
         """Contribution of each statistic kind to the gap (sums to the gap)."""
-        return {k: float(np.sum(self.z[self.kind == k] ** 2) / self.n_terms)
+        zo = self.objective_z
+        return {k: float(np.sum(zo[self.kind == k] ** 2) / self.n_terms)
                 for k in KINDS if np.any(self.kind == k)}
 
 
@@ -221,7 +245,18 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
             kinds.append("temperature")
             where.append("regression on temp_c")
             locus.append(np.array([np.nan]))
-    return GapTerms(np.concatenate(z), np.array(kinds), where, np.concatenate(locus), line_hz)
+        if meas.low is not None and model.low is not None and grid.has_low:
+            st, counts = grid.low_starts, grid.low_counts
+            zl = lowfreq.band_z(lowfreq.band_means(meas.low, st), lowfreq.band_means(model.low, st),
+                                lowfreq.band_means(model.low_sim, st), counts, S)
+            edges = grid.low_band_edges_hz
+            z.append(zl)
+            kinds += ["psd_low"] * zl.size
+            where += [f"{1e3 * a:.3g}–{1e3 * b:.3g} mHz" for a, b in zip(edges[:-1], edges[1:])]
+            locus.append(np.sqrt(edges[:-1] * edges[1:]))
+    z = np.concatenate(z)
+    zw = grid.whitening.apply(z) if grid.whitening is not None else None
+    return GapTerms(z, np.array(kinds), where, np.concatenate(locus), line_hz, zw)
 
 
 def _line_z(p_meas: np.ndarray, p_model: np.ndarray, grid: SignatureGrid, S: int) -> tuple[float, float]:
@@ -343,6 +378,7 @@ class NullModel:
 
 
 def loo_z(sigs: list[Signature], grid: SignatureGrid) -> np.ndarray:
-    """Leave-one-out z vectors (S, K): each realization against the summary of the others."""
-    return np.array([gap_terms(s, ModelSummary.from_signatures(sigs[:i] + sigs[i + 1:]), grid).z
+    """Leave-one-out z vectors (S, K): each realization against the summary of the others, in
+    the metric of the gap (decorrelated when the grid carries a whitening)."""
+    return np.array([gap_terms(s, ModelSummary.from_signatures(sigs[:i] + sigs[i + 1:]), grid).objective_z
                      for i, s in enumerate(sigs)])

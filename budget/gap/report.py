@@ -33,8 +33,11 @@ LOCAL_Z = 3.0
 GAP_DEFINITION = (
     "per channel: gap = mean of z^2 over its statistics (ADEV at octave tau, PSD octave bands, "
     "largest PSD line, kurtosis and tail count of first differences, time slope, temperature "
-    "coefficient), z = standardized difference between the measured value and the mean of S "
-    "simulated realizations of the model (≈ N(0,1) when the log follows the model); overall gap "
+    "coefficient; with low_frequency also the low-frequency bands of the detrended record's DCT "
+    "below the first PSD band), z = standardized difference between the measured value and the "
+    "mean of S simulated realizations of the model (≈ N(0,1) when the log follows the model); "
+    "with decorrelate the spectral terms (ADEV, PSD bands, low-frequency bands) are summed as "
+    "innovations under the model's own leave-one-out covariance, shrunk toward its diagonal; overall gap "
     "= mean of the channel gaps. Null: leave-one-out gaps of the realizations fitted by a·chi2_nu; "
     "within noise = below the 1 - alpha/n_channels quantile (channel) or the 1 - alpha quantile "
     "of the mean (overall).")
@@ -217,7 +220,8 @@ class GapReport:
                       "samples": self.n_samples,
                       "signatures": "adev" if self.kind == "adev_table" else
                       "adev, psd_band, psd_line, kurtosis, tails, slope"
-                      + (", temperature" if any(c.measured.temp_coef is not None for c in self.channels.values()) else "")},
+                      + (", temperature" if any(c.measured.temp_coef is not None for c in self.channels.values()) else "")
+                      + (", psd_low" if any(c.measured.low is not None for c in self.channels.values()) else "")},
             "model": self.model_label, "seed": self.seed, "realizations": self.realizations,
             "alpha": self.alpha, "gap_definition": GAP_DEFINITION,
             "null_before": self.null_before.to_dict(), "null_after": self.null_after.to_dict(),

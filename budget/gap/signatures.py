@@ -24,7 +24,10 @@ x_k (rad/s or m/s²) at ``rate_hz``:
   tested on the first ``LATTICE_SAMPLES`` differences, |d/δ − round(d/δ)| < 0.02 for 99.9 %;
 * ``temp_coef``: least-squares coefficient of x on the temperature channel in a regression
   with intercept and linear time trend (unit/°C), when the log has one (a temperature that
-  only rises linearly cannot be told from a rate ramp, and is not used).
+  only rises linearly cannot be told from a rate ramp, and is not used);
+* ``low`` (grids built with ``low_frequency``): c_k² of the detrended record's DCT-II
+  coefficients below the first Welch band (unit², :mod:`budget.gap.lowfreq`): periods from
+  ≈ 40 s to the record.
 
 A measured Allan-deviation table gives only ``avar`` (with its own EDF): the other fields are
 ``None`` and the comparison uses the ADEV signature alone.
@@ -41,6 +44,8 @@ from scipy import stats
 from ..errors import InputError
 from ..noise import welch_psd
 from ..noise.allan import AllanResult, overlapping_avar
+from . import lowfreq
+from .whitening import Whitening
 
 #: Fewest samples the workflow accepts (≥ 10 octave τ and a 256-point Welch segment).
 MIN_SAMPLES = 4096
@@ -62,7 +67,11 @@ class SignatureGrid:
     ``m``: averaging factors (τ = m/rate); ``nperseg``/``n_segments``: Welch layout (``None``/0
     for an Allan table); ``band_start``: first Welch bin of each octave band, the last band
     ending at ``bin_stop`` (Nyquist excluded); ``tail_k``: k_N; ``time_w``/``temp_w``:
-    regression weights so that slope = time_w·x and coefficient = temp_w·x.
+    regression weights so that slope = time_w·x and coefficient = temp_w·x; ``low_k_max``: last
+    DCT index of the low-frequency coefficients (0: none), ``low_starts``: where their octave
+    bands start (:mod:`budget.gap.lowfreq`); ``whitening``: the metric's decorrelation of the
+    spectral terms, set by the workflow once it has the model's realizations
+    (:mod:`budget.gap.whitening`; ``None``: plain Σz²).
     """
 
     rate_hz: float
@@ -76,6 +85,9 @@ class SignatureGrid:
     time_w: np.ndarray | None = None
     temp_w: np.ndarray | None = None
     temp_c: np.ndarray | None = None
+    low_k_max: int = 0
+    low_starts: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    whitening: Whitening | None = None
 
     @property
     def dt_s(self) -> float:
@@ -94,6 +106,25 @@ class SignatureGrid:
         return np.fft.rfftfreq(self.nperseg, self.dt_s) if self.nperseg else np.zeros(0)
 
     @property
+    def has_low(self) -> bool:
+        return self.low_k_max >= lowfreq.FIRST_K
+
+    @property
+    def low_freq_hz(self) -> np.ndarray:
+        """f_k of the low-frequency coefficients, Hz."""
+        return lowfreq.frequencies(self.n_samples, self.dt_s, self.low_k_max) if self.has_low else np.zeros(0)
+
+    @property
+    def low_counts(self) -> np.ndarray:
+        return np.diff(np.append(self.low_starts, self.low_k_max + 1 - lowfreq.FIRST_K))
+
+    @property
+    def low_band_edges_hz(self) -> np.ndarray:
+        """Lower edges of the low-frequency bands and the upper edge of the last one, Hz."""
+        k = np.append(self.low_starts + lowfreq.FIRST_K, self.low_k_max + 1)
+        return (k - 0.5) / (2.0 * self.n_samples * self.dt_s)
+
+    @property
     def band_edges_hz(self) -> np.ndarray:
         """Lower edges of the bands and the upper edge of the last one, Hz."""
         if not self.nperseg:
@@ -101,7 +132,10 @@ class SignatureGrid:
         return np.append(self.band_start, self.bin_stop) * self.rate_hz / self.nperseg
 
     @classmethod
-    def for_log(cls, n_samples: int, rate_hz: float, temp_c: np.ndarray | None = None) -> "SignatureGrid":
+    def for_log(cls, n_samples: int, rate_hz: float, temp_c: np.ndarray | None = None,
+                low_frequency: bool = False) -> "SignatureGrid":
+        """The grid of a log; ``low_frequency``: also the low-frequency bands
+        (:mod:`budget.gap.lowfreq`)."""
         if n_samples < MIN_SAMPLES:
             raise InputError(f"log too short: {n_samples} samples", field="samples",
                              expected=f"at least {MIN_SAMPLES} samples (≥ 10 octave τ and a Welch "
@@ -128,9 +162,12 @@ class SignatureGrid:
             dT = dT - _dot(time_w, dT) * tc
             ss = _dot(dT, dT)
             temp_w = dT / ss if ss > 1e-12 * temp.size else None
+        k_max = (lowfreq.low_k_max(n_samples, FIRST_BIN * rate_hz / nperseg, 1.0 / rate_hz)
+                 if low_frequency else 0)
         return cls(float(rate_hz), int(n_samples), m.astype(np.int64), nperseg, n_seg,
                    np.array(starts, dtype=np.int64), stop, tail_k, time_w, temp_w,
-                   None if temp_c is None else np.asarray(temp_c, float))
+                   None if temp_c is None else np.asarray(temp_c, float), k_max,
+                   lowfreq.band_starts(k_max))
 
     @classmethod
     def for_table(cls, allan: AllanResult) -> "SignatureGrid":
@@ -158,6 +195,7 @@ class Signature:
     temp_coef: float | None = None
     edf: np.ndarray | None = None  # measured tables only: EDF behind the published interval
     lattice: float | None = None
+    low: np.ndarray | None = None
 
 
 def series_signature(x: np.ndarray, grid: SignatureGrid, *, lattice: bool = False) -> Signature:
@@ -186,9 +224,10 @@ def series_signature(x: np.ndarray, grid: SignatureGrid, *, lattice: bool = Fals
     mag = float(np.median(0.5 * np.abs(d[:-1][spikes] - d[1:][spikes]))) if n_sp else 0.0
     slope = _dot(grid.time_w, x)
     temp = _dot(grid.temp_w, x) if grid.temp_w is not None else None
+    low = lowfreq.coefficients_sq(x, grid.low_k_max) if grid.has_low else None
     return Signature(avar, psd, kurt, m2, sigma_r, tails, int(np.count_nonzero(dev > 2.0 * limit)),
                      n_sp, mag, float(dev.max()), slope, temp,
-                     lattice=lattice_step(d) if lattice else None)
+                     lattice=lattice_step(d) if lattice else None, low=low)
 
 
 def lattice_step(d: np.ndarray) -> float | None:

@@ -29,6 +29,15 @@ approximately), so its *expected* contribution adds to the model's signatures:
   and fourth cumulant — white 2N²/dt, 0; quantization 6Q²/dt², −0.6·var²; AR(1) 2σ²(1−φ), 0;
   random walk K²dt, 0; sinusoid 2A² sin²(πf·dt), −1.5·var²; outliers 2pM², 2pM⁴ − 6p²M⁴.
 
+* Low-frequency coefficients (:mod:`budget.gap.lowfreq`, DCT of the detrended record below the
+  first Welch band): a stationary term adds S(f_k)/(2·dt) to E c_k² (with the PSDs above,
+  evaluated at f_k = k/(2N·dt)); the random walk exactly (tail sums in closed form); a tone
+  exactly (its detrended cosine and sine); the ramp nothing (the line is removed); the
+  temperature series its own c_k²·c²; the output filter S_model·(|H(f_k)|² − 1).
+
+* Regression statistics (time slope, temperature coefficient): the variance a random walk,
+  a Gauss–Markov term or the bias-instability bank adds (:mod:`budget.gap.regression_var`).
+
 * ``lowpass`` (first-order output filter, |H(f)|² in :func:`budget.imu.effects.lowpass_gain2`)
   is not additive: it multiplies the model's PSD, ΔS = S_model·(|H|² − 1), and the Allan
   variance and difference variance follow from ΔS through their discrete-time kernels
@@ -60,7 +69,8 @@ class Increment:
     ``diff_var``/``diff_cum4``: variance and fourth cumulant added to first differences;
     ``slope``/``temp``: shift of the time / temperature regression coefficients and
     ``slope_var``/``temp_var`` the variance they add (random walk only; 0 otherwise);
-    ``outliers``: (rate, magnitude) for the tail-count prediction, else ``None``.
+    ``outliers``: (rate, magnitude) for the tail-count prediction, else ``None``; ``low``:
+    ΔE c_k² of the low-frequency coefficients (:mod:`budget.gap.lowfreq`; ``None``: no change).
     """
 
     avar: np.ndarray
@@ -73,6 +83,7 @@ class Increment:
     temp_var: float = 0.0
     outliers: tuple[float, float] | None = None
     tails: tuple[float, float] | None = None   # predicted (tail count, tail2 count), if known
+    low: np.ndarray | None = None
 
 
 # --- Allan variance shapes (amplitude 1) --------------------------------------------------
