@@ -49,6 +49,24 @@ def test_highpass_splits_sinusoids_at_the_cutoff():
     assert pga_residual_rms_rad(slow, slow + fast, mask, np.ones(n), 2.5) == pytest.approx(0.98 * 0.02 / math.sqrt(2), rel=0.005)
 
 
+def test_weighted_highpass_ignores_bins_without_signal():
+    """The energy-weighted fit (highpass_phase(..., weight)): uniform weights give the unweighted
+    projector; zero-weight bins holding arbitrary values do not change the result on the others;
+    a bad weight is refused."""
+    n = 200
+    u = np.linspace(-1.0, 1.0, n)
+    x = 3.0 * u ** 2 + 0.4 * np.cos(np.pi * 2 * (np.arange(n) + 0.5) / n) + 0.05 * np.sin(2 * np.pi * 20 * u)
+    assert np.allclose(highpass_phase(x, 2.5, np.ones(n)), highpass_phase(x, 2.5), atol=1e-10)
+    w = np.ones(n)
+    w[:20] = 0.0
+    y = x.copy()
+    y[:20] = np.random.default_rng(0).normal(0.0, 50.0, 20)  # junk where there is no signal
+    assert np.allclose(highpass_phase(y, 2.5, w)[20:], highpass_phase(x, 2.5, w)[20:], atol=1e-10)
+    for bad in (np.zeros(n), -np.ones(n), np.full(n, np.nan), np.ones(n - 1)):
+        with pytest.raises(ValueError):
+            highpass_phase(x, 2.5, bad)
+
+
 def test_bandwidth_from_the_window():
     # 8 samples of 462, 313 inside the aperture: 8·313/(2·462) = 2.71 cycles
     assert pga_bandwidth_cycles(8, 462, 313) == pytest.approx(2.7100, rel=1e-4)
