@@ -1,4 +1,4 @@
-"""Benchmark: validating a 50 MB parts catalog (issue 18: was 74 s and 1.1 GB of memory).
+"""Benchmark: validating a 50 MB parts catalog (formerly 74 s and 1.1 GB of memory).
 
 Writes two valid 50 MB catalogs to a temporary folder — (a) the shipped rows repeated with
 new ids (long quoted source/notes cells, ~80 k rows) and (b) compact rows (7 columns, ~750 k

@@ -7,7 +7,7 @@ DIR holds the AFRL .mat files (default: the shared data beside the repository).
 
 Printed: reading time; backprojection wall and CPU time on 1 and 2 threads (100 m × 100 m at
 0.25 m, 401 × 401 pixels, 469 pulses = 75 M pixel-pulses; Taylor −35 dB windows); PGA time on that
-image; then the injected-error check of issue 16 (4 u² + 2 u³ + 1.5 sin(1.5πu) rad multiplied into
+image; then the injected-error check (4 u² + 2 u³ + 1.5 sin(1.5πu) rad multiplied into
 the phase history; recovery = estimate(injected) − estimate(original), rms beyond linear over the
 pulses) and each PGA's rms difference from the recorded autofocus solution, for this project's
 PGA and for fastsar's ``autofocus.pga`` run on the same deramped images.

@@ -1,6 +1,6 @@
 """Benchmark: the motion-error engine on 10,000 trials of a 4 s aperture at 200 Hz (801 samples).
 
-Target (issue 3): 10,000 trials × 800 samples propagated in under 2 s on the 2-core machine.
+Target: 10,000 trials × 800 samples propagated in under 2 s on the 2-core machine.
 Prints trial-samples per second and wall/CPU seconds (best of ``REPEATS``) for
 
 1. strapdown error propagation alone (errors given, with lever arm);

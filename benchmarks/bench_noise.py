@@ -1,6 +1,6 @@
 """Benchmark of the noise lab against its peers, in one run.
 
-Targets (issue 6):
+Targets:
 * five-model ARMA selection on 10⁵ samples ≥ 100× faster than a statsmodels
   ``ARIMA(...).fit()`` sweep, parameters within 2 %;
 * overlapping Allan deviation of 10⁷ samples no slower than ``allantools.oadev``;

@@ -22,6 +22,14 @@ history by this script's own code; nothing here calls the simulator):
 Residual (method-agnostic): the phase of Σ_r G_out(k, r) G_ref*(k, r) over the bins that hold
 signal, constant and linear terms removed (a shift), rms in rad: the phase error each corrected
 image still carries relative to the reference, whatever convention the autofocus uses.
+
+On the real chips the reference is the provider's focus, which is not a fixed point of either
+autofocus: run on the unmodified chip, each PGA moves it (printed as "on ref"). The residual
+against the reference then measures mostly that disagreement, so two reference-free figures are
+printed beside it: *consistency*, the residual between a method's output with the injected error
+and its own output without it (how much of the injected error it fails to absorb, whatever it
+thinks of the reference), and the *sharpness gain* Σ|g|⁴/(Σ|g|²)² of its output over the
+reference's (Fienup & Miller, JOSA A 20(4), 2003: a focus measure that needs no reference).
 Times: median of --repeat runs after one warm-up, in one process each, on the same machine; wall
 clock (time.perf_counter) and CPU seconds (time.process_time) — fastsar runs first, then ours, so
 on a shared machine the two may meet different loads: the CPU ratio is the steadier one.
@@ -189,6 +197,12 @@ def run_fastsar(py: Path, images: list[np.ndarray], repeat: int) -> list[tuple[n
         return [(np.load(dst).astype(complex), inf) for (_, dst), inf in zip(pairs, info)]
 
 
+def sharpness(img: np.ndarray) -> float:
+    """Σ|g|⁴ / (Σ|g|²)²: larger is sharper (independent of the image's scale)."""
+    p = img.real ** 2 + img.imag ** 2
+    return float(np.sum(p ** 2) / np.sum(p) ** 2)
+
+
 def run_ours(img: np.ndarray, repeat: int, **kw):
     """(result, median wall time s, median CPU time s) of ``repeat`` runs after one warm-up."""
     res = pga(img, **kw)
@@ -256,7 +270,12 @@ def main() -> int:
             cases.append(("gotcha", label, *chip_case(chip, 100 + i)))
     else:
         print(f"Gotcha chips: skipped (no AFRL files in {args.gotcha})")
-    fs = run_fastsar(Path(args.fastsar_python), [c[2] for c in cases], args.repeat)
+    refs = [i for i, c in enumerate(cases) if c[0] == "gotcha"]  # the unmodified chips, too
+    fs = run_fastsar(Path(args.fastsar_python), [c[2] for c in cases] + [cases[i][3] for i in refs], args.repeat)
+    fs_ref = {}
+    if not isinstance(fs, str):
+        fs_ref = dict(zip(refs, fs[len(cases):]))
+        fs = fs[:len(cases)]
     if isinstance(fs, str):
         print("fastsar:", fs)
     hdr = (f"{'case':44s} {'before':>6s} | {'ours rad':>8s} {'ms':>7s} {'outcome':12s} | {'fastsar rad':>11s} {'ms':>7s} | "
@@ -264,6 +283,7 @@ def main() -> int:
     print(hdr)
     print("-" * len(hdr))
     summary: dict[str, list] = {}
+    chips_extra: list[tuple] = []
     for i, (group, label, bad, ref, sup) in enumerate(cases):
         res, t_ours, c_ours = run_ours(bad, args.repeat)
         r_ours = residual_rad(res.image, ref, sup)
@@ -275,12 +295,28 @@ def main() -> int:
             line += f" {r_fs:11.3f} {1e3 * inf['time_s']:7.1f} | {inf['time_s'] / t_ours:7.1f}× {inf['cpu_s'] / c_ours:5.1f}×"
             summary.setdefault(group, []).append((r_ours, r_fs, inf["time_s"] / t_ours, inf["cpu_s"] / c_ours))
         print(line)
+        if group == "gotcha" and i in fs_ref:
+            own_ref = pga(ref).image
+            fs_out, fs_on_ref = fs[i][0], fs_ref[i][0]
+            row = (residual_rad(own_ref, ref, sup), residual_rad(fs_on_ref, ref, sup),
+                   residual_rad(res.image, own_ref, sup), residual_rad(fs_out, fs_on_ref, sup),
+                   sharpness(res.image) / sharpness(ref), sharpness(fs_out) / sharpness(ref))
+            chips_extra.append(row)
+            print(f"{'':44s} on ref: ours {row[0]:.3f} fastsar {row[1]:.3f} | consistency: ours {row[2]:.3f} "
+                  f"fastsar {row[3]:.3f} | sharpness gain: ours {row[4]:.3f} fastsar {row[5]:.3f}")
     for group, rows in summary.items():
         a = np.array(rows)
         print(f"{group}: ours no worse than fastsar in {int(np.sum(a[:, 0] <= a[:, 1]))}/{len(a)}; median residual "
               f"ours {np.median(a[:, 0]):.3f} rad vs fastsar {np.median(a[:, 1]):.3f} rad; "
               f"median speed-up {np.median(a[:, 2]):.1f}× (min {a[:, 2].min():.1f}×) wall, "
               f"{np.median(a[:, 3]):.1f}× (min {a[:, 3].min():.1f}×) CPU")
+    if chips_extra:
+        e = np.array(chips_extra)
+        print(f"gotcha, reference-free: PGA on the unmodified chip moves it by (median) ours {np.median(e[:, 0]):.3f}, "
+              f"fastsar {np.median(e[:, 1]):.3f} rad; consistency ours {np.median(e[:, 2]):.3f} vs fastsar "
+              f"{np.median(e[:, 3]):.3f} rad (ours no worse in {int(np.sum(e[:, 2] <= e[:, 3]))}/{len(e)}); "
+              f"sharpness gain ours {np.median(e[:, 4]):.3f} vs fastsar {np.median(e[:, 5]):.3f} "
+              f"(ours at least as sharp in {int(np.sum(e[:, 4] >= e[:, 5]))}/{len(e)})")
     print(f"load average (1, 5, 15 min): {', '.join(f'{x:.1f}' for x in os.getloadavg())}")
     return 0
 

@@ -1,4 +1,4 @@
-"""The seed-paper cases of issue 9 at reduced size, checked against the papers' stated outcomes.
+"""The seed-paper cases at reduced size, checked against the papers' stated outcomes.
 
 Full-size runs: ``examples/seed00*_*.py``. Thresholds below are the papers' figures (seed 001:
 < 5 cm, < 0.001 m/s, < 1″ per imaging period) or their qualitative claims (seed 002: the

@@ -90,7 +90,7 @@ def test_random_walk_closed_forms():
     v, a = random_walk_constants("vrw"), random_walk_constants("arw")
     assert v["endpoint_std"] == pytest.approx(math.sqrt(1 / 3), rel=2e-3)
     assert a["endpoint_std"] == pytest.approx(math.sqrt(1 / 20), rel=2e-3)
-    # rms left after removing the best-fit line / quadratic (issue 3's figures)
+    # rms left after removing the best-fit line / quadratic (the figures the bounds docstring quotes)
     assert v["resid_rms"][1] == pytest.approx(0.049, abs=0.001)
     assert v["resid_rms"][2] == pytest.approx(0.020, abs=0.001)
     assert a["resid_rms"][1] == pytest.approx(0.024, abs=0.001)

@@ -1,4 +1,4 @@
-"""Fuzz/property suite (issue 18 item 6): every generated input to the catalog CSV, IMU log,
+"""Fuzz/property suite: every generated input to the catalog CSV, IMU log,
 scenario and noise-model readers ends in success or a clear InputError — never another
 exception. Each reader runs a 100-case version in the main test command and a 1,000-case
 version under ``@pytest.mark.slow`` (CI's second step); hypothesis is derandomized, so every

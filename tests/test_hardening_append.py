@@ -1,4 +1,4 @@
-"""Appends to a user catalog (issue 18 item 5): symlinks followed, missing folders refused,
+"""Appends to a user catalog : symlinks followed, missing folders refused,
 temporary files removed, the user's columns, order, units and line endings kept."""
 
 from __future__ import annotations

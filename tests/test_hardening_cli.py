@@ -1,4 +1,4 @@
-"""One error boundary (issue 18 item 1): every failure is one line on stderr with exit status
+"""One error boundary: every failure is one line on stderr with exit status
 2 (bad input) or 1 (environment, unexpected); output paths are checked before the computation;
 --debug / SAR_BUDGET_DEBUG show the traceback of unexpected errors only."""
 

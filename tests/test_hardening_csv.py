@@ -1,4 +1,4 @@
-"""Spreadsheet-formula guard (OWASP CSV injection, issue 18 item 3) on reading and on every
+"""Spreadsheet-formula guard (OWASP CSV injection) on reading and on every
 CSV we write, and terminal-safe printing."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""No silent absurdity (issue 18 item 4): physically impossible scenarios are refused with the
+"""No silent absurdity: physically impossible scenarios are refused with the
 reason; log integrity: absurd samples named with their row, repairs that would keep too little
 refused, a mostly-NaN channel never interpolated into a constant, a misread time unit named."""
 

@@ -1,4 +1,4 @@
-"""Safe readers (issue 18 item 2): compressed inputs opened with a counted size limit and
+"""Safe readers: compressed inputs opened with a counted size limit and
 integrity errors as one-line InputErrors naming the file; JSON/YAML nesting, size, alias and
 integer limits; long values shortened in messages."""
 

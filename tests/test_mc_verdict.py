@@ -4,6 +4,7 @@ import json
 import threading
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from budget.catalog.io import get_part
@@ -11,6 +12,7 @@ from budget.cli.main import main
 from budget.errors import InputError
 from budget.mc import McOptions, run_mc
 from budget.mc.consistency import consistency_table, crossing_scale, single_term_model
+from budget.mc.stats import wilson_interval
 from budget.mc.sweep import cheapest_passing, sweep
 from budget.presets import get_preset
 from budget.scenario import Scenario
@@ -90,6 +92,33 @@ def test_sweep_and_cheapest():
     best = cheapest_passing(df, 0.9)
     assert best.loc[0, "part_id"] == "ADIS16405"  # industrial is the cheaper grade
     assert best.loc[0, "decided_on"] == "ci_after_lo"  # decided on the lower Wilson bound
+
+
+def test_sweep_keeps_going_past_a_scenario_it_cannot_simulate():
+    """The long-range preset needs ≈ 21,700 pulses (Tc 26 s at 836 Hz), beyond the simulator's
+    16,384: its cells are kept, marked "not simulated" with the reason, and the study goes on."""
+    parts = [get_part("STIM300")]
+    df = sweep(parts, [get_preset("airborne_xband_long_range"), get_preset("automotive_24ghz")], 8, 2)
+    assert list(df["status"])[1] == "simulated" and len(df) == 2
+    skipped = df.iloc[0]
+    assert skipped["status"].startswith("not simulated") and "pulses" in skipped["status"]
+    assert skipped["trials"] == 0 and pd.isna(skipped["p_pass_after"])
+    best = cheapest_passing(df, 0.5).set_index("scenario")
+    assert pd.isna(best.loc["airborne_xband_long_range", "part_id"])
+    assert best.loc["airborne_xband_long_range", "basis"].startswith("not simulated")
+
+
+def test_cheapest_passing_says_when_the_study_is_too_small_to_show_the_target():
+    """32 failure-free trials give a lower Wilson bound of 0.893: a 0.9 target cannot be shown,
+    and the basis says so with the number of trials needed (35, from the Wilson bound itself)."""
+    table = pd.DataFrame([{"scenario": "x", "part_id": "A", "grade": "tactical", "price_usd": 1.0,
+                           "trials": 32, "p_pass_after": 1.0, "ci_after_lo": wilson_interval(32, 32)[0]}])
+    basis = cheapest_passing(table, 0.9).loc[0, "basis"]
+    assert "32/32 gives 0.893" in basis and "at least 35 failure-free trials" in basis
+    assert wilson_interval(35, 35)[0] >= 0.9 > wilson_interval(34, 34)[0]
+    for bad in (0.0, 1.5, float("nan")):
+        with pytest.raises(InputError):
+            cheapest_passing(table, bad)
 
 
 def test_bad_inputs():

@@ -174,7 +174,7 @@ def test_focus_command_writes_json_and_png(gotcha, tmp_path, capsys):
 
 @pytest.mark.slow
 def test_pga_recovers_an_injected_error_on_real_clutter(gotcha):
-    """Issue 16 check 5: quadratic 4 rad + cubic 2 rad + 1.5 rad sinusoid (1.5 cycles) multiplied
+    """Injected-error check: quadratic 4 rad + cubic 2 rad + 1.5 rad sinusoid (1.5 cycles) multiplied
     into the real phase history is recovered within 0.2 rad rms beyond linear, as the difference of
     PGA's estimates with and without the injection, and the result is as sharp as the original."""
     ph = read_afrl(gotcha)

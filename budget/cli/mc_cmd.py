@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ..aiding_spec import AidingPlan
 from ..api import load_parts
 from ..catalog.io import load_catalog
@@ -151,6 +153,9 @@ def _check_vs_mc(scen, model, res):
 
 def run_sweep(args) -> int:
     _positive("trials", args.trials)
+    if not 0.0 < args.target <= 1.0:  # before the study, not after it (NaN fails the test too)
+        raise InputError("target probability out of range", field="--target", value=args.target,
+                         expected="0 < target ≤ 1")
     scens = [Scenario.load(p) for p in (args.scenario or [])] + [get_preset(n) for n in (args.preset or [])]
     if not scens:
         raise InputError("no scenario given", field="--scenario/--preset")
@@ -162,5 +167,7 @@ def run_sweep(args) -> int:
                       progress=bar)
     from .output import write_frame_csv  # text cells (scenario names …) spreadsheet-safe
     write_frame_csv(table, args.out)
+    for scen, status in table.loc[table["status"] != "simulated"].groupby("scenario")["status"].first().items():
+        print(f"sar-budget sweep: warning: scenario {scen!r} {status}", file=sys.stderr)
     print(cheapest_passing(table, args.target).to_string(index=False))
     return 0

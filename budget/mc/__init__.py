@@ -1,4 +1,4 @@
-"""Monte Carlo verdict: does autofocus absorb what the IMU leaves? (issue: P(pass) per part and scenario)."""
+"""Monte Carlo verdict: does autofocus absorb what the IMU leaves? (P(pass) per part and scenario)."""
 
 from .chain import REASONS, TRIAL_METRICS, ChainSetup, TrialOutcome, run_chunk
 from .options import McOptions, VERDICT_ACCEPTANCE

@@ -39,7 +39,7 @@ PREFILTERS = ("none", *PREFILTER_KINDS)
 VERDICT_ACCEPTANCE = Acceptance(max_peak_shift_cells=1000.0)
 
 #: Realistic-scene defaults: clutter 25 dB below the strongest target (CTR 25 dB) and SNR 30 dB
-#: per image pixel, the levels issue 13 measured PGA against.
+#: per image pixel, the levels PGA was measured against on clutter (``benchmarks/bench_pga.py``).
 REALISTIC_CLUTTER_DB = -25.0
 REALISTIC_SNR_DB = 30.0
 

@@ -3,6 +3,11 @@
 Each cell runs :func:`~budget.mc.runner.run_mc` with per-trial lists off (streaming aggregation:
 memory does not grow with the number of trials). Same seed for every cell: common random
 numbers make the comparison between parts sharper.
+
+A scenario the simulator cannot sample (e.g. an aperture of more pulses than
+:meth:`budget.sar.SarGeometry.from_scenario` allows) does not stop the study: its cells are
+kept with ``status`` "not simulated: <reason>" and empty probabilities, and
+:func:`cheapest_passing` says so for that scenario. Every other cell has ``status`` "simulated".
 """
 
 from __future__ import annotations
@@ -12,20 +17,37 @@ from collections.abc import Sequence
 import pandas as pd
 
 from ..catalog.schema import GRADE_RANK
+from ..errors import InputError
+from ..sar.geometry import SarGeometry
 from ..scenario import Scenario
 from .options import McOptions
 from .runner import model_label, run_mc
+from .stats import wilson_interval
 
 
 def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int, *,
           options: McOptions | None = None, workers: int = 1, backend: str = "auto", client=None,
           progress=None, cancel=None) -> pd.DataFrame:
-    """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95."""
+    """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
+    and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
+    simulator's sampling limits; module docstring)."""
     options = (options or McOptions()).model_copy(update={"keep_trial_metrics": False})
     rows = []
     total = len(parts) * len(scenarios)
     done = 0
     for scen in scenarios:
+        try:  # the sampling limits, checked once per scenario (cheap: no echoes are formed)
+            SarGeometry.from_scenario(scen, window=options.window_for(scen))
+        except InputError as e:
+            for part in parts:
+                rows.append({"scenario": scen.name, "tc_s": scen.tc_s,
+                             "range_resolution_m": scen.range_resolution_m, "part_id": model_label(part),
+                             "grade": getattr(part, "grade", None), "price_usd": getattr(part, "price_usd", None),
+                             "trials": 0, "status": f"not simulated: {e}"})
+                done += 1
+                if progress:
+                    progress(done, total)
+            continue
         for part in parts:
             if cancel is not None and cancel.is_set():
                 return pd.DataFrame(rows)
@@ -36,7 +58,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
                    "part_id": model_label(part), "grade": getattr(part, "grade", None),
                    "price_usd": getattr(part, "price_usd", None), "trials": r.trials,
                    "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
-                   "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1]}
+                   "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated"}
             row.update({f"fail_{k}": v for k, v in r.agg.failure_reasons().items()})
             for m, q in pct.items():
                 row[f"{m}_p50"], row[f"{m}_p95"] = q["p50"], q["p95"]
@@ -45,6 +67,16 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             if progress:
                 progress(done, total)
     return pd.DataFrame(rows)
+
+
+def trials_needed(target: float) -> int:
+    """Fewest trials whose all-pass outcome has a lower 95 % Wilson bound ≥ ``target`` (< 1)."""
+    if not 0.0 < target < 1.0:
+        raise InputError("target probability must be in (0, 1)", field="target", value=target)
+    n = 1
+    while wilson_interval(n, n)[0] < target:
+        n += 1
+    return n
 
 
 def cheapest_passing(table: pd.DataFrame, target: float = 0.9, *, use_lower_ci: bool = True) -> pd.DataFrame:
@@ -61,13 +93,28 @@ def cheapest_passing(table: pd.DataFrame, target: float = 0.9, *, use_lower_ci: 
     a lower bound of 0.94, so a target of 0.9 needs ≥ 35 failure-free trials.
     ``use_lower_ci=False`` decides on the point estimate p̂ (not advised).
     """
+    if not (isinstance(target, (int, float)) and 0.0 < target <= 1.0):  # NaN fails both comparisons
+        raise InputError("target probability out of range", field="target", value=target,
+                         expected="0 < target ≤ 1 (P(pass after PGA) wanted)")
     col = "ci_after_lo" if use_lower_ci else "p_pass_after"
     out = []
     for scen, g in table.groupby("scenario", sort=False):
-        ok = g[g[col] >= target].copy()
+        ok = g[pd.to_numeric(g[col], errors="coerce") >= target].copy() if col in g else g.iloc[:0].copy()
+        status = g["status"] if "status" in g else pd.Series(["simulated"] * len(g), index=g.index)
+        skipped = status[status != "simulated"]
         if ok.empty:
+            basis = (skipped.iloc[0] if len(skipped) == len(g) else f"no part reaches P(pass) ≥ {target:g}"
+                     + (f" ({len(skipped)} of {len(g)} cells not simulated)" if len(skipped) else ""))
+            trials = pd.to_numeric(g["trials"], errors="coerce").max() if "trials" in g else float("nan")
+            if use_lower_ci and len(skipped) < len(g) and trials > 0:
+                best_lo = wilson_interval(int(trials), int(trials))[0]
+                if best_lo < target:  # the study was too small to show the target at all
+                    basis += (f" on the lower 95 % Wilson bound: with {int(trials)} trials even "
+                              f"{int(trials)}/{int(trials)} gives {best_lo:.3f}; "
+                              + (f"at least {trials_needed(target)} failure-free trials are needed"
+                                 if target < 1.0 else "no finite number of trials shows P = 1"))
             out.append({"scenario": scen, "part_id": None, "grade": None, "price_usd": None,
-                        "p_pass_after": None, "basis": f"no part reaches P(pass) ≥ {target:g}",
+                        "p_pass_after": None, "basis": basis,
                         "cheapest_priced": None, "cheapest_priced_usd": None,
                         "ci_after_lo": None, "decided_on": col})
             continue
