@@ -13,7 +13,7 @@ from budget.errors import InputError
 from budget.mc import McOptions, run_mc
 from budget.mc.consistency import consistency_table, crossing_scale, single_term_model
 from budget.mc.stats import wilson_interval
-from budget.mc.sweep import cheapest_passing, sweep
+from budget.mc.sweep import cheapest_passing, not_simulated, sweep
 from budget.presets import get_preset
 from budget.scenario import Scenario
 
@@ -103,6 +103,7 @@ def test_sweep_keeps_going_past_a_scenario_it_cannot_simulate():
     skipped = df.iloc[0]
     assert skipped["status"].startswith("not simulated") and "pulses" in skipped["status"]
     assert skipped["trials"] == 0 and pd.isna(skipped["p_pass_after"])
+    assert not_simulated(df) == {"airborne_xband_long_range": skipped["status"]}
     best = cheapest_passing(df, 0.5).set_index("scenario")
     assert pd.isna(best.loc["airborne_xband_long_range", "part_id"])
     assert best.loc["airborne_xband_long_range", "basis"].startswith("not simulated")
@@ -148,6 +149,18 @@ def test_cli_mc_json(tmp_path, capsys):
             "residual_phase_rms_deg"} <= set(d["metrics_after"])
     assert all(len(v) == 64 for v in d["metrics_after"].values())
     assert main(["mc", "--scenario", str(path), "--part", "NOPE", "--trials", "8"]) == 2
+
+
+def test_cli_sweep_warns_about_a_scenario_it_cannot_simulate(tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    assert main(["sweep", "--preset", "airborne_xband_long_range", "--part", "STIM300", "--trials", "8",
+                 "--out", str(out), "-q"]) == 0
+    cap = capsys.readouterr()
+    assert "warning: scenario 'airborne_xband_long_range' not simulated" in cap.err and "pulses" in cap.err
+    assert pd.read_csv(out)["status"].str.startswith("not simulated").all()
+    assert main(["sweep", "--preset", "automotive_24ghz", "--part", "STIM300", "--target", "5",
+                 "--out", str(out)]) == 2
+    assert "target" in capsys.readouterr().err
 
 
 def test_dask_backend_matches_serial():

@@ -13,6 +13,7 @@ from budget.api import VARIABLE_FIELDS, sweep_over
 from budget.api import sweep as run_sweep
 from budget.fileio import frame_csv_text, json_text
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS
+from budget.mc.sweep import not_simulated
 from budget.plots.sweep import pass_heatmap_figure, pass_vs_figure
 from budget.presets import PRESETS
 
@@ -84,6 +85,8 @@ def _grid(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
         st.info("Pick parts and scenarios, then press **Run the sweep**.")
         return
     st.markdown(f"<span id='sweep-grid-done'>{len(table)} cells</span>", unsafe_allow_html=True)
+    for name, status in not_simulated(table).items():
+        st.warning(f"**{name}**: {status} (its cells are empty; the analytic check still applies)")
     st.plotly_chart(pass_heatmap_figure(table), key="sw_heatmap", width="stretch")
     st.dataframe(tidy(table), hide_index=True, key="sw_table")
     _downloads(table, "sweep", "sw_grid")
@@ -113,6 +116,8 @@ def _line(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
         return
     f, table = got
     x = "tc_s" if x_tc else f
+    for name, status in not_simulated(table).items():
+        st.warning(f"**{name}**: {status}")
     st.plotly_chart(pass_vs_figure(table, x, x_label="Tc (s)" if x_tc else VARIABLE_FIELDS[f], log_x=True),
                     key="sw_line_plot", width="stretch")
     st.dataframe(tidy(table), hide_index=True, key="sw_line_table")

@@ -11,7 +11,7 @@ from ..errors import InputError
 from ..mc import McOptions, run_mc
 from ..mc.options import (DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS, UNSPECIFIED_DEFAULT, UNSPECIFIED_POLICIES,
                           VERDICT_ACCEPTANCE)
-from ..mc.sweep import cheapest_passing, sweep
+from ..mc.sweep import cheapest_passing, not_simulated, sweep
 from ..noise.prefilter import prefilter_for
 from ..presets import get_preset
 from ..scenario import Scenario
@@ -167,7 +167,7 @@ def run_sweep(args) -> int:
                       progress=bar)
     from .output import write_frame_csv  # text cells (scenario names …) spreadsheet-safe
     write_frame_csv(table, args.out)
-    for scen, status in table.loc[table["status"] != "simulated"].groupby("scenario")["status"].first().items():
+    for scen, status in not_simulated(table).items():
         print(f"sar-budget sweep: warning: scenario {scen!r} {status}", file=sys.stderr)
     print(cheapest_passing(table, args.target).to_string(index=False))
     return 0

@@ -69,6 +69,14 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     return pd.DataFrame(rows)
 
 
+def not_simulated(table: pd.DataFrame) -> dict[str, str]:
+    """Scenario name → reason, for the scenarios of a :func:`sweep` table that were not simulated."""
+    if "status" not in table:
+        return {}
+    skipped = table.loc[table["status"] != "simulated"]
+    return {str(k): str(v) for k, v in skipped.groupby("scenario", sort=False)["status"].first().items()}
+
+
 def trials_needed(target: float) -> int:
     """Fewest trials whose all-pass outcome has a lower 95 % Wilson bound ≥ ``target`` (< 1)."""
     if not 0.0 < target < 1.0:
