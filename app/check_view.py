@@ -21,7 +21,8 @@ PASS_BINDING_BG, FAIL_BINDING_BG = "#74c476", "#fb6a4a"
 
 
 def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
-    """One row per part: part_id, grade, verdict, binding, min margin, a margin per parameter,
+    """One row per part: part_id, grade, verdict, binding, min margin, the PGA-limited verdict and
+    margin (seed 004's bounds tightened by fast phase and lever arm), a margin per parameter,
     unspecified parameters, flag (⚠ where the check's seed 004 verdict and its fast-phase /
     lever-arm verdict differ, ``CheckResult.flag``). Margins are bound/spec (≥ 1 passes); NaN where
     not in the datasheet."""
@@ -31,7 +32,8 @@ def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
     for rec, mm in zip(recs, mins):
         row = {"part_id": rec["part_id"], "grade": rec["grade"], "verdict": rec["verdict"],
                "binding": PARAM_LABELS.get(rec["binding"], rec["binding"]) if rec["binding"] else None,
-               "min margin": float(mm) if math.isfinite(mm) else math.nan}
+               "min margin": float(mm) if math.isfinite(mm) else math.nan,
+               "PGA-limited": rec["pga_limited_verdict"], "PGA-limited margin": rec["pga_limited_min_margin"]}
         for p in result.params:
             row[PARAM_LABELS[p]] = rec["margins"].get(p, math.nan)
         row["unspecified"] = len(rec["unspecified"])
@@ -69,6 +71,7 @@ def _verdict_css(v: str) -> str:
 def style_check_frame(frame: pd.DataFrame):
     """Colour margins (green ≥ 1, red < 1, grey unspecified; binding parameter darker) and verdicts."""
     margin_cols = [c for c in frame.columns if c in PARAM_LABELS.values()] + ["min margin"]
+    margin_cols += [c for c in ("PGA-limited margin",) if c in frame.columns]
 
     def margins_css(row: pd.Series) -> list[str]:
         return [_margin_css(row[col], binding=(col == row["binding"])) if col in margin_cols else ""
@@ -76,6 +79,6 @@ def style_check_frame(frame: pd.DataFrame):
 
     return (frame.style
             .apply(margins_css, axis=1)
-            .map(_verdict_css, subset=["verdict"])
+            .map(_verdict_css, subset=[c for c in ("verdict", "PGA-limited") if c in frame.columns])
             .format(na_rep="–")
             .format("{:.3g}", subset=margin_cols, na_rep="–"))

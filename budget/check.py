@@ -95,8 +95,22 @@ class CheckResult:
         j = int(np.argmin(pm))
         si = PARAMETERS[j].bound
         rule = (self.pga_rules[s] if s < len(self.pga_rules) else {}).get(si, "fast phase / lever arm")
-        return True, (f"passes seed 004's bounds (min margin {self.min_margin[i, s]:.3g}) but fails "
-                      f"{self.params[j]} by {rule}: margin {pm[j]:.3g}")
+        if paper_ok:
+            return True, (f"passes the {self.mode} bounds (min margin {self.min_margin[i, s]:.3g}) but fails "
+                          f"{self.params[j]} by {rule}: margin {pm[j]:.3g}")
+        b = int(self.binding_index[i, s])
+        return True, (f"fails the {self.mode} bounds ({self.params[b]}: margin {self.min_margin[i, s]:.3g}) but "
+                      f"passes seed 004's bounds tightened by fast phase and lever arm (min margin {pm[j]:.3g})")
+
+    def pga_limited(self, i: int, s: int) -> tuple[str, float]:
+        """(verdict, min margin) against seed 004's bounds tightened by what PGA cannot remove
+        (:func:`budget.bounds.lever_arm.pga_limited_bounds`); ("unknown", nan) when not computed
+        or nothing is specified."""
+        spec = self.specified[i, s]
+        if self.pga_margins is None or not spec.any():
+            return "unknown", float("nan")
+        mm = float(np.min(np.where(spec, self.pga_margins[i, s], np.inf)))
+        return ("pass" if mm >= 1.0 else "fail"), mm
 
     @property
     def specified(self) -> np.ndarray:
@@ -134,13 +148,16 @@ class CheckResult:
                 "bias_convention": self.bias_conventions[i] if self.bias_conventions else None,
                 "flag": self.flag(i, scenario_index)[0],
                 "flag_reason": self.flag(i, scenario_index)[1],
+                "pga_limited_verdict": self.pga_limited(i, scenario_index)[0],
+                "pga_limited_min_margin": self.pga_limited(i, scenario_index)[1],
             })
         return out
 
     def to_dict(self) -> dict:
         """JSON-ready: the bounds ``mode``, the checked ``params`` and per scenario (``name``, ``tc_s``)
         one record per part under ``parts`` (``part_id, grade, verdict, binding, margins`` as
-        bound/spec, ``unspecified``, ``bias_convention``, ``flag``, ``flag_reason``)."""
+        bound/spec, ``unspecified``, ``bias_convention``, ``flag``, ``flag_reason``,
+        ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`)."""
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
                 "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s)}
                               for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
@@ -162,13 +179,26 @@ class CheckResult:
         flags = [self.flag(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["flag"] = [f for f, _ in flags]
         df["flag_reason"] = [r for _, r in flags]
+        limited = [self.pga_limited(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
+        df["pga_limited_verdict"] = [v for v, _ in limited]
+        df["pga_limited_min_margin"] = [m for _, m in limited]
         return df.drop(columns=["p", "s"])
 
     def summary(self, scenario_index: int = 0) -> str:
-        lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'min margin':>11}  binding"]
-        for r, mm in zip(self._part_records(scenario_index), self.min_margin[:, scenario_index]):
+        """The verdict against the ``mode`` bounds, beside the PGA-limited one (fast phase and
+        lever arm); every disagreement is explained below the table."""
+        lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'min margin':>11}  {'binding':<26}"
+                 f"{'PGA-limited':<12}{'margin':>8}"]
+        notes = []
+        for i, (r, mm) in enumerate(zip(self._part_records(scenario_index), self.min_margin[:, scenario_index])):
+            v, pmm = self.pga_limited(i, scenario_index)
             lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{mm:>11.3g}  "
-                         f"{r['binding'] or '-'}")
+                         f"{r['binding'] or '-':<26}{v:<12}{pmm:>8.3g}")
+            if r["flag"]:
+                notes.append(f"  {r['part_id']}: {r['flag_reason']}")
+        if notes:
+            lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
+                      "its window, attitude error × lever arm); where the verdicts differ:"] + notes
         return "\n".join(lines)
 
 
@@ -261,11 +291,13 @@ class GradeRecommendation:
 
 def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mode: str = "paper",
                     include: Sequence[str] = ("bias", "noise"), use: str = "best", wavelength_m=None,
-                    assumptions=None) -> GradeRecommendation:
+                    assumptions=None, bounds=None) -> GradeRecommendation:
     """Lowest grade (highest rank) whose typical values meet the bounds of ``mode``, per Tc.
 
     ``wavelength_m`` (m) is needed by the ``no-autofocus`` and ``lever-arm`` modes, ``assumptions``
     is passed to :func:`budget.bounds.compute_bounds` (default assumptions when ``None``).
+    ``bounds``: a ready :class:`~budget.bounds.BoundsTable` instead (e.g. the PGA-limited table of
+    :func:`budget.bounds.lever_arm.pga_limited_bounds`); its ``mode`` is reported.
 
     Defaults follow seed 004's reading of its Tables 1–4: scale factor and misalignment are
     left out because calibration removes most of them (the paper says so), and a grade counts
@@ -279,7 +311,12 @@ def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mo
     dr = np.broadcast_to(np.asarray(range_resolution_m, float), tc.shape)
     cols = [PARAM_NAMES.index(p) for fam in include for p in FAMILIES[fam]]
     ordered = sorted(grades, key=lambda g: GRADE_RANK[g.grade])
-    bounds = compute_bounds(tc, dr, mode, wavelength_m=wavelength_m, assumptions=assumptions)
+    if bounds is None:
+        bounds = compute_bounds(tc, dr, mode, wavelength_m=wavelength_m, assumptions=assumptions)
+    else:
+        mode = bounds.mode
+        if np.size(bounds.tc_s) != tc.size:
+            raise ValueError(f"bounds hold {np.size(bounds.tc_s)} aperture times, tc_s {tc.size}")
     m = margins(grade_spec_matrix(ordered, use), bound_matrix(bounds))[:, :, cols]
     ok = np.all(m >= 1.0, axis=-1)  # (G, S)
     out = []

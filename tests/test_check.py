@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from budget.bounds import paper_bounds
+from budget.catalog.io import load_catalog
 from budget.catalog.schema import GradeSpec, PartSpec
 from budget.check import (PARAM_NAMES, check_arrays, check_parts, recommend_grade, spec_matrix)
 from budget.presets import get_preset
@@ -120,3 +121,34 @@ def test_grade_typical_values_sit_between_best_and_worst():
     np.testing.assert_allclose(typ, np.sqrt(best * worst))
     with pytest.raises(ValueError):
         grade_spec_matrix(g, "median")
+
+
+def test_summary_shows_the_pga_limited_verdict_and_explains_disagreements():
+    """missile_borne (lever arm 2 m): ADIS16405 passes the paper's bounds by 399× but its ARW ×
+    lever arm lands beyond PGA's window (margin 0.36); the table says so in the same view."""
+    cat = load_catalog(None)
+    r = check_parts([cat["ADIS16405"], cat["STIM300"]], get_preset("missile_borne"))
+    text = r.summary()
+    assert "PGA-limited" in text.splitlines()[0]
+    assert "ADIS16405: passes the paper bounds" in text and "lever arm" in text
+    rec = {x["part_id"]: x for x in r.to_dict()["scenarios"][0]["parts"]}
+    assert rec["ADIS16405"]["verdict"] == "pass" and rec["ADIS16405"]["pga_limited_verdict"] == "fail"
+    assert rec["STIM300"]["pga_limited_verdict"] == "pass" and not rec["STIM300"]["flag"]
+    frame = r.to_frame().set_index("part_id")
+    assert frame.loc["ADIS16405", "pga_limited_min_margin"] == pytest.approx(
+        rec["ADIS16405"]["pga_limited_min_margin"]) and frame.loc["ADIS16405", "pga_limited_min_margin"] < 1
+
+
+def test_grade_recommendation_on_the_pga_limited_bounds():
+    """The PGA-limited table can drive the grade advice: on airborne X-band and the missile the
+    lever arm moves the lowest sufficient grade from industrial/consumer (paper) to tactical."""
+    from budget.bounds.lever_arm import pga_limited_bounds
+    from budget.catalog.io import load_grades
+    grades = list(load_grades().values())
+    for name, paper_grade in (("airborne_xband", "industrial"), ("missile_borne", "consumer")):
+        s = get_preset(name)
+        paper = recommend_grade([s.tc_s], s.range_resolution_m, grades)
+        limited = recommend_grade([s.tc_s], s.range_resolution_m, grades, bounds=pga_limited_bounds(s)[0])
+        assert paper.grade[0] == paper_grade and limited.grade[0] == "tactical" and limited.mode == "pga-limited"
+    with pytest.raises(ValueError):
+        recommend_grade([1.0, 2.0], 0.5, grades, bounds=pga_limited_bounds(get_preset("airborne_xband"))[0])

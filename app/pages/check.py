@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import streamlit as st
 
+from budget.bounds.lever_arm import pga_limited_bounds
 from budget.catalog.schema import GRADES
 from budget.check import check_parts, recommend_grade
 from budget.fileio import frame_csv_text, json_text
@@ -23,8 +24,14 @@ def _recommendation(ctx: sidebar.Context) -> None:
         return
     rec = recommend_grade([s.tc_s], s.range_resolution_m, list(c.grades().values()), mode=ctx.mode)
     note = " (default assumptions)" if ctx.mode == "derived" else ""
-    st.metric(f"lowest sufficient grade, {ctx.mode} bounds{note}", rec.grade[0] or "none",
-              help="bias and noise terms vs. the best typical values of each grade, seed 004 Tables 3–4")
+    left, right = st.columns(2)
+    left.metric(f"lowest sufficient grade, {ctx.mode} bounds{note}", rec.grade[0] or "none",
+                help="bias and noise terms vs. the best typical values of each grade, seed 004 Tables 3–4")
+    limited = recommend_grade([s.tc_s], s.range_resolution_m, list(c.grades().values()),
+                              bounds=pga_limited_bounds(s)[0])
+    right.metric("lowest sufficient grade, PGA-limited", limited.grade[0] or "none",
+                 help="seed 004's bounds tightened by what PGA cannot remove: fast phase beyond its window "
+                      "and attitude error × lever arm")
 
 
 def render() -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..api import load_parts
+from ..bounds.lever_arm import pga_limited_bounds
 from ..catalog.io import load_catalog, load_grades
 from ..check import check_parts, recommend_grade
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
@@ -34,4 +35,7 @@ def run(args) -> int:
     rec = recommend_grade([scen.tc_s], scen.range_resolution_m, list(load_grades().values()), mode=args.mode,
                           wavelength_m=scen.wavelength_m)
     print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {rec.grade[0] or 'none'}")
+    limited, _ = pga_limited_bounds(scen)
+    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, list(load_grades().values()), bounds=limited)
+    print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {rec.grade[0] or 'none'}")
     return 0
