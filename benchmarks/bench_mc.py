@@ -183,12 +183,20 @@ def main() -> None:
               f"{rates[1]['cpu_rate'] / bound1:.2f} CPU-based; 2 workers {rates[2]['wall_rate'] / (2 * bound1):.2f} "
               f"wall, {rates[2]['cpu_rate'] / bound1:.2f} CPU-based (target ≥ 0.7); {load()}")
     if not args.no_memory:
+        mem = {}
         for n in (64, 256, 1024):
             out = subprocess.run([sys.executable, __file__, "--memory-run", str(n)], capture_output=True,
                                  text=True, check=True)
-            m = json.loads(out.stdout.strip().splitlines()[-1])
+            m = mem[n] = json.loads(out.stdout.strip().splitlines()[-1])
             print(f"[points] memory, {n} trials (serial, fresh process): peak traced heap {m['traced_peak_mb']:.1f} MB, "
                   f"max RSS {m['max_rss_mb']:.0f} MB ({m['rss_before_mb']:.0f} MB after the imports); {load()}")
+        # per trial: the growth with the number of trials (≈ 0 when chunk-bounded), and what one
+        # chunk in flight holds per trial of it (its peak over the imports, ÷ the chunk size)
+        grow = (mem[1024]["traced_peak_mb"] - mem[64]["traced_peak_mb"]) / (1024 - 64) * 1e3
+        chunk = McOptions().chunk_trials
+        held = (mem[64]["max_rss_mb"] - mem[64]["rss_before_mb"]) / chunk * 1e3
+        print(f"[points] memory per trial: growth {grow:.2f} kB per added trial (64 → 1024); a chunk of {chunk} "
+              f"trials in flight holds ≈ {held:.0f} kB of RSS per trial")
     if args.no_sweep:
         return
 

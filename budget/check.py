@@ -28,6 +28,7 @@ import pandas as pd
 
 from .bounds import BoundsTable, compute_bounds
 from .catalog.schema import GRADE_RANK, GradeSpec, PartSpec
+from .errors import InputError
 from .parameters import FAMILIES, PARAMETERS, grade_value
 from .scenario import Scenario
 
@@ -187,13 +188,14 @@ class CheckResult:
     def summary(self, scenario_index: int = 0) -> str:
         """The verdict against the ``mode`` bounds, beside the PGA-limited one (fast phase and
         lever arm); every disagreement is explained below the table."""
-        lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'min margin':>11}  {'binding':<26}"
+        wb = max(len(p) for p in self.params) + 2  # the binding column holds any parameter name
+        lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'min margin':>11}  {'binding':<{wb}}"
                  f"{'PGA-limited':<12}{'margin':>8}"]
         notes = []
         for i, (r, mm) in enumerate(zip(self._part_records(scenario_index), self.min_margin[:, scenario_index])):
             v, pmm = self.pga_limited(i, scenario_index)
             lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{mm:>11.3g}  "
-                         f"{r['binding'] or '-':<26}{v:<12}{pmm:>8.3g}")
+                         f"{r['binding'] or '-':<{wb}}{v:<12}{pmm:>8.3g}")
             if r["flag"]:
                 notes.append(f"  {r['part_id']}: {r['flag_reason']}")
         if notes:
@@ -207,6 +209,10 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     """Check parts against each scenario's bounds (Tc and δr from the scenario)."""
     parts = list(parts)
     scen = [scenarios] if isinstance(scenarios, Scenario) else list(scenarios)
+    if not parts or not scen:
+        what = "part" if not parts else "scenario"
+        raise InputError(f"no {what} to check", field=f"{what}s",
+                         expected=f"at least one {what}")
     tc = np.array([s.tc_s for s in scen])
     dr = np.array([s.range_resolution_m for s in scen])
     if mode in ("no-autofocus", "no_autofocus"):

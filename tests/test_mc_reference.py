@@ -68,9 +68,9 @@ def test_a_clean_points_scene_has_no_reference_and_a_cluttered_one_has():
 def test_a_perfect_imu_passes_on_noise_draws_the_reference_never_saw():
     """The reference's purpose, checked out of sample: zero-motion-error trials on the realistic
     airborne X-band scene at −20 dB clutter (the worst case of the verdict's tests), with receiver
-    noise from the ordinary trial stream (not ``sar_reference``), must pass the effective limits
-    with a lower 95 % Wilson bound ≥ 0.9 — the decision target — over 64 trials. At the former
-    95 % quantile of 16 draws a perfect IMU was capped near 0.94."""
+    noise from the ordinary trial stream (not ``sar_reference``), must all pass — the reference
+    and, for the few draws beyond its 99 % quantile, the perfect-IMU twin. At the former 95 %
+    quantile of 16 draws (no twin) a perfect IMU was capped near 0.94."""
     from budget.mc.chain import FORMATION_BATCH, run_trials
     from budget.mc.stats import wilson_interval
     scen = get_preset("airborne_xband").model_copy(update={"lever_arm_m": (0.0, 0.0, 0.0)})
@@ -79,6 +79,51 @@ def test_a_perfect_imu_passes_on_noise_draws_the_reference_never_saw():
     outcomes = []
     for lo in range(0, 64, FORMATION_BATCH):
         outcomes += run_trials(setup, zero, range(lo, lo + FORMATION_BATCH), 7, np.zeros(FORMATION_BATCH))
-    passed = sum(o.passed_after for o in outcomes)
-    lo_ci, _ = wilson_interval(passed, len(outcomes))
-    assert lo_ci >= 0.9, (passed, [o.reasons for o in outcomes if not o.passed_after])
+    # the reference's limits alone (trials passed by their twin did exceed them): a new draw
+    # exceeds the 99 % quantile of 64 with probability ≈ 1/65 per metric, so a few of 64 may
+    # (measured: 2); six or more would mean the reference no longer describes the scene …
+    beyond = sum(o.twin_pass for o in outcomes)
+    assert beyond <= 5, beyond
+    # … and with the twin rule a perfect IMU never fails (each trial is its own twin)
+    assert all(o.passed_after for o in outcomes), [o.reasons for o in outcomes if not o.passed_after]
+    assert wilson_interval(len(outcomes), len(outcomes))[0] >= 0.9
+
+
+def _realistic_24ghz(**kw):
+    return ChainSetup.build(get_preset("automotive_24ghz"), McOptions(scene="realistic", **kw))
+
+
+def test_the_twin_clears_what_the_scene_alone_does_to_a_perfect_imu(monkeypatch):
+    """Zero motion error on the realistic 24 GHz scene, judged with a reference of only 8 draws
+    and an IMU allowance of 0.1° on the PGA residual, so that the limit is essentially the
+    reference's 99 % quantile, which a new draw exceeds with probability ≈ 1/9 (with the default
+    64 draws ≈ 1/65: a perfect IMU once failed 2 of 64 trials this way, every catalog part the
+    same two). The trials beyond the reference's limits are the scene's autofocus error, not an
+    IMU's: against their own perfect-IMU twin every trial passes (measured: 6 of 32)."""
+    import budget.mc.chain as chain
+    from budget.mc.chain import FORMATION_BATCH, run_trials
+    monkeypatch.setattr(chain, "REFERENCE_DRAWS", 8)
+    setup = _realistic_24ghz(max_residual_phase_rms_deg=0.1)
+    ref = scene_reference(setup)
+    assert ref.draws == 8
+    zero = np.zeros((FORMATION_BATCH, setup.geom.n_pulses, 3))
+    outcomes = []
+    for lo in range(0, 32, FORMATION_BATCH):
+        outcomes += run_trials(setup, zero, range(lo, lo + FORMATION_BATCH), 1, np.zeros(FORMATION_BATCH))
+    over = [o.trial for o in outcomes if o.after["residual_phase_rms_deg"] > ref.max_residual_phase_rms_deg]
+    assert over, "no draw exceeded the reference: the case no longer exercises the twin"
+    assert all(o.passed_after for o in outcomes)
+    assert set(over) <= {o.trial for o in outcomes if o.twin_pass}
+
+
+def test_the_twin_does_not_clear_an_error_the_imu_adds():
+    """A fast phase error written here — 0.08 rad at 20 cycles per aperture, ≈ 3.2° rms, far
+    beyond PGA's window — fails for its residual, against the reference and against the twin."""
+    from budget.mc.chain import run_trial_errors
+    from budget.sar.phase import los_offset_for_phase
+    setup = _realistic_24ghz()
+    u = 2.0 * setup.geom.pulse_times_s / setup.geom.aperture_time_s
+    err = los_offset_for_phase(setup.geom, 0.08 * np.sin(2 * np.pi * 20.0 * u))
+    o = run_trial_errors(setup, err, 1, 1, 0.0)
+    assert not o.passed_after and "residual_phase_noise" in o.reasons and not o.twin_pass
+    assert o.after["residual_phase_rms_deg"] > 2.0

@@ -60,22 +60,7 @@ def add_parser(sub) -> None:
     p.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="Monte Carlo trials")
     p.add_argument("--seed", type=int, default=DEFAULT_SEED, help="random seed (same seed → same numbers)")
     p.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
-    p.add_argument("--no-fast-phase", action="store_true",
-                   help="judge by the image alone (drop the 1° limit on what PGA cannot remove)")
-    p.add_argument("--scene", choices=("auto", "realistic", "points"), default=None,
-                   help="realistic: clutter + noise + many scatterers (default when available); "
-                        "points: five noise-free points")
-    p.add_argument("--clutter-db", dest="clutter_to_target_db", type=float, default=None,
-                   help="realistic scene: clutter-to-target ratio in dB (default −25)")
-    p.add_argument("--snr-db", dest="snr_db", type=float, default=None, help="receiver SNR in dB")
-    p.add_argument("--window", choices=("auto", "rect", "taylor"), default=None,
-                   help="image weighting (auto: Taylor −35 dB for radar)")
-    p.add_argument("--acceptance", metavar="A.json",
-                   help="acceptance spec: max_broadening, max_pslr_db, max_islr_db, "
-                        "max_peak_loss_db, max_range_migration_cells, max_residual_phase_rms_deg …")
-    p.add_argument("--prefilter", choices=PREFILTERS, default="none",
-                   help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
-                        "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
+    _add_verdict_options(p)
     _add_unspecified_option(p)
     add_json_option(p)
     add_quiet_option(p)
@@ -91,9 +76,31 @@ def add_parser(sub) -> None:
     s.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
     s.add_argument("--target", type=float, default=0.9, help="P(pass after PGA) wanted")
     s.add_argument("--out", metavar="CSV", required=True, help="tidy result table (CSV)")
+    _add_verdict_options(s)
     _add_unspecified_option(s)
     add_quiet_option(s)
     s.set_defaults(func=run_sweep)
+
+
+def _add_verdict_options(p) -> None:
+    """What the verdict is judged on (scene, window, acceptance, pre-filter): the same options
+    for ``mc`` and ``sweep``."""
+    p.add_argument("--no-fast-phase", action="store_true",
+                   help="judge by the image alone (drop the 1° limit on what PGA cannot remove)")
+    p.add_argument("--scene", choices=("auto", "realistic", "points"), default=None,
+                   help="points: five noise-free points (the default); realistic: clutter + noise + "
+                        "many scatterers, judged against a perfect IMU on the same scene; auto: realistic")
+    p.add_argument("--clutter-db", dest="clutter_to_target_db", type=float, default=None,
+                   help="realistic scene: clutter-to-target ratio in dB (default −25)")
+    p.add_argument("--snr-db", dest="snr_db", type=float, default=None, help="receiver SNR in dB")
+    p.add_argument("--window", choices=("auto", "rect", "taylor"), default=None,
+                   help="image weighting (auto: Taylor −35 dB for radar)")
+    p.add_argument("--acceptance", metavar="A.json",
+                   help="acceptance spec: max_broadening, max_pslr_db, max_islr_db, "
+                        "max_peak_loss_db, max_range_migration_cells, max_residual_phase_rms_deg …")
+    p.add_argument("--prefilter", choices=PREFILTERS, default="none",
+                   help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
+                        "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
 
 
 def _add_unspecified_option(p) -> None:

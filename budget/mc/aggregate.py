@@ -23,6 +23,8 @@ class Aggregate:
     pass_before: int = 0
     pass_after: int = 0
     pga_converged: int = 0
+    #: trials passed against their perfect-IMU twin after failing the scene's reference
+    twin_pass: int = 0
     reasons: Counter = field(default_factory=Counter)
     q_before: dict = field(default_factory=lambda: {m: StreamingQuantiles() for m in TRIAL_METRICS})
     q_after: dict = field(default_factory=lambda: {m: StreamingQuantiles() for m in TRIAL_METRICS})
@@ -39,6 +41,7 @@ class Aggregate:
             self.pass_before += o.passed_before
             self.pass_after += o.passed_after
             self.pga_converged += o.pga_converged
+            self.twin_pass += o.twin_pass
             self.reasons.update(o.reasons)
             for m in TRIAL_METRICS:
                 self.q_before[m].add([o.before[m]])

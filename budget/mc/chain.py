@@ -203,11 +203,19 @@ class TrialOutcome:
     pga_reason: str
     score: float = 0.0
     detail: dict = field(default_factory=dict)
+    #: failed the perfect-IMU envelope of the scene but stayed within the acceptance relative to
+    #: its own perfect-IMU twin (same clutter and noise draw, no motion error): passed
+    #: (:func:`run_trials`)
+    twin_pass: bool = False
 
 
 #: Image checks (:func:`budget.sar.acceptance.failed_checks`) that are verdict reasons after PGA
 #: (a peak shift is geolocation: it only enters the acceptance's own pass before PGA).
 _IMAGE_REASONS = ("broadening", "pslr", "islr", "peak_loss")
+
+#: Failure reasons a perfect IMU can meet on a cluttered or noisy scene (PGA's own estimation
+#: error): the ones the perfect-IMU twin of a trial may clear (:func:`run_trials`).
+_SCENE_REASONS = frozenset(_IMAGE_REASONS + ("residual_phase_noise",))
 
 
 def _to_pulses(time_s: np.ndarray, series: np.ndarray, pulse_times_s: np.ndarray) -> np.ndarray:
@@ -320,7 +328,16 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
     """Steps 2–4 for the trials ``trials`` whose APC errors at the pulse times are ``errors_m``
     (B, n_pulses, 3): the B images are formed and measured together; PGA runs on each. After PGA
     the image and the residual are judged relative to the scene's perfect-IMU reference when it
-    has one (:func:`scene_reference`; ``relative=False``: against the options' spec as it is)."""
+    has one (:func:`scene_reference`; ``relative=False``: against the options' spec as it is).
+
+    A trial that fails that reference only for reasons a perfect IMU can meet too (image
+    metrics, PGA residual: the scene's own autofocus error) is run again with no motion error on
+    the same clutter and receiver-noise draw — its perfect-IMU twin — and passes when it meets
+    the acceptance relative to the twin (the twin's metrics in place of the reference quantiles,
+    :func:`~budget.mc.reference.reference_from_outcomes`). The reference's limits sit at its
+    99 % quantile, which a new draw exceeds with probability ≈ 1/65 whatever the IMU (measured:
+    a perfect IMU failed 2 of 64 trials on the realistic 24 GHz scene, every catalog part the same
+    two): the twin asks what the IMU added on this very draw, and a perfect IMU never fails it."""
     g, opt, plan = setup.geom, setup.options, chain_plan(setup)
     ref = scene_reference(setup) if relative else None
     acc_after = opt.acceptance if ref is None else ref.acceptance
@@ -392,7 +409,35 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
                                 reasons=ordered, before=before, after=after, peak_range_cells=cells,
                                 pga_converged=bool(res.converged), pga_reason=res.reason, score=float(score),
                                 detail=detail))
+    if ref is not None:
+        _judge_against_twins(setup, out, m_after, trials, seed, stream)
     return out
+
+
+def _judge_against_twins(setup: ChainSetup, out: list[TrialOutcome], m_after, trials, seed: int,
+                         stream: int) -> None:
+    """Pass (in place) the trials of ``out`` that failed the scene reference only for scene
+    reasons but meet the acceptance relative to their perfect-IMU twin (:func:`run_trials`)."""
+    opt = setup.options
+    idx = [b for b, o in enumerate(out) if o.reasons and set(o.reasons) <= _SCENE_REASONS]
+    if not idx:
+        return
+    twin_trials = [trials[b] for b in idx]
+    twins = run_trials(setup, np.zeros((len(idx), setup.geom.n_pulses, 3)), twin_trials, seed,
+                       np.zeros(len(idx)), relative=False, stream=stream)
+    for b, twin in zip(idx, twins):
+        limits = reference_from_outcomes([twin], opt.acceptance, opt.max_residual_phase_rms_deg)
+        image_fails = failed_checks(m_after, limits.acceptance)
+        if any(image_fails[name][b] for name in _IMAGE_REASONS):
+            continue
+        lim = limits.max_residual_phase_rms_deg
+        if lim is not None and not out[b].after["residual_phase_rms_deg"] <= lim:
+            continue
+        o = out[b]
+        out[b] = TrialOutcome(trial=o.trial, passed_before=o.passed_before, passed_after=True, reasons=[],
+                              before=o.before, after=o.after, peak_range_cells=o.peak_range_cells,
+                              pga_converged=o.pga_converged, pga_reason=o.pga_reason, score=o.score,
+                              detail=o.detail, twin_pass=True)
 
 
 def run_trial_errors(setup: ChainSetup, error_m: np.ndarray, trial: int, seed: int,

@@ -82,6 +82,7 @@ class McResult:
                "percentiles_before": self.percentiles("before"),
                "percentiles_after": self.percentiles("after"),
                "pga_converged_fraction": self.agg.pga_converged / self.agg.n if self.agg.n else None,
+               "twin_passes": self.agg.twin_pass,
                "worst_trials": [{"trial": o.trial, "reasons": o.reasons, "metrics_after": o.after,
                                  "peak_range_cells": o.peak_range_cells} for o in self.worst_trials()],
                "cancelled": self.cancelled, "decision_rule": DECISION_RULE,
@@ -110,6 +111,10 @@ class McResult:
         line = f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
         if j.get("reference_summary"):
             line += j["reference_summary"] + "\n"
+        if self.agg.twin_pass:
+            line += (f"{self.agg.twin_pass} of {self.agg.n} trials exceeded that reference but met the acceptance "
+                     "relative to their own perfect-IMU twin (same clutter and noise draw, no motion error): "
+                     "passed\n")
         return line
 
     def _unspecified_line(self) -> str:

@@ -29,6 +29,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
           options: McOptions | None = None, workers: int = 1, backend: str = "auto", client=None,
           progress=None, cancel=None) -> pd.DataFrame:
     """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
+    ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`)
     and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
     simulator's sampling limits; module docstring)."""
     options = (options or McOptions()).model_copy(update={"keep_trial_metrics": False})
@@ -58,7 +59,8 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
                    "part_id": model_label(part), "grade": getattr(part, "grade", None),
                    "price_usd": getattr(part, "price_usd", None), "trials": r.trials,
                    "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
-                   "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated"}
+                   "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
+                   "twin_passes": r.agg.twin_pass}
             row.update({f"fail_{k}": v for k, v in r.agg.failure_reasons().items()})
             for m, q in pct.items():
                 row[f"{m}_p50"], row[f"{m}_p95"] = q["p50"], q["p95"]

@@ -24,6 +24,11 @@ _MIN_GROUPS = 3
 _SPAN_FLOOR = 2.0
 
 
+# the cut-back of the accumulated estimate covers the bins within this many dB of the peak energy
+# (as the iterations' band_db: bins below carry no gradient)
+_CUT_DB = 30.0
+
+
 @lru_cache(maxsize=16)
 def _dct_basis(span: int) -> np.ndarray:
     """Orthonormal DCT-II basis (rows: index m = 0 … span−1, m/2 cycles over the span)."""
@@ -97,7 +102,8 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     # the span: bins within 10 dB of the peak energy that also hold at least as much signal as
     # noise (twice the floor, the 5th percentile: out-of-band bins of a noisy image are noise
     # only, and a basis stretched over them cannot follow the in-band phase)
-    idx = np.nonzero(energy >= max(_SPAN_FRACTION * energy.max(), _SPAN_FLOOR * np.percentile(energy, 5)))[0]
+    floor = _SPAN_FLOOR * np.percentile(energy, 5)
+    idx = np.nonzero(energy >= max(_SPAN_FRACTION * energy.max(), floor))[0]
     groups = _groups(lines)
     if idx.size < 16:
         return phi_c, []
@@ -105,12 +111,16 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     span = hi - lo
     w, m_prev = width, int(width * span // n)
     # Beyond the settled window the accumulated estimate holds what the early, wider windows put
-    # there — on clutter mostly their clutter × clutter random walk. It must pass the same test
-    # as any other phase there: drop it over the span (weighted by the lines' energy, so bins
-    # with little signal do not steer the fit) and let the bands below re-estimate what is
-    # significant.
+    # there — on clutter mostly their clutter × clutter random walk, largest at the weighted
+    # aperture's ends, where the lines have least energy and the increments are not smoothed.
+    # It must pass the same test as any other phase there: drop it over every bin with signal
+    # (within _CUT_DB of the peak energy and above the noise floor; weighted by the lines'
+    # energy, so bins with little signal do not steer the fit) and let the bands below
+    # re-estimate over the span what is significant.
+    full = np.nonzero(energy >= max(10 ** (-_CUT_DB / 10) * energy.max(), floor))[0]
+    c_lo, c_hi = int(full[0]), int(full[-1]) + 1
     phi_c = phi_c.copy()
-    phi_c[lo:hi] -= highpass_phase(phi_c[lo:hi], m_prev / 2.0, energy[lo:hi])
+    phi_c[c_lo:c_hi] -= highpass_phase(phi_c[c_lo:c_hi], width * (c_hi - c_lo) / (2.0 * n), energy[c_lo:c_hi])
     records = []
     centred = _centre(d, np.fft.ifftshift(phi_c))  # the lines centred once, on the converged estimate
     added = np.zeros(n)
