@@ -13,6 +13,7 @@ import streamlit as st
 
 from budget.bounds import DerivedAssumptions, NoAutofocusAssumptions
 from budget.errors import InputError
+from budget.fileio import parse_structured
 from budget.presets import PRESETS, get_preset
 from budget.scenario import Scenario
 
@@ -90,16 +91,22 @@ def _apply_upload() -> None:
 
 
 def scenario_from_upload(data: bytes, name: str) -> Scenario:
-    """A scenario from uploaded JSON/YAML bytes (parsed as data, never executed)."""
-    import yaml
-
+    """A scenario from uploaded JSON/YAML bytes (parsed as data, never executed), read with the
+    limits and rules of the CLI's reader (:func:`budget.fileio.parse_structured`)."""
     if len(data) > MAX_SCENARIO_BYTES:
         raise InputError(f"file is {len(data)} bytes", file=name, expected=f"at most {MAX_SCENARIO_BYTES} bytes")
+    hint = "a scenario file as written by `sar-budget scenario write`"
     try:
-        data_ = yaml.safe_load(data.decode("utf-8"))  # JSON is YAML too
-    except (UnicodeDecodeError, yaml.YAMLError) as err:
-        raise InputError(f"not valid JSON/YAML ({type(err).__name__})", file=name,
-                         expected="a scenario file as written by `sar-budget scenario write`") from None
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError("not valid JSON/YAML (not UTF-8 text)", file=name, expected=hint) from None
+    try:
+        data_ = parse_structured(text, yaml_syntax=True, path=name)  # JSON is YAML too
+    except InputError as err:
+        if err.reason.startswith("not valid YAML"):  # the upload may be either
+            raise InputError(f"not valid JSON/YAML{err.reason[len('not valid YAML'):]}", file=name,
+                             expected=hint) from None
+        raise
     return Scenario.from_dict(data_, source=name)
 
 

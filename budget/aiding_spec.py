@@ -47,7 +47,7 @@ from typing import Annotated, Literal, Union
 from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter, ValidationError,
                       ValidationInfo, field_validator)
 
-from .errors import InputError
+from .errors import BOOL_FOR_NUMBER, InputError, bool_number_field, refuse_bool_numbers
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -86,6 +86,7 @@ class FlexureConfig(BaseModel):
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     frequency_hz: Positive = Field(..., le=1000.0, description="natural frequency of the mode")
     damping_ratio: float = Field(..., gt=0, lt=1, allow_inf_nan=False, description="ζ, 0 < ζ < 1")
@@ -163,6 +164,7 @@ DEFAULT_CORRECTION_MODE = "frozen"
 AidingConfig = Annotated[Union[GnssAiding, DvlAiding, MasterInsAiding, StarTrackerAiding],
                          Field(discriminator="type")]
 AIDING_TYPES = ("gnss", "dvl", "master_ins", "star_tracker")
+_MODELS = dict(zip(AIDING_TYPES, (GnssAiding, DvlAiding, MasterInsAiding, StarTrackerAiding)))
 _LIST = TypeAdapter(list[AidingConfig])
 
 
@@ -208,6 +210,10 @@ def parse_aiding(data, *, imu_rate_hz: float | None = None,
         if item["type"] not in AIDING_TYPES:
             raise InputError("unknown aiding type", file=source, field=f"aiding[{i}].type",
                              value=item["type"], expected=" | ".join(AIDING_TYPES))
+        name = bool_number_field(_MODELS[item["type"]], item)
+        if name is not None:
+            raise InputError(BOOL_FOR_NUMBER, file=source, field=f"aiding[{i}].{name}",
+                             value=item[name])
     try:
         return _LIST.validate_python(data, context={"imu_rate_hz": imu_rate_hz})
     except ValidationError as err:
@@ -229,6 +235,7 @@ class AidingPlan(BaseModel):
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     aiding: list[AidingConfig] = Field(default_factory=list)
     mode: Literal[CORRECTION_MODES] = DEFAULT_CORRECTION_MODE

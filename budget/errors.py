@@ -14,6 +14,7 @@ from __future__ import annotations
 import reprlib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import get_args
 
 from pydantic import ValidationError
 
@@ -28,11 +29,20 @@ _short.maxlist = _short.maxtuple = _short.maxdict = _short.maxset = 6
 _short.maxlevel = 2
 
 
+def _plain(value: object) -> object:
+    """A numpy scalar as the Python number it holds (``-0.25``, not ``np.float64(-0.25)``)."""
+    if type(value).__module__ == "numpy" and getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
+        return value.item()
+    return value
+
+
 def short_repr(value: object) -> str:
-    """``repr(value)`` cut to about 80 characters (nested containers to two levels); never
-    expands a huge or deeply shared structure, never fails."""
+    """``repr(value)`` cut to about 80 characters (nested containers to two levels, numpy
+    scalars shown as plain numbers); never expands a huge or deeply shared structure, never fails."""
     try:
-        return _short.repr(value)
+        if isinstance(value, (tuple, list)) and len(value) <= 16:
+            value = (tuple if isinstance(value, tuple) else list)(_plain(v) for v in value)
+        return _short.repr(_plain(value))
     except Exception:  # noqa: BLE001 — a broken __repr__ must not hide the real error
         return f"<{type(value).__name__}>"
 
@@ -122,6 +132,62 @@ def from_validation_error(err: ValidationError, *, file: str | Path | None = Non
             msg, value = f"{msg} (got {short_repr(value)})", None
         msg += f"; {len(others)} more error{'s' if len(others) > 1 else ''}: " + "; ".join(others)
     return InputError(msg, file=file, row=row, field=field, value=value)
+
+
+def _admits(annotation, types: tuple[type, ...]) -> bool:
+    if annotation in types:
+        return True
+    return any(_admits(a, types) for a in get_args(annotation))
+
+
+_NUMBER_FIELDS: dict[type, frozenset[str]] = {}
+
+
+def _number_fields(model_cls) -> frozenset[str]:
+    """Names of the fields of ``model_cls`` that hold numbers only (not ``bool``), cached."""
+    names = _NUMBER_FIELDS.get(model_cls)
+    if names is None:
+        names = frozenset(n for n, f in model_cls.model_fields.items()
+                          if _admits(f.annotation, (float, int)) and not _admits(f.annotation, (bool,)))
+        _NUMBER_FIELDS[model_cls] = names
+    return names
+
+
+def _bool_for_number(model_cls, name, value) -> bool:
+    """True if ``value`` is (or, one level deep, holds) a bool while field ``name`` of
+    ``model_cls`` holds numbers only (a field that may be ``bool`` is left alone)."""
+    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
+        return False  # the common case, decided without looking at the field
+    if name not in _number_fields(model_cls):
+        return False
+    items = (value.values() if isinstance(value, dict)
+             else value if isinstance(value, (list, tuple)) else (value,))
+    return any(isinstance(v, bool) for v in items)
+
+
+def bool_number_field(model_cls, data) -> str | None:
+    """The first key of the mapping ``data`` that gives true/false for a number field of
+    ``model_cls`` (see :func:`refuse_bool_numbers`), or None."""
+    if isinstance(data, dict):
+        for name, value in data.items():
+            if _bool_for_number(model_cls, name, value):
+                return name
+    return None
+
+
+BOOL_FOR_NUMBER = "true/false where a number is expected"
+
+
+def refuse_bool_numbers(cls, value, info):
+    """Pydantic ``field_validator("*", mode="before")`` body: ``true``/``false`` (JSON, or YAML's
+    ``yes``/``on``/``no``/``off``) where a number is expected is refused — pydantic's lax mode
+    would read them as 1 and 0. Only fields holding numbers are checked (not those that may be
+    ``bool``); a list, tuple or mapping of numbers is checked one level deep
+    (``lever_arm_m: [true, 0, 0]``, ``scale: {gx: true}``). Models with a discriminator field
+    check their input with :func:`bool_number_field` instead."""
+    if info.field_name and _bool_for_number(cls, info.field_name, value):
+        raise ValueError(BOOL_FOR_NUMBER)
+    return value
 
 
 @dataclass(frozen=True)

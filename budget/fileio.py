@@ -370,9 +370,40 @@ def _check_yaml_nodes(root, path) -> None:
                                  value=node.value, expected="a number of sensible size")
             size[key] = 1
             continue
+        if isinstance(node, yaml.MappingNode):
+            _check_yaml_keys(node, path)
         on_path.add(key)
         stack.append((node, depth, True))
         stack.extend((k, depth + 1, False) for k in _yaml_children(node) if id(k) not in size)
+
+
+def _duplicate_key(key, path, where: str = "") -> InputError:
+    return InputError(f"key given twice{where}: a reader would silently keep one of the values",
+                      file=path, field=str(key), expected="each key once per mapping")
+
+
+def _check_yaml_keys(node, path) -> None:
+    """Refuse a mapping that gives the same plain key twice (the YAML merge key ``<<`` excepted)."""
+    import yaml
+
+    seen: dict[str, int] = {}
+    for k, _ in node.value:
+        if not isinstance(k, yaml.ScalarNode) or k.tag == "tag:yaml.org,2002:merge":
+            continue
+        line = k.start_mark.line + 1
+        if k.value in seen:
+            raise _duplicate_key(k.value, path, f" (lines {seen[k.value]} and {line})")
+        seen[k.value] = line
+
+
+def _json_object(pairs, path):
+    """``object_pairs_hook`` of :func:`json.loads`: a dict, refusing a key given twice."""
+    out = {}
+    for k, v in pairs:
+        if k in out:
+            raise _duplicate_key(k, path)
+        out[k] = v
+    return out
 
 
 def _yaml_children(node) -> list:
@@ -391,7 +422,8 @@ def parse_structured(text: str, *, yaml_syntax: bool, path=None):
 
     kind = "YAML" if yaml_syntax else "JSON"
     try:
-        data = _yaml_node(text, path) if yaml_syntax else json.loads(text)
+        data = (_yaml_node(text, path) if yaml_syntax
+                else json.loads(text, object_pairs_hook=lambda pairs: _json_object(pairs, path)))
     except InputError:
         raise
     except (json.JSONDecodeError, yaml.YAMLError) as err:
@@ -412,9 +444,7 @@ def read_structured(path: str | Path, what: str, max_bytes: int = 10_000_000) ->
     "a scenario"); a missing, empty, malformed, too deep/large or non-mapping file raises
     :class:`InputError`."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found", file=path, expected=f"{what} JSON/YAML file")
-    text = read_text(path, max_bytes=max_bytes)
+    text = read_text(path, max_bytes=max_bytes, expected=f"{what} JSON/YAML file")
     is_yaml = path.suffix.lower() in (".yaml", ".yml")
     data = parse_structured(text, yaml_syntax=is_yaml, path=path)
     if not isinstance(data, dict):

@@ -17,7 +17,7 @@ from pydantic import (BaseModel, ConfigDict, Field, ValidationError, ValidationI
                       model_validator)
 
 from .aiding_spec import CORRECTION_MODES, DEFAULT_CORRECTION_MODE, AidingConfig, parse_aiding
-from .errors import InputError, from_validation_error
+from .errors import InputError, from_validation_error, refuse_bool_numbers
 from .fileio import atomic_write_text, read_structured
 from .units import C_LIGHT, C_SOUND_WATER, G0
 
@@ -37,6 +37,9 @@ PLAUSIBLE: dict[str, tuple[float, float, str]] = {
 PLAUSIBLE_CARRIER_HZ = {"radar": (1e6, 1e13), "sonar": (10.0, 5e6)}
 #: Synthetic-aperture time Tc (s) that a budget can mean something for.
 PLAUSIBLE_TC_S = (1e-5, 1e5)
+#: Propagation speed per medium (m/s): radio waves are slowed at most ~9× (water, ε ≈ 80), sound
+#: travels at most ~12 km/s (diamond); outside, the medium and the speed do not belong together.
+RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S = 1e7, 2e4
 
 
 class Scenario(BaseModel):
@@ -83,6 +86,8 @@ class Scenario(BaseModel):
         None, gt=0, le=3600, allow_inf_nan=False,
         description="feedforward mode: mean delay of the correction blend (default 5·Tc)")
 
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
+
     @model_validator(mode="before")
     @classmethod
     def _renamed_aiding_keys(cls, data):
@@ -107,6 +112,15 @@ class Scenario(BaseModel):
             raise ValueError("sonar carrier_frequency_hz above 5 MHz: did you mean medium 'radar'?")
         if self.medium == "radar" and self.carrier_frequency_hz < 1e6:
             raise ValueError("radar carrier_frequency_hz below 1 MHz: did you mean medium 'sonar'?")
+        c = self.propagation_speed_m_s
+        if c is not None and self.medium == "radar" and c < RADAR_MIN_SPEED_M_S:
+            raise InputError("a speed of sound for radar: did you mean medium 'sonar'?",
+                             field="propagation_speed_m_s", value=c,
+                             expected=f"≥ {RADAR_MIN_SPEED_M_S:g} m/s for radio waves (≈ c/9 in water)")
+        if c is not None and self.medium == "sonar" and c > SONAR_MAX_SPEED_M_S:
+            raise InputError("faster than sound in any medium: did you mean medium 'radar'?",
+                             field="propagation_speed_m_s", value=c,
+                             expected=f"≤ {SONAR_MAX_SPEED_M_S:g} m/s for sound")
         self._check_plausible()
         return self
 

@@ -157,7 +157,7 @@ def test_single_channel_log(tmp_path):
 
 def test_unknown_effect_and_temperature_without_channel(tmp_path):
     with pytest.raises(InputError, match="unknown effect"):
-        run_gap(log_from_arrays({c: np.zeros(8192) for c in CHANNELS}, RATE),
+        run_gap(log_from_arrays({c: np.random.default_rng(1).normal(0.0, 1e-3, 8192) for c in CHANNELS}, RATE),
                 write_model(tmp_path / "m.json", {**MODEL_JSON, "effects": [
                     {"name": "drift", "channel": "gyro_x", "params": {"x": 1}}]}))
     temp_model = BASE.with_effect({"name": "temperature_sensitivity", "channel": "gyro_x",

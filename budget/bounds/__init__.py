@@ -7,6 +7,7 @@
 * :mod:`.lever_arm` — seed 004's bounds together with attitude error × lever arm.
 """
 
+from ..errors import InputError
 from .table import BOUND_FIELDS, BoundsTable
 from .paper import paper_bounds
 from .derived import DerivedAssumptions, derived_bounds
@@ -34,10 +35,13 @@ def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_
         return derived_bounds(tc_s, range_resolution_m, assumptions or DerivedAssumptions())
     if mode in ("no-autofocus", "no_autofocus"):
         if wavelength_m is None:
-            raise ValueError("no-autofocus bounds need the wavelength (they limit phase, not range cells)")
+            raise InputError("no-autofocus bounds need the wavelength (they limit phase, not range "
+                             "cells)", field="wavelength_m", expected="λ in m")
         return no_autofocus_bounds(tc_s, wavelength_m, assumptions or NoAutofocusAssumptions())
     if mode in ("lever-arm", "lever_arm"):
         if wavelength_m is None:
-            raise ValueError("lever-arm bounds need the wavelength (their fast-phase limit is a phase)")
+            raise InputError("lever-arm bounds need the wavelength (their fast-phase limit is a "
+                             "phase)", field="wavelength_m", expected="λ in m")
         return lever_arm_bounds(tc_s, range_resolution_m, wavelength_m, assumptions or LeverArmAssumptions())
-    raise ValueError(f"unknown bounds mode {mode!r}; expected paper, derived, no-autofocus or lever-arm")
+    raise InputError("unknown bounds mode", field="mode", value=mode,
+                     expected="paper, derived, no-autofocus or lever-arm")

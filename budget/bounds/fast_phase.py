@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ..errors import InputError
 from ..sar.residual import DEFAULT_PGA_BANDWIDTH_CYCLES, random_walk_highpass_rms
 from ..units import G0, phase_error_to_range_error
 
@@ -69,7 +70,8 @@ def fast_phase_limits(wavelength_m: float, tc_s=(), *, noise_rms_deg: float = 1.
     within ``noise_rms_deg`` rms (each source alone, whole error along the line of sight)."""
     lam = float(wavelength_m)
     if not (math.isfinite(lam) and lam > 0):
-        raise ValueError("wavelength must be finite and > 0 m")
+        raise InputError("wavelength must be finite and > 0", field="wavelength_m", value=lam,
+                         expected="λ in m, > 0")
     noise_m = phase_error_to_range_error(math.radians(noise_rms_deg), lam)
     harm_m = phase_error_to_range_error(math.radians(harmonic_peak_deg), lam)
     tc = np.atleast_1d(np.asarray(tc_s, dtype=float))

@@ -25,23 +25,30 @@ says which one binds.
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
 import numpy as np
 import pandas as pd
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from ..errors import InputError, refuse_bool_numbers
 from ..sar.residual import DEFAULT_PGA_BANDWIDTH_CYCLES, random_walk_highpass_rms
 from ..units import phase_error_to_range_error
 from .paper import _inputs, paper_bounds
 from .table import BOUND_FIELDS, BoundsTable
 
 
+#: one lever-arm component (m): finite, within the scenario's 1 km
+_LeverComponent = Annotated[float, Field(ge=-1e3, le=1e3, allow_inf_nan=False)]
+
+
 class LeverArmAssumptions(BaseModel):
     """Installation and limits of the lever-arm bounds (SI; the defaults of the verdict)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
-    lever_arm_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    lever_arm_m: tuple[_LeverComponent, _LeverComponent, _LeverComponent] = (0.0, 0.0, 0.0)
     platform_rate_deg_s: float = Field(0.0, ge=0, allow_inf_nan=False,
                                        description="platform turn rate during the aperture")
     k_sigma: float = Field(2.0, gt=0, le=6, description="random terms: k·σ ≤ the limit")
@@ -84,7 +91,8 @@ def lever_arm_bounds(tc_s, range_resolution_m, wavelength_m: float,
     a = a or LeverArmAssumptions()
     lam = float(wavelength_m)
     if not (math.isfinite(lam) and lam > 0):
-        raise ValueError("wavelength must be finite and > 0 m")
+        raise InputError("wavelength must be finite and > 0", field="wavelength_m", value=lam,
+                         expected="λ in m, > 0")
     tc, dr = _inputs(tc_s, range_resolution_m)
     p = paper_bounds(tc, dr)
     lim = _limits(tc, dr, lam, a)

@@ -25,6 +25,7 @@ import math
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from ..errors import InputError
 from ..units import G0, phase_error_to_range_error
 from .legendre import P2_EDGE_RISE, random_walk_constants
 from .paper import _inputs
@@ -50,7 +51,8 @@ def no_autofocus_bounds(tc_s, wavelength_m, a: NoAutofocusAssumptions | None = N
     a = a or NoAutofocusAssumptions()
     lam = float(wavelength_m)
     if not (math.isfinite(lam) and lam > 0):
-        raise ValueError("wavelength must be finite and > 0 m")
+        raise InputError("wavelength must be finite and > 0", field="wavelength_m", value=lam,
+                         expected="λ in m, > 0")
     tc, _ = _inputs(tc_s, 1.0)
     # LOS range errors allowed by the phase limits
     q_m = phase_error_to_range_error(a.quadratic_edge_limit_rad, lam)

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import units as u
+from ..errors import InputError
 from .table import BoundsTable
 
 
@@ -24,9 +25,10 @@ def _inputs(tc_s, range_resolution_m):
     tc = np.atleast_1d(np.asarray(tc_s, dtype=float))
     dr = np.asarray(range_resolution_m, dtype=float)
     if not (np.all(np.isfinite(tc)) and np.all(tc > 0)):
-        raise ValueError("Tc must be finite and > 0 s")
+        raise InputError("Tc must be finite and > 0", field="tc_s", value=tc.tolist(), expected="s, > 0")
     if not (np.all(np.isfinite(dr)) and np.all(dr > 0)):
-        raise ValueError("range resolution δr must be finite and > 0 m")
+        raise InputError("range resolution δr must be finite and > 0", field="range_resolution_m",
+                         value=dr.tolist(), expected="m, > 0")
     tc, dr = np.broadcast_arrays(tc, dr)
     return tc, dr
 

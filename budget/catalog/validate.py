@@ -120,6 +120,11 @@ def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], require
         elif col in alt:
             canon = alt[col][0]
         else:
+            sep = next((c for c in ";\t|" if c in col), None) if len(header) == 1 else None
+            if sep is not None:
+                raise InputError(f"the header is a single column holding {sep!r}: the file seems to "
+                                 f"use {sep!r} as its delimiter", file=path, row=1, field=col,
+                                 expected="comma-separated columns (save the sheet as CSV with commas)")
             raise InputError("unknown column", file=path, row=1, field=col,
                              expected=f"one of {', '.join(allowed)}"
                              + (f" or an alternative-unit column ({', '.join(alt)})" if alt else ""))

@@ -24,8 +24,9 @@ def add_parser(sub) -> None:
     p.add_argument("--lever-arm", type=float, nargs=3, metavar=("X", "Y", "Z"),
                    help="lever arm IMU → antenna in m (with --tc and --mode lever-arm; a scenario "
                         "gives its own)")
-    p.add_argument("--platform-rate", type=float, default=0.0, metavar="DEG_S",
-                   help="platform turn rate during the aperture (with --tc and --mode lever-arm)")
+    p.add_argument("--platform-rate", type=float, metavar="DEG_S",
+                   help="platform turn rate during the aperture (with --tc and --mode lever-arm; "
+                        "default 0)")
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -56,14 +57,29 @@ def run(args) -> int:
     if not (np.isfinite(dr) and dr > 0):
         raise InputError("range resolution must be finite and > 0", field="--range-resolution",
                          value=dr, expected="metres > 0")
-    if args.mode in ("no-autofocus", "lever-arm") and not lam:
+    if args.wavelength is not None and not (np.isfinite(args.wavelength) and args.wavelength > 0):
+        raise InputError("wavelength must be finite and > 0", field="--wavelength",
+                         value=args.wavelength, expected="λ in m, e.g. 0.03")
+    if args.mode in ("no-autofocus", "lever-arm") and lam is None:
         raise InputError(f"{args.mode} bounds need the wavelength", field="--wavelength",
                          expected="λ in m, or a scenario")
+    for option, value in (("--lever-arm", args.lever_arm), ("--platform-rate", args.platform_rate)):
+        if value is not None and not (args.tc and args.mode == "lever-arm"):
+            raise InputError("is used only with --tc and --mode lever-arm (a scenario gives its own)",
+                             field=option, value=value, expected="--tc … --mode lever-arm, or no "
+                             f"{option}")
     lever = None
     if args.mode == "lever-arm":
         if args.tc:
-            lever = LeverArmAssumptions(lever_arm_m=tuple(args.lever_arm or (0.0, 0.0, 0.0)),
-                                        platform_rate_deg_s=max(args.platform_rate, 0.0))
+            arm = tuple(args.lever_arm or (0.0, 0.0, 0.0))
+            if not all(np.isfinite(v) and abs(v) <= 1e3 for v in arm):
+                raise InputError("lever arm components must be finite and within 1 km", field="--lever-arm",
+                                 value=list(arm), expected="X Y Z in m, |component| ≤ 1000 m")
+            rate = 0.0 if args.platform_rate is None else args.platform_rate
+            if not (np.isfinite(rate) and rate >= 0):
+                raise InputError("platform turn rate must be finite and ≥ 0", field="--platform-rate",
+                                 value=rate, expected="deg/s, ≥ 0")
+            lever = LeverArmAssumptions(lever_arm_m=arm, platform_rate_deg_s=rate)
         else:
             lever = LeverArmAssumptions.from_scenario(s)
     table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=lever)
@@ -75,6 +91,6 @@ def run(args) -> int:
         for t in np.atleast_1d(tc):
             print(f"lever arm at Tc = {t:.4g} s (|d| = {lever.lever_m:.3g} m):")
             print(lever_arm_terms(float(t), dr, lam, lever).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-    if lam:
+    if lam is not None:
         print(fast_phase_limits(lam).summary())
     return 0

@@ -33,12 +33,8 @@ def _options(args) -> McOptions:
         if getattr(args, name, None) is not None:
             upd[name] = getattr(args, name)
     if getattr(args, "acceptance", None):
-        import json
-        from pathlib import Path
-        try:
-            spec = json.loads(Path(args.acceptance).read_text())
-        except (OSError, ValueError) as err:
-            raise InputError(f"cannot read the acceptance spec: {err}", file=args.acceptance) from None
+        from ..fileio import read_structured
+        spec = read_structured(args.acceptance, "an acceptance spec")  # size, depth and duplicate-key limits
         if not isinstance(spec, dict):
             raise InputError("the acceptance spec must be a JSON object", file=args.acceptance)
         verdict = {k: spec.pop(k) for k in ("max_range_migration_cells", "max_residual_phase_rms_deg")

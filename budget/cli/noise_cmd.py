@@ -116,7 +116,10 @@ def run_arma(args) -> int:
                        pauta_k=None if args.no_outliers else args.pauta_k, replace=args.replace_with,
                        detrend_order=args.detrend, process_noise=args.process_noise)
     with working(f"noise arma: {args.channel}", quiet=getattr(args, "quiet", False)):
-        res = analyse_arma(log.channels[args.channel], log.rate_hz, channel=args.channel, options=opts)
+        try:
+            res = analyse_arma(log.channels[args.channel], log.rate_hz, channel=args.channel, options=opts)
+        except InputError as err:  # about the log's channel: name the log
+            raise (err if err.file else err.rename_file(args.log)) from None
     for flag in res.checks.flags():
         print(f"warning: {args.channel}: {flag} — modelled anyway, see 'checks'", file=sys.stderr)
     if args.json:

@@ -43,6 +43,11 @@ def run(args) -> int:
     if args.seed < 0:
         raise InputError("seed must be ≥ 0", field="--seed", value=args.seed)
     geom = SarGeometry.from_scenario(scenario, window=args.window)
+    nyquist = geom.n_pulses / 2.0  # cycles over the aperture that its pulses can still sample
+    if abs(args.sinusoid_cycles) > nyquist:
+        raise InputError(f"the {geom.n_pulses} pulses of the aperture cannot sample this sinusoid "
+                         "(it would alias to a slower one)", field="--sinusoid-cycles",
+                         value=args.sinusoid_cycles, expected=f"|cycles| ≤ {nyquist:g}")
     scene = Scene.build(**Scene.default(geom).model_dump(exclude={"snr_db"}), snr_db=args.snr_db)
     psi = smooth_phase_error(normalised_time(geom), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
                              sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)

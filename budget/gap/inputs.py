@@ -114,6 +114,11 @@ def _from_log(log: ImuLog) -> Measured:
     if n < MIN_SAMPLES:
         raise InputError(f"log too short: {n} samples", file=log.source, field="samples",
                          expected=f"at least {MIN_SAMPLES} samples")
+    flat = [c for c, v in series.items() if np.ptp(v) == 0]
+    if flat:  # nothing to compare: its Allan deviation and PSD are zero (a dead or clipped channel)
+        raise InputError(f"channel(s) {', '.join(flat)} hold one constant value", file=log.source,
+                         field=flat[0], expected="a recorded noise signal (drop dead channels from the "
+                         "log or the mapping)")
     notes = ["each channel's mean was removed before comparing (turn-on bias, gravity and "
              "Earth rate are not noise statistics)"]
     notes += [f"log: {i.text()}" for i in log.issues.issues if i.severity != "info"]

@@ -46,7 +46,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from ..catalog.schema import ImuErrorsSI, PartSpec
-from ..errors import InputError, from_validation_error
+from ..errors import InputError, from_validation_error, refuse_bool_numbers
 from ..fileio import atomic_write_text, read_structured
 from ..units import ACCEL_CHANNELS, CHANNELS, GYRO_CHANNELS, channel_si_unit
 from .registry import REGISTRY
@@ -73,6 +73,7 @@ class Effect(BaseModel):
     """One error effect on one channel, parameters in SI channel units (see module table)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     name: str
     channel: str
@@ -169,6 +170,9 @@ class NoiseModel(PartSpec):
     ``part_id``, ``grade`` and ``source`` are optional here. Use :meth:`from_part`,
     :meth:`load` / :meth:`save` (JSON or YAML), :meth:`with_effect` and :meth:`to_si`.
     """
+
+    # a file's true/false is no number (a catalog CSV, read as text, has no booleans)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     part_id: str | None = Field(None, pattern=r"^[A-Za-z0-9][A-Za-z0-9._\-]{0,63}$")
     grade: _GRADE | None = None

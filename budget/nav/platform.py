@@ -16,17 +16,16 @@ rates ω_b = (ṙ − ẏ·sin p, ṗ·cos r + ẏ·sin r·cos p, −ṗ·sin r 
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from ..errors import InputError, from_validation_error
-from ..fileio import read_text
+from ..errors import InputError, from_validation_error, refuse_bool_numbers
+from ..fileio import read_structured
 from ..units import G0
 
 TRANSLATION_AXES = ("surge", "sway", "heave")
@@ -39,6 +38,7 @@ class SinusoidalMotion(BaseModel):
     roll/pitch/yaw (peak)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     axis: Axis
     frequency_hz: float = Field(..., gt=0, allow_inf_nan=False)
@@ -65,6 +65,7 @@ class RandomMotion(BaseModel):
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     axis: Axis
     frequency_hz: tuple[float, ...] = Field(..., min_length=2)
@@ -110,6 +111,7 @@ class Disturbance(BaseModel):
     """Platform disturbance: any number of sinusoidal and random components (they add)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     sinusoids: tuple[SinusoidalMotion, ...] = ()
     random: tuple[RandomMotion, ...] = ()
@@ -128,14 +130,10 @@ class Disturbance(BaseModel):
 
     @classmethod
     def load(cls, path: str | Path) -> "Disturbance":
-        """Read a disturbance JSON file; problems raise :class:`InputError` naming file and field."""
+        """Read a disturbance JSON (or YAML) file with the limits of :func:`~budget.fileio.read_structured`;
+        problems raise :class:`InputError` naming file and field."""
         path = Path(path)
-        if not path.is_file():
-            raise InputError("file not found", file=path, expected="a disturbance JSON file")
-        try:
-            data = json.loads(read_text(path))
-        except json.JSONDecodeError as err:
-            raise InputError(f"not valid JSON: {err}", file=path) from None
+        data = read_structured(path, "a disturbance")
         try:
             return cls.model_validate(data)
         except ValidationError as err:

@@ -68,15 +68,18 @@ class Characterization:
 
     def summary(self) -> str:
         p = self.part
+        weak = set(_unresolved_columns(self.channels))
 
-        def v(x, unit):  # 4 significant digits; a term the fit did not find is said so
-            return "not found" if x is None else f"{x:.4g} {unit}"
+        def v(col, unit):  # 4 significant digits; a term not found or not resolved is said so
+            x = getattr(p, col)
+            return ("not found" if x is None
+                    else f"{x:.4g} {unit}" + (" (not resolved)" if col in weak else ""))
 
         lines = [f"part {p.part_id} ({p.grade}), rate {p.rate_hz:g} Hz",
-                 f"  gyro  ARW {v(p.gyro_arw_deg_rt_h, 'deg/√h')}, bias instability "
-                 f"{v(p.gyro_bias_instability_deg_h, 'deg/h')}, RRW {v(p.gyro_rrw_deg_h_rt_h, 'deg/h/√h')}",
-                 f"  accel VRW {v(p.accel_vrw_m_s_rt_h, 'm/s/√h')}, bias instability "
-                 f"{v(p.accel_bias_instability_ug, 'µg')}",
+                 f"  gyro  ARW {v('gyro_arw_deg_rt_h', 'deg/√h')}, bias instability "
+                 f"{v('gyro_bias_instability_deg_h', 'deg/h')}, RRW {v('gyro_rrw_deg_h_rt_h', 'deg/h/√h')}",
+                 f"  accel VRW {v('accel_vrw_m_s_rt_h', 'm/s/√h')}, bias instability "
+                 f"{v('accel_bias_instability_ug', 'µg')}",
                  f"  axes combined: {self.combine_rule}"]
         lines += [t.summary() for t in self.channels.values()]
         lines += [f"note: {n}" for n in self.notes]
@@ -86,6 +89,23 @@ class Characterization:
 def _worst(values: list[float | None]) -> float | None:
     vals = [v for v in values if v is not None]
     return float(max(vals)) if vals else None
+
+
+#: catalog column ← (sensor, IEEE-952 term) of :func:`_row_values`
+_COLUMN_TERMS = {"gyro_arw_deg_rt_h": ("gyro", "N"), "gyro_bias_instability_deg_h": ("gyro", "B"),
+                 "gyro_rrw_deg_h_rt_h": ("gyro", "K"), "accel_vrw_m_s_rt_h": ("accel", "N"),
+                 "accel_bias_instability_ug": ("accel", "B")}
+
+
+def _unresolved_columns(fits: Mapping[str, NoiseTerms]) -> list[str]:
+    """Catalog columns whose value (the worst axis's term) comes from a fit that did not resolve
+    the term (< 2σ): a number the record cannot pin down, to be said wherever the row goes."""
+    out = []
+    for col, (sensor, term) in _COLUMN_TERMS.items():
+        found = [t for c, t in fits.items() if c.startswith(sensor) and t.values[term] is not None]
+        if found and not max(found, key=lambda t: t.values[term]).resolved[term]:
+            out.append(col)
+    return out
 
 
 def _row_values(fits: Mapping[str, NoiseTerms]) -> dict[str, float | None]:
@@ -180,10 +200,17 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                              expected="an explicit grade (--grade)") from None
         notes.append(f"grade {grade} inferred from the grades table")
     text = source or f"measured: {origin}, IEEE-952 Allan-variance fit"
+    row_notes = f"axes combined by {COMBINE_RULE}"
+    weak_cols = _unresolved_columns(fits)
+    if weak_cols:
+        weak_text = (f"{', '.join(weak_cols)}: fitted but not resolved (< 2σ) on the worst axis — "
+                     "the record cannot pin this value down")
+        notes.append(weak_text)
+        row_notes += f"; {weak_text}"
     try:
         part = PartSpec(part_id=part_id, vendor=vendor, model=model, grade=grade, rate_hz=rate,
                         source=text, bias_instability_convention="adev_min",
-                        notes=f"axes combined by {COMBINE_RULE}", **values)
+                        notes=row_notes, **values)
     except ValidationError as err:
         raise from_validation_error(err) from None
     options = {"taus": taus if isinstance(taus, str) else np.asarray(taus, float).tolist(),

@@ -17,10 +17,14 @@ than 1 − :data:`MIN_KEPT_FRACTION` of a channel, is refused (ValueError naming
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
+
+from ..errors import InputError
+from ..units import G0
 
 #: Largest plausible magnitude of a sample in SI: an angular rate (rad/s, ≈ 57 000 deg/s) and a
 #: specific force (m/s², ≈ 10 000 g); larger values are corrupt samples or a wrong unit.
@@ -129,6 +133,32 @@ def check_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
                                    f"all samples equal {fin[0]:.6g} (stuck or unused sensor); "
                                    "it carries no noise to analyse", int(fin.size), (), names[j]))
     return issues
+
+
+#: |mean specific force| of a static log ÷ g → what the accelerometer unit most likely was
+_GRAVITY_UNIT_SLIPS = ((1.0 / G0, "g read as m/s²"), (G0, "m/s² read as g"), (1000.0, "mg read as g"))
+
+
+def gravity_unit_slip(data: np.ndarray, channel_index: dict[str, int], source_units: dict[str, str],
+                      path) -> InputError | None:
+    """A static log's three accelerometers read gravity: a mean magnitude off by the factor of
+    a unit slip (g ↔ m/s², mg ↔ g, within 25 %) means the columns carry another unit than their
+    names say — every noise figure would be off by that factor. The error, or None."""
+    axes = ("accel_x", "accel_y", "accel_z")
+    if not all(a in channel_index for a in axes):
+        return None
+    with np.errstate(invalid="ignore"):
+        mean = np.array([np.nanmean(data[:, channel_index[a]]) for a in axes])
+    ratio = float(np.linalg.norm(mean)) / G0
+    for factor, slip in _GRAVITY_UNIT_SLIPS:
+        if math.isfinite(ratio) and 0.8 < ratio / factor < 1.25:
+            unit = source_units.get("accel_x", "?")
+            return InputError(f"at rest the accelerometers read |mean| = {ratio * G0:.4g} m/s², "
+                              f"{ratio:.3g} g: the values look like {slip}", file=path,
+                              field=f"accel_x_{unit} … accel_z_{unit}",
+                              expected="≈ 9.81 m/s² of gravity; name the columns after their unit "
+                              "(accel_x_mps2 | accel_x_g | accel_x_mg) or fix the mapping's scale")
+    return None
 
 
 def _limit(channel: str) -> float:

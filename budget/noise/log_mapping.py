@@ -14,7 +14,7 @@ from pathlib import Path
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .. import units as u
-from ..errors import InputError, from_validation_error
+from ..errors import InputError, from_validation_error, refuse_bool_numbers
 from ..fileio import read_structured
 
 #: Time column name → factor to seconds.
@@ -42,6 +42,7 @@ class LogMapping(BaseModel):
     """
 
     model_config = ConfigDict(extra="forbid")
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     columns: dict[str, str] = Field(default_factory=dict)
     rate_hz: float | None = Field(None, gt=0.0, le=1e7, allow_inf_nan=False)

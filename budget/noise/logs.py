@@ -13,8 +13,11 @@ The file itself is only ever read.
 
 from __future__ import annotations
 
+import csv
 import gzip
+import io
 import math
+import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..fileio import check_input_file
+from ..fileio import check_input_file, open_input
 from ..units import CHANNELS
 from . import log_checks as lc
 from .log_mapping import ColumnPlan, LogMapping, plan_columns
@@ -130,6 +133,47 @@ def _bad_cell(series: pd.Series, base_row: int, path: Path, col: str) -> None:
                          value=series.iloc[i], expected="a decimal number")
 
 
+def _chunks_without_lost_fields(reader, path: Path, mapping: LogMapping | None):
+    """The chunks of ``reader``; a row with more fields than the header (which pandas would cut
+    with only a warning, shifting nothing but losing data) is an error naming its line."""
+    while True:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", pd.errors.ParserWarning)
+            chunk = next(reader, None)
+        if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
+            bad = _row_with_extra_fields(path, mapping)
+            if bad is not None:
+                reader.close()
+                line_no, got, want = bad
+                raise InputError(f"row has {got} fields, the header {want}: the extra ones would be dropped",
+                                 file=path, row=line_no, expected=f"{want} fields like the header")
+        if chunk is None:
+            return
+        yield chunk
+
+
+def _row_with_extra_fields(path: Path, mapping: LogMapping | None) -> tuple[int, int, int] | None:
+    """(line number, fields, header fields) of the first data row with more non-empty trailing
+    fields than the header — pandas drops them with a warning — or None when the extra fields
+    are only trailing delimiters (``1,2,3,``), which lose nothing."""
+    delim = mapping.delimiter if mapping else ","
+    comment = mapping.comment if mapping else None
+    skip = mapping.skip_rows if mapping else 0
+    with open_input(path) as fh:
+        text = io.TextIOWrapper(fh, encoding="utf-8", errors="replace", newline="")
+        width = None
+        for line_no, row in enumerate(csv.reader(text, delimiter=delim), start=1):
+            if line_no <= skip or not row or (comment and row[0].lstrip().startswith(comment)):
+                continue
+            while row and not row[-1].strip():
+                row = row[:-1]
+            if width is None:
+                width = len(row)
+            elif len(row) > width:
+                return line_no, len(row), width
+    return None
+
+
 def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
                  max_rows: int | None, chunk_rows: int) -> np.ndarray:
     est = _estimate_rows(path)
@@ -144,7 +188,7 @@ def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
                              comment=mapping.comment if mapping else None, skipinitialspace=True,
                              skiprows=mapping.skip_rows if mapping else 0,
                              chunksize=chunk_rows, nrows=max_rows, index_col=False)
-        for chunk in reader:
+        for chunk in _chunks_without_lost_fields(reader, path, mapping):
             chunk.columns = [str(c).strip() for c in chunk.columns]
             m = len(chunk)
             if n + m > data.shape[0]:
@@ -204,6 +248,9 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
                                               "and not mapped; not read", 0, (), c)
                                   for c in plan.ignored])
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
+    slip = lc.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
+    if slip is not None:
+        raise slip
     if report.errors:
         if not repair:
             first = "; ".join(i.text() for i in report.errors[:3])

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from ..errors import InputError
 from ..units import channel_si_unit
 from .arma import DEFAULT_ORDERS, ArmaSelection, select_arma
 from .checks import CheckReport, check_series
@@ -118,6 +119,10 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
     opt = options or ArmaOptions()
     raw = np.asarray(x, dtype=np.float64)
     pre = preprocess(raw, pauta_k=opt.pauta_k, replace=opt.replace, detrend_order=opt.detrend_order)
+    if np.ptp(pre.x) <= 1e-9 * np.max(np.abs(raw)):  # what is left is round-off, not noise
+        raise InputError("the channel holds no noise to model: it is constant (stuck or unused "
+                         f"sensor) or an exact degree-{opt.detrend_order} trend", field=channel,
+                         expected="a channel of a static IMU log with noise")
     checks = check_series(pre.x)
     sel = select_arma(pre.x, opt.orders, opt.method, demean=False)
     kf = ArmaKalman(sel.selected, process_noise=opt.process_noise)

@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-from ..errors import InputError
+from ..errors import InputError, refuse_bool_numbers
 from .metrics import TargetMetricArrays, TargetMetricsTable
 
 
@@ -28,6 +28,7 @@ class Acceptance(BaseModel):
     """Acceptance levels of the impulse response (see module docstring for the defaults)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     max_broadening: float = Field(0.10, ge=0, le=10, allow_inf_nan=False, description="width/ideal − 1")
     pslr_margin_db: float = Field(3.0, ge=0, le=40, allow_inf_nan=False, description="allowed PSLR above ideal")

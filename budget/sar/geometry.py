@@ -265,8 +265,11 @@ class SarGeometry:
         x_s = scene_extent_cells * scenario.azimuth_resolution_m
         y_s = scene_extent_cells * scenario.range_resolution_m
         if y_s > 0.2 * r_c:
-            raise InputError("scene range extent exceeds 20 % of the slant range", field="scene_extent_cells",
-                             value=scene_extent_cells, expected=f"≤ {0.2 * r_c / scenario.range_resolution_m:.0f}")
+            raise InputError(f"the simulated scene ({scene_extent_cells:g} range cells of "
+                             f"{scenario.range_resolution_m:g} m = {y_s:.4g} m) exceeds 20 % of the "
+                             "slant range", field="slant_range_m", value=r_c,
+                             expected=f"slant_range_m ≥ {5.0 * y_s:.4g} m, or a range resolution "
+                             f"≤ {0.2 * r_c / scene_extent_cells:.4g} m")
         tc = scenario.tc_s
         half_len = 0.5 * (v * tc + x_s)
         if half_len / r_c > 0.35:
