@@ -320,3 +320,18 @@ def test_log_rows_with_more_fields_than_the_header_are_refused_not_cut(tmp_path)
     trail = tmp_path / "trail.csv"
     trail.write_text(head + "".join(f"{0.01 * i:.2f},1,2,{i},\n" for i in range(8)))
     assert read_log(trail).channels["gyro_z"].tolist() == list(range(8))
+
+
+def test_a_time_column_in_ms_named_time_s_is_warned_about(tmp_path):
+    """100 Hz time stamps written in ms under ``time_s`` read as 0.1 Hz — inside the accepted
+    range, but every noise figure would scale with it: the log carries a warning naming the
+    column to use."""
+    from budget.noise.logs import read_log
+    p = tmp_path / "ms.csv"
+    rng = np.random.default_rng(2)
+    p.write_text("time_s,gyro_x_rps\n" + "".join(f"{10 * i},{rng.normal(0, 1e-3):.6g}\n" for i in range(64)))
+    log = read_log(p)
+    assert log.rate_hz == pytest.approx(0.1)
+    warn = [i for i in log.issues.issues if i.kind == "low_rate"]
+    assert warn and warn[0].severity == "warning" and "time_ms" in warn[0].message
+    assert not [i for i in read_log(p, rate_hz=100.0).issues.issues if i.kind == "low_rate"]

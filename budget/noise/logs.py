@@ -294,6 +294,10 @@ def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
         {c: plan.source_units[c] for c in wanted}, plan.ignored)
 
 
+#: Below this rate (Hz) derived from the time stamps, the log says it may be a time unit slip.
+LOW_RATE_HZ = 1.0
+
+
 def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, path: Path) -> float:
     if time_s is None:
         return float(given)
@@ -314,4 +318,9 @@ def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, 
                 "rate_mismatch", "warning", f"time stamps give {rate:.6g} Hz but {given:.6g} Hz "
                 "was given; using the given rate", 0, (), "time"))
         return float(given)
+    if rate < LOW_RATE_HZ:  # plausible for an averaged log, but also what ms read as s gives
+        report.issues.append(lc.LogIssue(
+            "low_rate", "warning", f"time stamps give {rate:.6g} Hz: if they are in ms (µs), name the "
+            f"column time_ms (time_us) or give the rate (--rate-hz); every noise figure scales with it",
+            0, (), "time"))
     return rate
