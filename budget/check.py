@@ -136,6 +136,8 @@ class CheckResult:
         out = []
         for i, pid in enumerate(self.part_ids):
             m = self.margins[i, scenario_index]
+            flagged, why = self.flag(i, scenario_index)
+            limited, limited_margin = self.pga_limited(i, scenario_index)
             spec = ~np.isnan(m)
             b = int(self.binding_index[i, scenario_index])
             out.append({
@@ -147,10 +149,10 @@ class CheckResult:
                 "margins": {p: float(m[j]) for j, p in enumerate(self.params) if spec[j]},
                 "unspecified": [p for j, p in enumerate(self.params) if not spec[j]],
                 "bias_convention": self.bias_conventions[i] if self.bias_conventions else None,
-                "flag": self.flag(i, scenario_index)[0],
-                "flag_reason": self.flag(i, scenario_index)[1],
-                "pga_limited_verdict": self.pga_limited(i, scenario_index)[0],
-                "pga_limited_min_margin": self.pga_limited(i, scenario_index)[1],
+                "flag": flagged,
+                "flag_reason": why,
+                "pga_limited_verdict": limited,
+                "pga_limited_min_margin": limited_margin,
             })
         return out
 

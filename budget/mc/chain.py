@@ -44,7 +44,7 @@ the per-trial functions to float rounding (tests/test_mc_speed_determinism.py).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.fft as sfft
@@ -433,11 +433,7 @@ def _judge_against_twins(setup: ChainSetup, out: list[TrialOutcome], m_after, tr
         lim = limits.max_residual_phase_rms_deg
         if lim is not None and not out[b].after["residual_phase_rms_deg"] <= lim:
             continue
-        o = out[b]
-        out[b] = TrialOutcome(trial=o.trial, passed_before=o.passed_before, passed_after=True, reasons=[],
-                              before=o.before, after=o.after, peak_range_cells=o.peak_range_cells,
-                              pga_converged=o.pga_converged, pga_reason=o.pga_reason, score=o.score,
-                              detail=o.detail, twin_pass=True)
+        out[b] = replace(out[b], passed_after=True, reasons=[], twin_pass=True)
 
 
 def run_trial_errors(setup: ChainSetup, error_m: np.ndarray, trial: int, seed: int,

@@ -25,6 +25,13 @@ from .runner import model_label, run_mc
 from .stats import wilson_interval
 
 
+def _cell(scen: Scenario, part) -> dict:
+    """The columns that name a cell: scenario, its Tc and δr, and the part."""
+    return {"scenario": scen.name, "tc_s": scen.tc_s, "range_resolution_m": scen.range_resolution_m,
+            "part_id": model_label(part), "grade": getattr(part, "grade", None),
+            "price_usd": getattr(part, "price_usd", None)}
+
+
 def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int, *,
           options: McOptions | None = None, workers: int = 1, backend: str = "auto", client=None,
           progress=None, cancel=None) -> pd.DataFrame:
@@ -41,10 +48,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             SarGeometry.from_scenario(scen, window=options.window_for(scen))
         except InputError as e:
             for part in parts:
-                rows.append({"scenario": scen.name, "tc_s": scen.tc_s,
-                             "range_resolution_m": scen.range_resolution_m, "part_id": model_label(part),
-                             "grade": getattr(part, "grade", None), "price_usd": getattr(part, "price_usd", None),
-                             "trials": 0, "status": f"not simulated: {e}"})
+                rows.append(_cell(scen, part) | {"trials": 0, "status": f"not simulated: {e}"})
                 done += 1
                 if progress:
                     progress(done, total)
@@ -55,12 +59,10 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             r = run_mc(scen, part, trials, seed, options=options, workers=workers, backend=backend,
                        client=client, cancel=cancel)
             pct = r.percentiles("after")
-            row = {"scenario": scen.name, "tc_s": scen.tc_s, "range_resolution_m": scen.range_resolution_m,
-                   "part_id": model_label(part), "grade": getattr(part, "grade", None),
-                   "price_usd": getattr(part, "price_usd", None), "trials": r.trials,
-                   "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
-                   "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
-                   "twin_passes": r.agg.twin_pass}
+            row = _cell(scen, part) | {
+                "trials": r.trials, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
+                "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
+                "twin_passes": r.agg.twin_pass}
             row.update({f"fail_{k}": v for k, v in r.agg.failure_reasons().items()})
             for m, q in pct.items():
                 row[f"{m}_p50"], row[f"{m}_p95"] = q["p50"], q["p95"]

@@ -24,11 +24,6 @@ _MIN_GROUPS = 3
 _SPAN_FLOOR = 2.0
 
 
-# the cut-back of the accumulated estimate covers the bins within this many dB of the peak energy
-# (as the iterations' band_db: bins below carry no gradient)
-_CUT_DB = 30.0
-
-
 @lru_cache(maxsize=16)
 def _dct_basis(span: int) -> np.ndarray:
     """Orthonormal DCT-II basis (rows: index m = 0 … span−1, m/2 cycles over the span)."""
@@ -114,10 +109,11 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     # there — on clutter mostly their clutter × clutter random walk, largest at the weighted
     # aperture's ends, where the lines have least energy and the increments are not smoothed.
     # It must pass the same test as any other phase there: drop it over every bin with signal
-    # (within _CUT_DB of the peak energy and above the noise floor; weighted by the lines'
+    # (within the iterations' band_db of the peak energy — below it no bin carries a gradient —
+    # and above the noise floor; weighted by the lines'
     # energy, so bins with little signal do not steer the fit) and let the bands below
     # re-estimate over the span what is significant.
-    full = np.nonzero(energy >= max(10 ** (-_CUT_DB / 10) * energy.max(), floor))[0]
+    full = np.nonzero(energy >= max(10 ** (-d.band_db / 10) * energy.max(), floor))[0]
     c_lo, c_hi = int(full[0]), int(full[-1]) + 1
     phi_c = phi_c.copy()
     phi_c[c_lo:c_hi] -= highpass_phase(phi_c[c_lo:c_hi], width * (c_hi - c_lo) / (2.0 * n), energy[c_lo:c_hi])
