@@ -10,6 +10,7 @@ each docstring; these are thin front doors.
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
@@ -37,6 +38,14 @@ def load_scenario(source) -> "Scenario":  # noqa: F821 — imported lazily below
     raise InputError(f"cannot use a {type(source).__name__} as a scenario", field="scenario",
                      expected="a Scenario, a preset name (" + ", ".join(sorted(PRESETS)) +
                               "), a .json/.yaml path or a mapping of scenario keys")
+
+
+def _is_file(source) -> bool:
+    """True if ``source`` is what :func:`load_scenario` reads as a file path."""
+    from .presets import PRESETS
+
+    return isinstance(source, Path) or (isinstance(source, str) and source not in PRESETS and
+                                        Path(source).suffix.lower() in (".json", ".yaml", ".yml"))
 
 
 def load_scenarios(sources) -> list:
@@ -101,8 +110,13 @@ def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEE
     ``progress``, ``keep_detail`` …) are passed on.
     """
     from .mc.runner import run_mc as _run
+    from .scenario import name_scenario_file
 
-    return _run(load_scenario(scenario), load_part(part), trials, seed, **kwargs)
+    s = load_scenario(scenario)
+    try:
+        return _run(s, load_part(part), trials, seed, **kwargs)
+    except InputError as err:  # a scenario file's value the simulator cannot use: name the file
+        raise name_scenario_file(err, scenario if _is_file(scenario) else None) from None
 
 
 def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int = DEFAULT_TRIALS,
@@ -146,8 +160,15 @@ def vary_scenario(base, field: str, values) -> list:
     if field not in Scenario.model_fields or field in ("name", "medium"):
         raise InputError(f"cannot vary {field!r}", field="field",
                          expected="a numeric scenario key, e.g. " + ", ".join(VARIABLE_FIELDS))
+    values = list(values) if isinstance(values, Iterable) and not isinstance(values, str) else [values]
+    if not values:
+        raise InputError(f"no value of {field} to vary over: the list is empty", field="values",
+                         expected=f"at least one value of {field}")
     out = []
     for v in values:
+        if isinstance(v, bool) or not isinstance(v, numbers.Real):
+            raise InputError(f"not a number for {field}", field="values", value=v,
+                             expected=f"numbers of {field} (SI unit in its name)")
         data = {**s.model_dump(), field: float(v), "name": f"{s.name}@{field}={float(v):g}"}
         out.append(Scenario.from_dict(data, source=f"{field}={v}"))
     return out

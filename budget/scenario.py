@@ -7,6 +7,7 @@ disagree with the inputs.
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 from pathlib import Path
@@ -40,6 +41,63 @@ PLAUSIBLE_TC_S = (1e-5, 1e5)
 #: Propagation speed per medium (m/s): radio waves are slowed at most ~9× (water, ε ≈ 80), sound
 #: travels at most ~12 km/s (diamond); outside, the medium and the speed do not belong together.
 RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S = 1e7, 2e4
+
+
+#: Quantities a user may try to give but that are derived (never stored), and what sets them.
+DERIVED_KEYS = {
+    "wavelength_m": "the wavelength is derived: λ = c/f0 from carrier_frequency_hz (and "
+                    "propagation_speed_m_s)",
+    "tc_s": "Tc is derived: a_w λ R / (2 δℓ V sin θ) from the geometry keys",
+    "aperture_length_m": "the aperture length is derived: V·Tc",
+}
+
+
+def _unknown_key_text(key: str) -> str:
+    """'unknown key' with what the user probably meant: a derived quantity or a close key."""
+    if key in DERIVED_KEYS:
+        return f"unknown key: {DERIVED_KEYS[key]}"
+    close = difflib.get_close_matches(key, list(Scenario.model_fields), n=1, cutoff=0.75)
+    return f"unknown key (did you mean {close[0]!r}?)" if close else "unknown key"
+
+
+def _unknown_keys_named(e: InputError, err: ValidationError) -> InputError:
+    """pydantic's "Extra inputs are not permitted" as "unknown key", with the likely meant key."""
+    extra = [str(x["loc"][0]) for x in err.errors(include_url=False)
+             if x.get("type") == "extra_forbidden" and x.get("loc")]
+    if not extra:
+        return e
+    pydantic_text = "Extra inputs are not permitted"
+    for key in extra:
+        e.reason = e.reason.replace(f"field {key}: {pydantic_text}", f"field {key}: {_unknown_key_text(key)}")
+    if e.field in extra and e.reason.startswith(pydantic_text):
+        e.reason = _unknown_key_text(e.field) + e.reason[len(pydantic_text):]
+        if e.expected is None:
+            e.expected = ("only the scenario keys (sar-budget scenario write --preset NAME F.yaml "
+                          "writes a file with every key)")
+    e.args = (e._format(),)
+    return e
+
+
+def scenario_field(field: str | None) -> bool:
+    """True if an error's ``field`` is a key of the scenario (``slant_range_m``,
+    ``aiding.0.rate_hz``, the derived ``tc_s``) — an error about the scenario's values. The bare
+    ``aiding`` and ``name`` are left out: API arguments of that name exist elsewhere."""
+    if not field:
+        return False
+    base = field.split(".")[0].split(" ")[0]
+    if field in ("aiding", "name"):
+        return False
+    return base in Scenario.model_fields or base == "tc_s"
+
+
+def name_scenario_file(err: InputError, source) -> InputError:
+    """An error raised *after* a scenario file was loaded (the simulator's limits, the motion
+    engine's sampling, the bounds) names the scenario's field but not the file: name ``source``
+    (a path) in it when the field is a scenario key and no file is named yet."""
+    if isinstance(err, InputError) and err.file is None and isinstance(source, (str, Path)) \
+            and str(source) and scenario_field(err.field):
+        err.rename_file(source)
+    return err
 
 
 class Scenario(BaseModel):
@@ -193,7 +251,7 @@ class Scenario(BaseModel):
             cause = (err.errors()[0].get("ctx") or {}).get("error")
             if isinstance(cause, InputError):  # the aiding section names its own field
                 raise (cause.rename_file(source) if source else cause) from None
-            raise from_validation_error(err, file=source) from None
+            raise _unknown_keys_named(from_validation_error(err, file=source), err) from None
 
     @classmethod
     def load(cls, path: str | Path) -> "Scenario":

@@ -204,6 +204,8 @@ def _catalog_entry(data, key: str) -> None:
         st.info("Give the part an id.")
         return
     ch = _characterize(key, part_id, data)
+    for warning in ch.warnings:  # e.g. the log is not one stationary regime
+        st.warning(warning)
     st.dataframe(value_table(ch.part.model_dump()), hide_index=True, key="noise_part_row")
     with st.expander("Per-channel IEEE-952 fits"):
         st.dataframe(tidy(ch.to_frame()), hide_index=True, key="noise_char_table")

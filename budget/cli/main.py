@@ -65,6 +65,20 @@ def _debug_wanted(args) -> bool:
     return bool(getattr(args, "debug", False)) or os.environ.get(DEBUG_ENV, "") not in ("", "0")
 
 
+def _name_scenario_file(err: BaseException, args) -> None:
+    """An error about a scenario key raised after ``--scenario FILE`` was loaded (the simulator's
+    or the motion engine's limits) names FILE (:func:`budget.scenario.name_scenario_file`); with
+    several scenario files, or files and presets, the file cannot be told and is not named."""
+    from ..errors import InputError
+    from ..scenario import name_scenario_file
+
+    given = getattr(args, "scenario", None)
+    if isinstance(given, (list, tuple)):
+        given = given[0] if len(given) == 1 and not getattr(args, "preset", None) else None
+    if isinstance(err, InputError) and given:
+        name_scenario_file(err, given)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -85,6 +99,7 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit:
         raise
     except BaseException as err:  # noqa: BLE001 — the error boundary: one line, never a traceback
+        _name_scenario_file(err, args)
         msg = describe_error(err)
         if msg.kind == "cancelled":
             print(f"{label}: cancelled", file=sys.stderr)

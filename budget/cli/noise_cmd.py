@@ -84,6 +84,8 @@ def run_characterize(args) -> int:
     with working(f"noise characterize: {path.name}", quiet=args.quiet):
         result = characterize(data, part_id=args.as_part or "measured", grade=args.grade,
                               vendor=args.vendor, model=args.model, taus=args.taus)
+    for warning in result.warnings:  # e.g. a log that is not one stationary regime
+        print(f"warning: {path.name}: {warning}", file=sys.stderr)
     if args.append:
         from ..catalog.io import append_part
         append_part(args.append, result.part, replace=args.replace)

@@ -18,10 +18,10 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from ..catalog.fill import DEFAULT_POLICY as UNSPECIFIED_DEFAULT, POLICIES as UNSPECIFIED_POLICIES
-from ..errors import from_validation_error
+from ..errors import from_validation_error, refuse_bool_numbers
 from ..noise.prefilter import KINDS as PREFILTER_KINDS
 from ..sar.acceptance import Acceptance
 
@@ -106,6 +106,8 @@ class McOptions(BaseModel):
     keep_worst: int = Field(5, ge=0, le=100)
     keep_trial_metrics: bool = Field(True, description="keep per-trial metric lists (memory grows "
                                                        "with trials; sweeps turn it off)")
+
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     @classmethod
     def build(cls, **kwargs) -> "McOptions":

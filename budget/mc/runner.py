@@ -20,16 +20,19 @@ heavier runtime for what is an embarrassingly parallel map of chunks.
 from __future__ import annotations
 
 import math
+import numbers
 import threading
 from collections import deque
+from collections.abc import Mapping
 from concurrent.futures import ProcessPoolExecutor
 from functools import lru_cache
 from typing import Callable
 
+import numpy as np
 from threadpoolctl import threadpool_limits
 
 from ..catalog.fill import resolve_unspecified
-from ..errors import InputError
+from ..errors import BOOL_FOR_NUMBER, InputError
 from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
@@ -80,6 +83,39 @@ def work_units(trials: int, chunk_trials: int, workers: int) -> list[tuple[int, 
     return out
 
 
+def whole_number(name: str, value, minimum: int, expected: str) -> int:
+    """``value`` as an int if it is a whole number ≥ ``minimum`` (a Python or numpy integer);
+    otherwise :class:`InputError` naming ``name``. ``True``/``False`` are refused (Python would
+    count them as 1 and 0), and so are 2.5, NaN, ``"64"`` and 64.0 (say 64)."""
+    if isinstance(value, (bool, np.bool_)):
+        raise InputError(BOOL_FOR_NUMBER, field=name, value=value, expected=expected)
+    if not isinstance(value, numbers.Integral):
+        raise InputError(f"{name} must be a whole number", field=name, value=value, expected=expected)
+    if value < minimum:
+        raise InputError(f"{name} must be ≥ {minimum}", field=name, value=value, expected=expected)
+    return int(value)
+
+
+def check_run_counts(trials, seed, workers=1) -> tuple[int, int, int]:
+    """``trials``, ``seed`` and ``workers`` of a run, checked (:func:`whole_number`)."""
+    return (whole_number("trials", trials, 1, "a whole number of trials ≥ 1, e.g. 64"),
+            whole_number("seed", seed, 0, "a whole number ≥ 0, e.g. 1"),
+            whole_number("workers", workers, 1, "a whole number of processes ≥ 1"))
+
+
+def check_options(options) -> McOptions:
+    """``options`` as :class:`McOptions`: None → the defaults, a mapping → :meth:`McOptions.build`
+    (errors name the field), anything else → :class:`InputError`."""
+    if options is None:
+        return McOptions()
+    if isinstance(options, McOptions):
+        return options
+    if isinstance(options, Mapping):
+        return McOptions.build(**dict(options))
+    raise InputError(f"cannot use a {type(options).__name__} as Monte Carlo options", field="options",
+                     expected="a budget.mc.McOptions, a mapping of its fields, or None")
+
+
 def model_label(model) -> str:
     return getattr(model, "part_id", None) or getattr(model, "model", None) or "noise model"
 
@@ -95,13 +131,8 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     the run after the chunks in flight and returns the trials completed (``cancelled=True``).
     ``keep_detail`` keeps images and phase histories of the worst trials (for inspection).
     """
-    options = options or McOptions()
-    if not isinstance(trials, int) or trials < 1:
-        raise InputError("trials must be a positive integer", field="trials", value=trials)
-    if not isinstance(seed, int) or seed < 0:
-        raise InputError("seed must be a non-negative integer", field="seed", value=seed)
-    if workers < 1:
-        raise InputError("workers must be ≥ 1", field="workers", value=workers)
+    options = check_options(options)
+    trials, seed, workers = check_run_counts(trials, seed, workers)
     if backend == "auto":
         backend = "serial" if workers == 1 else "processes"
     if backend not in ("serial", "processes", "dask"):

@@ -21,7 +21,7 @@ from ..errors import InputError
 from ..sar.geometry import SarGeometry
 from ..scenario import Scenario
 from .options import McOptions
-from .runner import model_label, run_mc
+from .runner import check_options, check_run_counts, model_label, run_mc
 from .stats import wilson_interval
 
 
@@ -39,7 +39,18 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`)
     and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
     simulator's sampling limits; module docstring)."""
-    options = (options or McOptions()).model_copy(update={"keep_trial_metrics": False})
+    parts, scenarios = list(parts), list(scenarios)
+    if not parts:
+        raise InputError("no part to sweep: the list of parts is empty", field="parts",
+                         expected="at least one part — a catalog part_id (e.g. 'STIM300'), a part "
+                                  "or a noise model (budget.sweep: None = every catalog part with a "
+                                  "noise figure)")
+    if not scenarios:
+        raise InputError("no scenario to sweep: the list of scenarios is empty", field="scenarios",
+                         expected="at least one scenario — a preset name (e.g. 'airborne_xband'), "
+                                  "a .json/.yaml path or a Scenario")
+    trials, seed, workers = check_run_counts(trials, seed, workers)  # before any cell runs
+    options = check_options(options).model_copy(update={"keep_trial_metrics": False})
     rows = []
     total = len(parts) * len(scenarios)
     done = 0

@@ -30,6 +30,7 @@ from ..catalog.schema import GRADES, PartSpec
 from ..errors import InputError, from_validation_error
 from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
+from .stationarity import check_stationarity
 from .terms import TERMS, NoiseTerms, fit_noise_terms
 
 COMBINE_RULE = ("worst axis: each catalog column is the largest value over the axes where the "
@@ -47,6 +48,9 @@ class Characterization:
     notes: list[str] = field(default_factory=list)
     #: the fit options of :func:`characterize` (``taus``, ``terms``, ``model_error``, the given ``grade``)
     options: dict = field(default_factory=dict)
+    #: findings that make the fit doubtful, one line each naming the channel (e.g. a log that is
+    #: not one stationary regime: :func:`budget.noise.stationarity.check_stationarity`)
+    warnings: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """``{"part": row fields, "channels": {ch: {Q, N, B, K, R}}, ..., "options": {...}}`` (SI
@@ -56,7 +60,8 @@ class Characterization:
                 "channel_units": {ch: t.unit for ch, t in self.channels.items()},
                 "uncertainty": {ch: t.sigmas for ch, t in self.channels.items()},
                 "resolved": {ch: t.resolved for ch, t in self.channels.items()},
-                "notes": list(self.notes), "options": dict(self.options)}
+                "notes": list(self.notes), "warnings": list(self.warnings),
+                "options": dict(self.options)}
 
     def to_frame(self) -> pd.DataFrame:
         rows = []
@@ -83,6 +88,7 @@ class Characterization:
                  f"  axes combined: {self.combine_rule}"]
         lines += [t.summary() for t in self.channels.values()]
         lines += [f"note: {n}" for n in self.notes]
+        lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
 
@@ -154,8 +160,10 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     to :func:`infer_grade`; ``source`` to a description of the input.
     """
     notes: list[str] = []
+    regimes = []  # findings of the stationarity check (a log only)
     if isinstance(data, ImuLog):
         allan = {}
+        regimes = check_stationarity(data.channels, repaired=bool(data.issues.repairs))
         for ch, x in data.channels.items():
             if np.ptp(x) == 0:
                 notes.append(f"{ch}: constant channel skipped")
@@ -207,6 +215,9 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                      "the record cannot pin this value down")
         notes.append(weak_text)
         row_notes += f"; {weak_text}"
+    if regimes:
+        row_notes += ("; measured on a log that may not be one stationary regime: "
+                      + ", ".join(f"{i.column} {i.kind.replace('_', ' ')}" for i in regimes))
     try:
         part = PartSpec(part_id=part_id, vendor=vendor, model=model, grade=grade, rate_hz=rate,
                         source=text, bias_instability_convention="adev_min",
@@ -215,4 +226,5 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
         raise from_validation_error(err) from None
     options = {"taus": taus if isinstance(taus, str) else np.asarray(taus, float).tolist(),
                "terms": list(terms), "model_error": float(model_error), "grade": given_grade}
-    return Characterization(part, fits, allan, COMBINE_RULE, notes, options)
+    return Characterization(part, fits, allan, COMBINE_RULE, notes, options,
+                            [f"{i.column}: {i.message}" for i in regimes])
