@@ -155,10 +155,32 @@ class ChainSetup:
         return {"scene": self.scene_kind, "n_targets": len(self.scene.targets),
                 "clutter_to_target_db": self.scene.clutter_to_target_db, "snr_db": self.snr_db,
                 "window": self.geom.window_azimuth.label, "image_method": self.options.image_method,
-                "n_pulses": int(self.geom.n_pulses), "metrics_on": "five clutter-free points focused with "
+                "n_pulses": int(self.geom.n_pulses),
+                "fractional_bandwidth": self.geom.range_bandwidth_hz / self.geom.carrier_frequency_hz,
+                **({"wideband_note": wideband_note(self.geom)} if wideband_note(self.geom) else {}),
+                "metrics_on": "five clutter-free points focused with "
                 "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image",
                 **({"reference": ref.to_dict(), "reference_summary": ref.summary()}
                    if (ref := scene_reference(self)) is not None else {})}
+
+
+# fractional bandwidth above which the result states what image-domain PGA leaves across the band
+WIDEBAND_NOTE_FRACTION = 0.10
+
+
+def wideband_note(geom: SarGeometry) -> str:
+    """What image-domain PGA cannot remove at this fractional bandwidth b = B_r/f0, or '' when
+    b ≤ :data:`WIDEBAND_NOTE_FRACTION`. The echoes carry the residual line-of-sight error Δr as
+    4π (f0 + f) Δr / c at every range frequency (:mod:`budget.sar.echoes`), while PGA estimates
+    one phase per azimuth bin, the band centre's; it leaves (f/f0 − 1)·φ, of rms b/√12 · φ over a
+    uniform band, as range-dependent defocus. The verdict after PGA is therefore that of an
+    image-domain autofocus; a wavenumber-domain autofocus, estimating Δr itself, would remove it."""
+    b = geom.range_bandwidth_hz / geom.carrier_frequency_hz
+    if b <= WIDEBAND_NOTE_FRACTION:
+        return ""
+    return (f"fractional bandwidth {100 * b:.0f} %: PGA corrects one phase per azimuth bin (the band centre's) "
+            f"and leaves {100 * b / math.sqrt(12):.1f} % rms of the phase error across the band (range-dependent "
+            "defocus), which the verdict after PGA includes; a wavenumber-domain autofocus would remove it")
 
 
 def receiver_noise_spectrum(geom: SarGeometry, snr_db: float, rng: np.random.Generator) -> np.ndarray:
