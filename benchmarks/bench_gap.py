@@ -15,7 +15,8 @@ model's at the τ where the effect shows most (quantization: at τ = dt; heavy t
    log 2) when ``../shared/data`` is present.
 
 Run from the repository root: ``python3 benchmarks/bench_gap.py [--quick] [--jobs 2] [--real]
-[--low-frequency] [--decorrelate]`` (the last two: the options of :func:`budget.gap.run_gap`).
+[--low-frequency] [--decorrelate]`` (the last two: the options of :func:`budget.gap.run_gap`);
+``--real --seeds 0 --fp-seeds 0``: the speed run and the real logs only (≈ 5 min).
 """
 
 from __future__ import annotations
@@ -116,7 +117,10 @@ def main() -> None:
     ap.add_argument("--fp-seeds", type=int, default=50)
     ap.add_argument("--jobs", type=int, default=1, help="processes (the machine has 2 cores)")
     ap.add_argument("--effects", default=",".join(gt.ALL), help="comma-separated subset")
-    ap.add_argument("--real", action="store_true", help="cross-validate the real ADIS16405 logs")
+    ap.add_argument("--real", action="store_true",
+                    help="also cross-validate the real ADIS16405 logs (after the speed run and the "
+                         "detection matrix; --real --seeds 0 --fp-seeds 0 for the real logs alone, "
+                         "≈ 5 min)")
     ap.add_argument("--low-frequency", action="store_true",
                     help="run_gap(low_frequency=True): the record's low-frequency bands too")
     ap.add_argument("--decorrelate", action="store_true",

@@ -163,4 +163,6 @@ def cross_validate(fit_measured, test_measured, model, *, seed: int = 0,
             "validated": table(current)}
     return CrossValidation(fit, meas.source, test, carried, dropped, validated,
                            {"seed": seed, "realizations": realizations, "alpha": alpha,
-                            "tolerance_db": tolerance_db, "test_seed": test_seed})
+                            "tolerance_db": tolerance_db, "test_seed": test_seed,
+                            "low_frequency": bool(gap_kw.get("low_frequency", False)),
+                            "decorrelate": bool(gap_kw.get("decorrelate", False))})

@@ -10,7 +10,8 @@ JSON contract (REPORT.json, scripts rely on it)::
 ``gap_before``/``gap_after`` are the gap *of its channel* before and after the step; the top
 level ``gap_before``/``gap_after`` are the overall gaps (mean over channels) of the base and of
 the updated model. Parameters in SI channel units. Further keys (thresholds, localisation,
-null distribution, notes) are additions.
+null distribution, notes) are additions; ``options`` records the opt-in statistics the run used
+(``{"low_frequency": bool, "decorrelate": bool}``, both false by default).
 """
 
 from __future__ import annotations
@@ -161,6 +162,8 @@ class GapReport:
     updated_model: NoiseModel | None = None
     band_before: EffectSizeBand | None = None
     band_after: EffectSizeBand | None = None
+    #: opt-in statistics of the run: ``low_frequency``, ``decorrelate`` (see :func:`run_gap`)
+    options: dict = field(default_factory=dict)
 
     @property
     def effects(self) -> list[GapStep]:
@@ -223,12 +226,19 @@ class GapReport:
                       + (", temperature" if any(c.measured.temp_coef is not None for c in self.channels.values()) else "")
                       + (", psd_low" if any(c.measured.low is not None for c in self.channels.values()) else "")},
             "model": self.model_label, "seed": self.seed, "realizations": self.realizations,
-            "alpha": self.alpha, "gap_definition": GAP_DEFINITION,
+            "alpha": self.alpha, "options": {k: bool(v) for k, v in self.options.items()},
+            "gap_definition": GAP_DEFINITION,
             "null_before": self.null_before.to_dict(), "null_after": self.null_after.to_dict(),
             "rejected": self.rejected, "stop_reason": self.stop_reason, "notes": list(self.notes),
             "tolerance_db": self.band_after.tolerance_db if self.band_after else None,
             "units": "parameters in SI channel units: rad/s-based (gyro), m/s^2-based (accel); s; Hz",
         }
+
+    def options_text(self) -> str:
+        """The opt-in statistics that were on, in words ("" when none was)."""
+        words = {"low_frequency": "low-frequency bands of the record (--low-frequency)",
+                 "decorrelate": "spectral terms summed decorrelated (--decorrelate)"}
+        return "; ".join(w for k, w in words.items() if self.options.get(k))
 
     def save(self, path: str | Path) -> None:
         """Write the JSON report atomically (non-finite numbers become null)."""
@@ -252,6 +262,9 @@ class GapReport:
                  f"({'within' if self.within_noise else 'NOT within'} noise: overall threshold "
                  f"{self.null_after.overall_threshold:.3g}, channel thresholds "
                  f"{min(thr.values()):.3g}–{max(thr.values()):.3g})"]
+        on = self.options_text()
+        if on:
+            lines.append(f"options: {on} (off by default)")
         if not self.steps:
             lines.append("effects named: none")
         for i, s in enumerate(self.steps, 1):

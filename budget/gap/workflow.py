@@ -294,7 +294,9 @@ def run_gap(measured, model, *, seed: int = 0, realizations: int = DEFAULT_REALI
     terms decorrelated (:mod:`budget.gap.whitening`). Both are off by default: on the benchmark
     they turn one bias instability named on a hidden random walk into the random walk, but also
     name a random walk on two more logs with a hidden ramp, and a ramp on one more
-    model-following log (README, "Model gap"). BLAS runs on one thread inside (small matrices; a shared
+    model-following log (README, "Model gap"). CLI: ``--low-frequency``, ``--decorrelate``; the
+    report records both in ``options``; both need a log (an Allan table with either is an
+    :class:`~budget.errors.InputError`). BLAS runs on one thread inside (small matrices; a shared
     machine).
     """
     with threadpool_limits(limits=1, user_api="blas"):
@@ -320,6 +322,14 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                          value=tolerance_db)
     meas = load_measured(measured, rate_hz=rate_hz, samples=samples, mapping=mapping, repair=repair,
                          max_rows=max_rows, ci_level=ci_level)
+    if meas.kind != "log" and (low_frequency or decorrelate):
+        # both act on statistics only a log has: the record's DCT bands, and the PSD block that
+        # decorrelation needs; on an Allan table they would be silently ignored
+        on = [o for o, flag in (("low_frequency", low_frequency), ("decorrelate", decorrelate)) if flag]
+        opt = " and ".join(f"{o} (--{o.replace('_', '-')})" for o in on)
+        raise InputError(f"{opt} needs a log: an Allan table has no record to take low-frequency "
+                         "bands from and no PSD terms to decorrelate", field=on[0],
+                         expected="a time-series log, or the option left off")
     base, from_catalog, label = load_model(model, catalog_csv=catalog_csv)
     chans, notes = check_compatible(meas, base, from_catalog, channels, check_tau_range)
     current = _with_rate(base, meas.rate_hz)
@@ -448,7 +458,8 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         null_after=null, steps=steps, channels=channels_out, rejected=rejected,
         notes=meas.notes + notes, stop_reason=stop, base_model=base,
         band_before=band_before, band_after=band,
-        updated_model=_updated(base, current, steps, meas.rate_hz))
+        updated_model=_updated(base, current, steps, meas.rate_hz),
+        options={"low_frequency": bool(low_frequency), "decorrelate": bool(decorrelate)})
 
 
 def _updated(base: NoiseModel, current: NoiseModel, steps, rate_hz: float) -> NoiseModel:
