@@ -11,6 +11,7 @@ or a billion-laughs YAML tree never reaches ``repr`` whole.
 
 from __future__ import annotations
 
+import numbers
 import reprlib
 from dataclasses import dataclass
 from pathlib import Path
@@ -188,6 +189,20 @@ def refuse_bool_numbers(cls, value, info):
     if info.field_name and _bool_for_number(cls, info.field_name, value):
         raise ValueError(BOOL_FOR_NUMBER)
     return value
+
+
+def whole_number(name: str, value, minimum: int, expected: str | None = None) -> int:
+    """``value`` as an int if it is a whole number ≥ ``minimum`` (a Python or numpy integer);
+    otherwise :class:`InputError` naming ``name``. ``True``/``False`` are refused (Python would
+    count them as 1 and 0), and so are 2.5, NaN, ``"64"`` and 64.0 (say 64)."""
+    expected = expected or f"a whole number ≥ {minimum}"
+    if isinstance(value, bool) or getattr(getattr(value, "dtype", None), "kind", "") == "b":  # numpy bools too
+        raise InputError(BOOL_FOR_NUMBER, field=name, value=value, expected=expected)
+    if not isinstance(value, numbers.Integral):
+        raise InputError(f"{name} must be a whole number", field=name, value=value, expected=expected)
+    if value < minimum:
+        raise InputError(f"{name} must be ≥ {minimum}", field=name, value=value, expected=expected)
+    return int(value)
 
 
 @dataclass(frozen=True)

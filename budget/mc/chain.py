@@ -157,7 +157,7 @@ class ChainSetup:
                 "window": self.geom.window_azimuth.label, "image_method": self.options.image_method,
                 "n_pulses": int(self.geom.n_pulses),
                 "fractional_bandwidth": self.geom.range_bandwidth_hz / self.geom.carrier_frequency_hz,
-                **({"wideband_note": wideband_note(self.geom)} if wideband_note(self.geom) else {}),
+                **({"wideband_note": note} if (note := wideband_note(self.geom)) else {}),
                 "metrics_on": "five clutter-free points focused with "
                 "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image",
                 **({"reference": ref.to_dict(), "reference_summary": ref.summary()}

@@ -20,7 +20,6 @@ heavier runtime for what is an embarrassingly parallel map of chunks.
 from __future__ import annotations
 
 import math
-import numbers
 import threading
 from collections import deque
 from collections.abc import Mapping
@@ -28,11 +27,10 @@ from concurrent.futures import ProcessPoolExecutor
 from functools import lru_cache
 from typing import Callable
 
-import numpy as np
 from threadpoolctl import threadpool_limits
 
 from ..catalog.fill import resolve_unspecified
-from ..errors import BOOL_FOR_NUMBER, InputError
+from ..errors import InputError, whole_number
 from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
@@ -81,19 +79,6 @@ def work_units(trials: int, chunk_trials: int, workers: int) -> list[tuple[int, 
         size = max(FORMATION_BATCH, math.ceil((e - s) / pieces / FORMATION_BATCH) * FORMATION_BATCH)
         out.extend((s, e, lo, min(lo + size, e)) for lo in range(s, e, size))
     return out
-
-
-def whole_number(name: str, value, minimum: int, expected: str) -> int:
-    """``value`` as an int if it is a whole number ≥ ``minimum`` (a Python or numpy integer);
-    otherwise :class:`InputError` naming ``name``. ``True``/``False`` are refused (Python would
-    count them as 1 and 0), and so are 2.5, NaN, ``"64"`` and 64.0 (say 64)."""
-    if isinstance(value, (bool, np.bool_)):
-        raise InputError(BOOL_FOR_NUMBER, field=name, value=value, expected=expected)
-    if not isinstance(value, numbers.Integral):
-        raise InputError(f"{name} must be a whole number", field=name, value=value, expected=expected)
-    if value < minimum:
-        raise InputError(f"{name} must be ≥ {minimum}", field=name, value=value, expected=expected)
-    return int(value)
 
 
 def check_run_counts(trials, seed, workers=1) -> tuple[int, int, int]:

@@ -38,7 +38,7 @@ from pydantic import ValidationError
 from ..aiding import InitialUncertainty, correct_free_inertial
 from ..aiding.flexure import antenna_flexure_error, simulate_flexure
 from ..aiding_spec import AidingPlan
-from ..errors import InputError, from_validation_error
+from ..errors import InputError, from_validation_error, whole_number
 from ..imu.generator import generate_imu_errors
 from ..imu.noise_model import NoiseModel, NoiseModelSI, as_noise_model_si
 from ..nav.platform import Disturbance, true_motion
@@ -86,12 +86,6 @@ def _label(model) -> str:
     if isinstance(model, NoiseModelSI):
         return "noise model"
     return getattr(model, "part_id", None) or "noise model"
-
-
-def _positive_int(name: str, value, minimum: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise InputError(f"{name} must be an integer ≥ {minimum}", field=name, value=value)
-    return int(value)
 
 
 class _Context:
@@ -244,9 +238,9 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     if isinstance(model, dict):
         model = NoiseModel.from_dict(model)
     si = as_noise_model_si(model)
-    n_trials = _positive_int("n_trials", n_trials)
-    seed = _positive_int("seed", seed, minimum=0)
-    workers = _positive_int("workers", workers)
+    n_trials = whole_number("n_trials", n_trials, 1)
+    seed = whole_number("seed", seed, 0)
+    workers = whole_number("workers", workers, 1)
     try:
         if isinstance(disturbance, dict):
             disturbance = Disturbance.model_validate(disturbance)
@@ -287,11 +281,11 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
         raise InputError(f"the warm-up and aperture span more than {MAX_SAMPLES:,} IMU samples",
                          field="aiding_warmup_s", value=aiding.warmup_s, expected="a shorter warm-up")
     ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series, prefilter, aiding)
-    first = _positive_int("first_trial", first_trial, minimum=0)
+    first = whole_number("first_trial", first_trial, 0)
     if first % ctx.block:
         raise InputError(f"first_trial must be a multiple of the {ctx.block}-trial random-stream block",
                          field="first_trial", value=first_trial)
-    chunk = DEFAULT_CHUNK if chunk_size is None else _positive_int("chunk_size", chunk_size)
+    chunk = DEFAULT_CHUNK if chunk_size is None else whole_number("chunk_size", chunk_size, 1)
     chunk = -(-chunk // ctx.block) * ctx.block
     k = pts.shape[0]
     out = {name: np.empty((n_trials, k)) for name in METRICS}
