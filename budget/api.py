@@ -30,8 +30,7 @@ def load_scenario(source) -> "Scenario":  # noqa: F821 — imported lazily below
         return source
     if isinstance(source, Mapping):
         return Scenario.from_dict(dict(source), source="scenario mapping")
-    if isinstance(source, Path) or (isinstance(source, str) and source not in PRESETS
-                                     and Path(source).suffix.lower() in (".json", ".yaml", ".yml")):
+    if _is_file(source):
         return Scenario.load(source)
     if isinstance(source, str):
         return get_preset(source)
