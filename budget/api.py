@@ -47,14 +47,19 @@ def _is_file(source) -> bool:
                                         Path(source).suffix.lower() in (".json", ".yaml", ".yml"))
 
 
-def load_scenarios(sources) -> list:
-    """:func:`load_scenario` for one source or a sequence of them."""
+def _scenario_sources(sources) -> list:
+    """One scenario source or a sequence of them, as a list."""
     from pydantic import BaseModel
 
     # a Scenario (a pydantic model, itself iterable over its fields) is one source, not many
     if isinstance(sources, (str, Path, Mapping, BaseModel)) or not isinstance(sources, Iterable):
-        sources = [sources]
-    return [load_scenario(s) for s in sources]
+        return [sources]
+    return list(sources)
+
+
+def load_scenarios(sources) -> list:
+    """:func:`load_scenario` for one source or a sequence of them."""
+    return [load_scenario(s) for s in _scenario_sources(sources)]
 
 
 def load_catalog(user_csv: str | Path | None = None) -> dict:
@@ -125,7 +130,9 @@ def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int 
     ci_after_hi`` …). Names are accepted for parts and scenarios."""
     from .mc.sweep import sweep as _sweep
 
-    return _sweep(load_parts(parts), load_scenarios(scenarios), trials, seed, **kwargs)
+    given = _scenario_sources(scenarios)
+    return _sweep(load_parts(parts), [load_scenario(s) for s in given], trials, seed,
+                  sources=[s if _is_file(s) else None for s in given], **kwargs)
 
 
 def cheapest_passing(table, target: float = 0.9, **kwargs):

@@ -351,3 +351,27 @@ def test_a_preset_error_names_no_file(capsys):
     assert main(["mc", "--preset", "airborne_xband", "--part", "STIM300", "--trials", "0", "-q"]) == 2
     err = _one_line(capsys)
     assert "option --trials" in err and ".yaml" not in err and ".json" not in err
+
+
+def test_a_sweep_over_several_scenario_files_names_the_one_in_error(tmp_path, capsys):
+    """With several ``--scenario`` files, an error raised after loading names the file it came
+    from (the first one is fine), in the CLI and in the library's sweep."""
+    good = _write_scenario(tmp_path, "good.yaml", carrier_frequency_hz=77e9, slant_range_m=500.0,
+                           azimuth_resolution_m=0.1, range_resolution_m=0.1, platform_speed_m_s=20.0)
+    bad = _write_scenario(tmp_path, "slowimu.yaml", imu_rate_hz=0.5)
+    out = tmp_path / "t.csv"
+    assert main(["sweep", "--scenario", str(good), "--scenario", str(bad), "--part", "HG9900",
+                 "--trials", "1", "--out", str(out), "-q"]) == 2
+    err = _one_line(capsys)
+    assert f"{bad}, field imu_rate_hz:" in err and str(good) not in err
+    with pytest.raises(InputError) as e:
+        budget.sweep(["HG9900"], [str(good), str(bad)], trials=1)
+    assert e.value.file == str(bad) and e.value.field == "imu_rate_hz"
+
+
+def test_a_sweep_names_the_file_of_a_scenario_it_cannot_simulate(tmp_path):
+    fine = _write_scenario(tmp_path, "fine.json", range_resolution_m=2e-5)
+    table = budget.sweep(["HG9900"], [str(fine), "automotive_77ghz"], trials=1)
+    status = dict(zip(table["scenario"], table["status"]))
+    assert status["automotive_77ghz"] == "simulated"
+    assert status[Scenario.load(fine).name].startswith(f"not simulated: {fine}, field range_resolution_m:")

@@ -167,7 +167,7 @@ def run_sweep(args) -> int:
     with progress(f"sweep {len(parts)} parts × {len(scens)} scenarios", "cells",
                   quiet=args.quiet) as bar:
         table = sweep(parts, scens, args.trials, args.seed, options=_options(args), workers=args.workers,
-                      progress=bar)
+                      progress=bar, sources=list(args.scenario or []) + [None] * len(args.preset or []))
     from .output import write_frame_csv  # text cells (scenario names …) spreadsheet-safe
     write_frame_csv(table, args.out)
     for scen, status in not_simulated(table).items():

@@ -49,6 +49,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.fft as sfft
 
+from ..aiding_spec import AidingPlan
 from ..errors import InputError
 from ..motion import simulate_motion
 from ..noise.prefilter import prefilter_for
@@ -158,10 +159,22 @@ class ChainSetup:
                 "n_pulses": int(self.geom.n_pulses),
                 "fractional_bandwidth": self.geom.range_bandwidth_hz / self.geom.carrier_frequency_hz,
                 **({"wideband_note": note} if (note := wideband_note(self.geom)) else {}),
+                "navigation": navigation_note(self.scenario),
                 "metrics_on": "five clutter-free points focused with "
                 "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image",
                 **({"reference": ref.to_dict(), "reference_summary": ref.summary()}
                    if (ref := scene_reference(self)) is not None else {})}
+
+
+def navigation_note(scenario: Scenario) -> str:
+    """How the track the image is formed with was navigated (:mod:`budget.motion.engine`): free
+    inertial from an alignment at the aperture start (seed 004's assumption: every bias and
+    scale-factor term then grows over Tc unchecked), or aided by the scenario's sensors."""
+    plan = AidingPlan.from_scenario(scenario)
+    if not plan.aiding:
+        return (f"free inertial over the aperture (Tc = {scenario.tc_s:.3g} s), aligned at its start; "
+                "no aiding sensor in the scenario (its aiding section bounds the drift)")
+    return f"aided: {plan.label()}"
 
 
 # fractional bandwidth above which the result states what image-domain PGA leaves across the band

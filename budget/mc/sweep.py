@@ -19,7 +19,7 @@ import pandas as pd
 from ..catalog.schema import GRADE_RANK
 from ..errors import InputError
 from ..sar.geometry import SarGeometry
-from ..scenario import Scenario
+from ..scenario import Scenario, name_scenario_file
 from .options import McOptions
 from .runner import check_options, check_run_counts, model_label, run_mc
 from .stats import wilson_interval
@@ -34,12 +34,18 @@ def _cell(scen: Scenario, part) -> dict:
 
 def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int, *,
           options: McOptions | None = None, workers: int = 1, backend: str = "auto", client=None,
-          progress=None, cancel=None) -> pd.DataFrame:
+          progress=None, cancel=None, sources: Sequence | None = None) -> pd.DataFrame:
     """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
     ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`)
     and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
-    simulator's sampling limits; module docstring)."""
+    simulator's sampling limits; module docstring). ``sources``: the file each scenario was read
+    from (None for a preset or an object), one per scenario: an input error raised while that
+    scenario runs then names its file."""
     parts, scenarios = list(parts), list(scenarios)
+    sources = [None] * len(scenarios) if sources is None else list(sources)
+    if len(sources) != len(scenarios):
+        raise InputError(f"{len(sources)} sources for {len(scenarios)} scenarios", field="sources",
+                         expected="one source (a path or None) per scenario")
     if not parts:
         raise InputError("no part to sweep: the list of parts is empty", field="parts",
                          expected="at least one part — a catalog part_id (e.g. 'STIM300'), a part "
@@ -54,12 +60,13 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     rows = []
     total = len(parts) * len(scenarios)
     done = 0
-    for scen in scenarios:
+    for scen, source in zip(scenarios, sources):
         try:  # the sampling limits, checked once per scenario (cheap: no echoes are formed)
             SarGeometry.from_scenario(scen, window=options.window_for(scen))
         except InputError as e:
             for part in parts:
-                rows.append(_cell(scen, part) | {"trials": 0, "status": f"not simulated: {e}"})
+                rows.append(_cell(scen, part) | {"trials": 0, "status": f"not simulated: "
+                                                 f"{name_scenario_file(e, source)}"})
                 done += 1
                 if progress:
                     progress(done, total)
@@ -67,8 +74,11 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
         for part in parts:
             if cancel is not None and cancel.is_set():
                 return pd.DataFrame(rows)
-            r = run_mc(scen, part, trials, seed, options=options, workers=workers, backend=backend,
-                       client=client, cancel=cancel)
+            try:
+                r = run_mc(scen, part, trials, seed, options=options, workers=workers, backend=backend,
+                           client=client, cancel=cancel)
+            except InputError as err:  # a value of this scenario the simulator cannot use
+                raise name_scenario_file(err, source) from None
             pct = r.percentiles("after")
             row = _cell(scen, part) | {
                 "trials": r.trials, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
