@@ -13,6 +13,7 @@ import math
 from pathlib import Path
 from typing import Literal
 
+import numpy as np
 import yaml
 from pydantic import (BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator,
                       model_validator)
@@ -88,6 +89,14 @@ def scenario_field(field: str | None) -> bool:
     if field in ("aiding", "name"):
         return False
     return base in Scenario.model_fields or base == "tc_s"
+
+
+def los_unit_vector(depression_deg: float, squint_deg: float) -> np.ndarray:
+    """Unit vector APC → scene at depression ψ (below horizontal) and squint s (positive
+    forward, 0 = broadside): u = (cos ψ·sin s, cos ψ·cos s, −sin ψ), in the local-level frame
+    x along-track, y horizontal cross-track toward the imaged side, z up."""
+    psi, s = math.radians(depression_deg), math.radians(squint_deg)
+    return np.array([math.cos(psi) * math.sin(s), math.cos(psi) * math.cos(s), -math.sin(psi)])
 
 
 def name_scenario_file(err: InputError, source) -> InputError:

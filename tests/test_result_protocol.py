@@ -156,6 +156,15 @@ def _build_fast_phase():
     return fast_phase_limits(0.0125, [1.0, 10.0], noise_rms_deg=2.0), {"wavelength_m": 0.0125, "noise_rms_deg": 2.0}
 
 
+def _build_fast_phase_residual():
+    from budget.bounds import fast_phase_residual
+    from budget.catalog.io import get_part
+    from budget.presets import get_preset
+    si = get_part("ADIS16405").to_si()
+    return fast_phase_residual(get_preset("automotive_77ghz"), si, pga_bandwidth_cycles=2.05, aperture_window="rect"), \
+        {"scenario": "automotive_77ghz", "pga_bandwidth_cycles": 2.05, "aperture_window": "rect", "limit_deg": 1.0}
+
+
 def _build_check():
     from budget.catalog.io import load_catalog
     from budget.check import check_parts
@@ -420,6 +429,7 @@ def _build_misalignment():
 BUILDERS = {
     "budget.bounds.table:BoundsTable": _build_bounds,
     "budget.bounds.fast_phase:FastPhaseLimits": _build_fast_phase,
+    "budget.bounds.fast_phase:FastPhaseResidual": _build_fast_phase_residual,
     "budget.check:CheckResult": _build_check,
     "budget.check:GradeRecommendation": _build_grade,
     "budget.catalog.fill:Resolution": _build_resolution,

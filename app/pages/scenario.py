@@ -12,6 +12,7 @@ from budget import units as u
 from budget.bounds import (BOUND_FIELDS, DerivedAssumptions, NoAutofocusAssumptions, compute_bounds,
                            fast_phase_limits)
 from budget.check import recommend_grade
+from budget.sar.windows import verdict_window
 from budget.plots.bounds import BOUND_LABELS, bounds_vs_tc_figure
 
 import components as c
@@ -65,7 +66,7 @@ def _recommendation(ctx: sidebar.Context) -> None:
 
 
 def _fast_phase(s) -> None:
-    fp = fast_phase_limits(s.wavelength_m, [s.tc_s])
+    fp = fast_phase_limits(s.wavelength_m, [s.tc_s], aperture_window=verdict_window(s).kind)  # as the check
     st.markdown(f"**What autofocus cannot remove.** {fp.summary()}")
     st.dataframe(pd.DataFrame({
         "limit at the scenario Tc": ["accel VRW (µg/√Hz)", "gyro ARW (deg/√h)"],

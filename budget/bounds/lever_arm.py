@@ -25,7 +25,7 @@ says which one binds.
 from __future__ import annotations
 
 import math
-from typing import Annotated
+from typing import Annotated, Literal
 
 import numpy as np
 import pandas as pd
@@ -33,6 +33,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from ..errors import InputError, refuse_bool_numbers
 from ..sar.residual import DEFAULT_PGA_BANDWIDTH_CYCLES, random_walk_highpass_rms
+from ..sar.windows import verdict_window
 from ..units import phase_error_to_range_error
 from .paper import _inputs, paper_bounds
 from .table import BOUND_FIELDS, BoundsTable
@@ -55,9 +56,15 @@ class LeverArmAssumptions(BaseModel):
     fast_residual_limit_deg: float = Field(1.0, gt=0, allow_inf_nan=False,
                                            description="what PGA cannot remove, rms (seed 004: 1°)")
     pga_bandwidth_cycles: float = Field(DEFAULT_PGA_BANDWIDTH_CYCLES, ge=0, le=1000, allow_inf_nan=False)
+    aperture_window: Literal["rect", "taylor"] = Field(
+        "rect", description="azimuth weighting whose energy weights what PGA cannot remove, as in the "
+                            "Monte Carlo (rect: unweighted, conservative; from_scenario: the verdict's window)")
 
     @classmethod
     def from_scenario(cls, scenario, **kw) -> "LeverArmAssumptions":
+        """The scenario's installation, and the window its Monte Carlo verdict images with
+        (:func:`budget.sar.windows.verdict_window`: Taylor for radar), unless given."""
+        kw.setdefault("aperture_window", verdict_window(scenario).kind)
         return cls(lever_arm_m=tuple(scenario.lever_arm_m),
                    platform_rate_deg_s=scenario.platform_rate_deg_s, **kw)
 
@@ -77,7 +84,7 @@ def _limits(tc, dr, wavelength_m: float, a: LeverArmAssumptions) -> dict[str, np
     with np.errstate(divide="ignore"):
         by_turn = np.where(theta > 0, dr / (d * theta), np.inf)
     fast_m = phase_error_to_range_error(math.radians(a.fast_residual_limit_deg), wavelength_m)
-    c_rw = random_walk_highpass_rms("rw", float(a.pga_bandwidth_cycles))
+    c_rw = random_walk_highpass_rms("rw", float(a.pga_bandwidth_cycles), window=a.aperture_window)
     return {"gyro_arw_migration": dr / (a.k_sigma * np.sqrt(tc) * d),
             "gyro_arw_fast": fast_m / (c_rw * np.sqrt(tc) * d),
             "gyro_bias": dr / (tc * d),
@@ -154,12 +161,13 @@ def pga_limited_bounds(scenario, a: LeverArmAssumptions | None = None) -> tuple[
     paper = paper_bounds(tc, dr)
     lever = lever_arm_bounds(tc, dr, lam, a)
     fast = fast_phase_limits(lam, tc, noise_rms_deg=a.fast_residual_limit_deg,
-                             pga_bandwidth_cycles=a.pga_bandwidth_cycles)
+                             pga_bandwidth_cycles=a.pga_bandwidth_cycles, aperture_window=a.aperture_window)
     vrw = np.minimum(lever.accel_vrw_m_s2_rt_hz, fast.vrw_m_s2_rt_hz)
     arw = np.minimum(lever.gyro_arw_rad_s_rt_hz, fast.arw_rad_s_rt_hz)
     table = replace(lever, mode="pga-limited", accel_vrw_m_s2_rt_hz=vrw, gyro_arw_rad_s_rt_hz=arw,
                     notes=lever.notes + (f"fast phase: residual beyond {a.pga_bandwidth_cycles:g} cycles "
-                                         f"≤ {a.fast_residual_limit_deg:g}° rms",))
+                                         f"≤ {a.fast_residual_limit_deg:g}° rms ({a.aperture_window}-weighted "
+                                         "aperture energy)",))
     rules = {}
     for si in ("gyro_scale_factor", "misalignment_rad", "gyro_bias_rad_s"):
         if np.any(getattr(lever, si) < getattr(paper, si)):

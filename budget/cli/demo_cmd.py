@@ -6,6 +6,7 @@ from ..bounds import compute_bounds, fast_phase_limits
 from ..catalog.io import load_catalog, load_grades
 from ..check import check_parts, recommend_grade
 from ..presets import PRESETS, get_preset
+from ..sar.windows import verdict_window
 
 
 def add_parser(sub) -> None:
@@ -23,7 +24,7 @@ def run(args) -> int:
     for mode in ("paper", "derived", "no-autofocus"):
         print(compute_bounds([s.tc_s], s.range_resolution_m, mode, wavelength_m=s.wavelength_m).summary())
         print()
-    print(fast_phase_limits(s.wavelength_m).summary(), "\n")
+    print(fast_phase_limits(s.wavelength_m, aperture_window=verdict_window(s).kind).summary(), "\n")
     res = check_parts(load_catalog().values(), s)
     print("Catalog check (paper bounds; margin = bound / spec):")
     print(res.summary())

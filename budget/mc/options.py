@@ -24,6 +24,7 @@ from ..catalog.fill import DEFAULT_POLICY as UNSPECIFIED_DEFAULT, POLICIES as UN
 from ..errors import from_validation_error, refuse_bool_numbers
 from ..noise.prefilter import KINDS as PREFILTER_KINDS
 from ..sar.acceptance import Acceptance
+from ..sar.windows import Window, verdict_window
 
 #: Default trials and seed of a verdict: the same in the CLI (``mc``, ``sweep``, ``report``), the
 #: dashboard and the top-level API, so one part gives one number everywhere. 64 trials = one
@@ -117,8 +118,6 @@ class McOptions(BaseModel):
         except ValidationError as err:
             raise from_validation_error(err) from None
 
-    def window_for(self, scenario) -> str | None:
-        """Window passed to the geometry (None: the scenario's own choice)."""
-        if self.window == "auto":
-            return "taylor" if scenario.medium == "radar" else None
-        return self.window
+    def window_for(self, scenario) -> Window:
+        """The window the verdict images ``scenario`` with (:func:`budget.sar.windows.verdict_window`)."""
+        return verdict_window(scenario, self.window)

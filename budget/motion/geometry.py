@@ -7,19 +7,10 @@ Frame: local level, x along-track, y horizontal cross-track toward the imaged si
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..errors import InputError
-from ..scenario import Scenario
-
-
-def los_unit_vector(depression_deg: float, squint_deg: float) -> np.ndarray:
-    """Unit vector APC → scene at depression ψ (below horizontal) and squint s (positive
-    forward, 0 = broadside): u = (cos ψ·sin s, cos ψ·cos s, −sin ψ)."""
-    psi, s = math.radians(depression_deg), math.radians(squint_deg)
-    return np.array([math.cos(psi) * math.sin(s), math.cos(psi) * math.cos(s), -math.sin(psi)])
+from ..scenario import Scenario, los_unit_vector
 
 
 def scene_targets(scenario: Scenario, targets=None) -> np.ndarray:

@@ -32,7 +32,7 @@ from scipy.fft import next_fast_len
 
 from ..errors import InputError
 from ..scenario import Scenario
-from .windows import Window
+from .windows import Window, scenario_window
 
 MIN_PULSES = 16
 
@@ -247,9 +247,7 @@ class SarGeometry:
         if not scenario.platform_speed_m_s > 0:
             raise InputError("platform speed must be positive", field="platform_speed_m_s",
                              value=scenario.platform_speed_m_s, expected="> 0 m/s")
-        if window is None:
-            window = Window() if scenario.window_broadening < 1.1 else Window(kind="taylor")
-        window = Window.parse(window)
+        window = scenario_window(scenario) if window is None else Window.parse(window)
         c, f0, v = scenario.c_m_s, scenario.carrier_frequency_hz, scenario.platform_speed_m_s
         lam, r_c = scenario.wavelength_m, scenario.slant_range_m
         a_w = scenario.window_broadening

@@ -159,3 +159,18 @@ def _ideal_irf_cached(window: Window, extent: float) -> IdealIrf:
     return IdealIrf(window=window.label, width_3db_cells=float(2 * x3), first_null_cells=float(null),
                     pslr_db=float(pslr), islr_db=float(10 * np.log10(e_side / e_main)),
                     islr_extent_cells=extent, noise_bandwidth=float(total))
+
+
+def scenario_window(scenario) -> Window:
+    """The scenario's own azimuth/range window: rect when its ``window_broadening`` a_w < 1.1
+    (an unweighted aperture broadens nothing), else Taylor (−35 dB, n̄ = 4)."""
+    return Window() if scenario.window_broadening < 1.1 else Window(kind="taylor")
+
+
+def verdict_window(scenario, choice: "Window | str" = "auto") -> Window:
+    """The window the Monte Carlo verdict images with (``McOptions.window``): "auto" = Taylor
+    (−35 dB, n̄ = 4) for radar, what an imaging radar uses, and the scenario's own choice
+    (:func:`scenario_window`) for sonar; else ``choice`` itself ('rect', 'taylor', a Window)."""
+    if isinstance(choice, str) and choice == "auto":
+        return Window(kind="taylor") if scenario.medium == "radar" else scenario_window(scenario)
+    return Window.parse(choice)
