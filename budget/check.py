@@ -80,6 +80,14 @@ class CheckResult:
     mode: str = "paper"
     #: the bound assumptions (``model_dump`` of a ``DerivedAssumptions`` …); None for the defaults
     assumptions: dict | None = None
+    #: (P, S) predicted rms (deg) of the true phase beyond PGA's window from the part's VRW and ARW
+    #: (:func:`budget.bounds.fast_phase_residual`, weighted as the verdict images; seed 004's limit
+    #: 1°); NaN when the part leaves either unspecified; None when not computed
+    fast_phase_deg: np.ndarray | None = None
+
+    def fast_phase(self, i: int, s: int) -> float:
+        """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
+        return float("nan") if self.fast_phase_deg is None else float(self.fast_phase_deg[i, s])
 
     def flag(self, i: int, s: int) -> tuple[bool, str | None]:
         """True (and why) when seed 004's verdict and the fast-phase / lever-arm verdict differ."""
@@ -153,6 +161,7 @@ class CheckResult:
                 "flag_reason": why,
                 "pga_limited_verdict": limited,
                 "pga_limited_min_margin": limited_margin,
+                "fast_phase_residual_deg": self.fast_phase(i, scenario_index),
             })
         return out
 
@@ -160,7 +169,8 @@ class CheckResult:
         """JSON-ready: the bounds ``mode``, the checked ``params`` and per scenario (``name``, ``tc_s``)
         one record per part under ``parts`` (``part_id, grade, verdict, binding, margins`` as
         bound/spec, ``unspecified``, ``bias_convention``, ``flag``, ``flag_reason``,
-        ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`)."""
+        ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`;
+        ``fast_phase_residual_deg``: :meth:`fast_phase`)."""
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
                 "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s)}
                               for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
@@ -185,6 +195,7 @@ class CheckResult:
         limited = [self.pga_limited(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["pga_limited_verdict"] = [v for v, _ in limited]
         df["pga_limited_min_margin"] = [m for _, m in limited]
+        df["fast_phase_residual_deg"] = [self.fast_phase(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         return df.drop(columns=["p", "s"])
 
     def summary(self, scenario_index: int = 0) -> str:
@@ -192,18 +203,43 @@ class CheckResult:
         lever arm); every disagreement is explained below the table."""
         wb = max(len(p) for p in self.params) + 2  # the binding column holds any parameter name
         lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'min margin':>11}  {'binding':<{wb}}"
-                 f"{'PGA-limited':<12}{'margin':>8}"]
+                 f"{'PGA-limited':<12}{'margin':>8}{'beyond PGA':>12}"]
         notes = []
         for i, (r, mm) in enumerate(zip(self._part_records(scenario_index), self.min_margin[:, scenario_index])):
             v, pmm = self.pga_limited(i, scenario_index)
             lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{mm:>11.3g}  "
-                         f"{r['binding'] or '-':<{wb}}{v:<12}{pmm:>8.3g}")
+                         f"{r['binding'] or '-':<{wb}}{v:<12}{pmm:>8.3g}"
+                         f"{_degrees(r['fast_phase_residual_deg']):>12}")
             if r["flag"]:
                 notes.append(f"  {r['part_id']}: {r['flag_reason']}")
+        lines.append("beyond PGA: predicted rms of the phase PGA's window cannot see, from the part's VRW and "
+                     "ARW (free inertial over Tc; seed 004's limit 1°; '-' where either is unspecified)")
         if notes:
             lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
                       "its window, attitude error × lever arm); where the verdicts differ:"] + notes
         return "\n".join(lines)
+
+
+def _degrees(value: float) -> str:
+    return "-" if not np.isfinite(value) else f"{value:.3g}°"
+
+
+def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
+                       limited_assumptions: Sequence) -> np.ndarray:
+    """(P, S) :func:`budget.bounds.fast_phase_residual` totals (deg), NaN where a part leaves its
+    VRW or ARW unspecified (a zero there would understate it)."""
+    from .bounds import fast_phase_residual
+
+    out = np.full((len(parts), len(scen)), np.nan)
+    for i, p in enumerate(parts):
+        if p.accel_vrw_m_s_rt_h is None or p.gyro_arw_deg_rt_h is None:
+            continue
+        si = p.to_si()
+        for s, (sc, a) in enumerate(zip(scen, limited_assumptions)):
+            out[i, s] = fast_phase_residual(sc, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                                            aperture_window=a.aperture_window,
+                                            limit_deg=a.fast_residual_limit_deg).total_deg
+    return out
 
 
 def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scenario,
@@ -225,15 +261,17 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     else:
         bmat = bound_matrix(compute_bounds(tc, dr, mode, assumptions=assumptions))
     # the analytic verdict beside seed 004's: fast phase and lever arm (flag where they differ)
-    from .bounds.lever_arm import pga_limited_bounds
-    limited = [pga_limited_bounds(s) for s in scen]
+    from .bounds.lever_arm import LeverArmAssumptions, pga_limited_bounds
+    assumed = [LeverArmAssumptions.from_scenario(s) for s in scen]
+    limited = [pga_limited_bounds(s, a) for s, a in zip(scen, assumed)]
     pmat = np.array([bound_matrix(t)[0] for t, _ in limited])
     specs = spec_matrix(parts)
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
                        pga_margins=margins(specs, pmat), pga_rules=tuple(r for _, r in limited), mode=mode,
-                       assumptions=_assumptions_dict(assumptions))
+                       assumptions=_assumptions_dict(assumptions),
+                       fast_phase_deg=_fast_phase_matrix(parts, scen, assumed))
 
 
 def _assumptions_dict(assumptions) -> dict | None:

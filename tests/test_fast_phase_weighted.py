@@ -66,3 +66,23 @@ def test_analytic_residual_matches_the_monte_carlo(preset, part):
     assert r.judged_on["window"].startswith("taylor") and predicted.aperture_window.startswith("taylor")
     mc = math.sqrt(np.mean(np.square(r.agg.trial_metrics["fast_phase_rms_deg"])))
     assert predicted.total_deg == pytest.approx(mc, rel=0.10)
+
+
+def test_the_check_reports_the_predicted_residual_per_part():
+    """The check table gives each part's predicted rms beyond PGA's window (the same function,
+    the check's assumptions), and none where a noise term it needs is unspecified."""
+    from budget.check import check_parts
+    s = get_preset("airborne_xband")
+    parts = [get_part("STIM300"), get_part("ADIS16490")]
+    assert parts[1].accel_vrw_m_s_rt_h is None  # its datasheet gives no VRW
+    r = check_parts(parts, s)
+    a = LeverArmAssumptions.from_scenario(s)
+    expected = fast_phase_residual(s, parts[0].to_si(), pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                                   aperture_window=a.aperture_window).total_deg
+    frame = r.to_frame().set_index("part_id")
+    assert frame.loc["STIM300", "fast_phase_residual_deg"] == pytest.approx(expected)
+    assert math.isnan(frame.loc["ADIS16490", "fast_phase_residual_deg"])
+    rec = {p["part_id"]: p for p in r.to_dict()["scenarios"][0]["parts"]}
+    assert math.isnan(rec["ADIS16490"]["fast_phase_residual_deg"])
+    lines = {ln.split()[0]: ln for ln in r.summary().splitlines()}
+    assert lines["STIM300"].rstrip().endswith(f"{expected:.3g}°") and lines["ADIS16490"].rstrip().endswith("-")
