@@ -17,7 +17,8 @@ from .legendre import random_walk_constants
 from .lever_arm import LeverArmAssumptions, lever_arm_bounds, lever_arm_terms
 
 __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", "derived_bounds",
-           "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits", "fast_phase_residual", "FastPhaseResidual",
+           "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
+           "fast_phase_residual", "FastPhaseResidual",
            "random_walk_constants", "compute_bounds", "LeverArmAssumptions", "lever_arm_bounds",
            "lever_arm_terms", "MODES"]
 

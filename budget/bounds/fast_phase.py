@@ -120,7 +120,8 @@ class FastPhaseResidual:
         return math.hypot(self.vrw_deg, self.arw_gravity_deg, self.arw_lever_arm_deg)
 
     def to_dict(self) -> dict:
-        return {"scenario": self.scenario_name, "tc_s": self.tc_s, "total_deg": self.total_deg, "vrw_deg": self.vrw_deg, "arw_gravity_deg": self.arw_gravity_deg,
+        return {"scenario": self.scenario_name, "tc_s": self.tc_s, "total_deg": self.total_deg,
+                "vrw_deg": self.vrw_deg, "arw_gravity_deg": self.arw_gravity_deg,
                 "arw_lever_arm_deg": self.arw_lever_arm_deg, "limit_deg": self.limit_deg,
                 "pga_bandwidth_cycles": self.pga_bandwidth_cycles, "aperture_window": self.aperture_window}
 
@@ -163,6 +164,7 @@ def fast_phase_residual(scenario, errors, *, pga_bandwidth_cycles: float = DEFAU
         vrw_deg=math.degrees(to_phase * n_v * tc ** 1.5 * random_walk_highpass_rms("vrw", k, window=window)),
         arw_gravity_deg=math.degrees(to_phase * gravity_m_s2 * cos_psi * n_g * tc ** 2.5
                                      * random_walk_highpass_rms("arw", k, window=window)),
-        arw_lever_arm_deg=math.degrees(to_phase * d * n_g * math.sqrt(tc) * random_walk_highpass_rms("rw", k, window=window)),
+        arw_lever_arm_deg=math.degrees(to_phase * d * n_g * math.sqrt(tc)
+                                       * random_walk_highpass_rms("rw", k, window=window)),
         pga_bandwidth_cycles=k, aperture_window=window.label, limit_deg=float(limit_deg),
         scenario_name=scenario.name, tc_s=float(tc))

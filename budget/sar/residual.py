@@ -86,20 +86,21 @@ def highpass_phase(phase_rad, cutoff_cycles: float, weight=None) -> np.ndarray:
     ``cutoff_cycles`` cycles per aperture: least-squares residual after the Legendre terms up to
     the cubic and the DCT-II cosines up to index ⌊2·cutoff⌋ (module docstring). ``weight``
     (≥ 0 per bin, e.g. the signal energy) makes the fit weighted least squares: bins that carry
-    no signal then do not steer what is called removable where the signal is."""
+    no signal then do not steer what is called removable where the signal is. A 2-D
+    ``phase_rad`` (bins × columns) is high-passed column by column."""
     x = np.asarray(phase_rad, dtype=float)
-    n = x.size
+    n = x.shape[0]
     if n < 6:
-        return np.zeros(n)
+        return np.zeros_like(x)
     n_cos = int(math.floor(2.0 * cutoff_cycles))
     if weight is None:
         return _removable_projector(n, n_cos) @ x
     w = np.asarray(weight, dtype=float)
-    if w.shape != x.shape or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
+    if w.shape != (n,) or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
         raise ValueError("weight must be finite, ≥ 0, not all zero, one per bin")
     b = _removable_basis(n, n_cos)
-    sw = np.sqrt(w / w.max())
-    coef, *_ = np.linalg.lstsq(b * sw[:, None], x * sw, rcond=None)
+    sw = np.sqrt(w / w.max()).reshape((n,) + (1,) * (x.ndim - 1))
+    coef, *_ = np.linalg.lstsq(b * sw.reshape(n, 1), x * sw, rcond=None)
     return x - b @ coef
 
 
@@ -157,15 +158,10 @@ def _random_walk_highpass_rms(kind: str, cutoff_cycles: float, n: int, window: W
     s = np.arange(n) * ds
     lag = np.clip(t[:, None] - s[None, :], 0.0, None)
     kernel = (lag > 0) * lag ** p / math.factorial(p) if p else (lag > 0).astype(float)
-    # the same linear operator as highpass_phase, applied to every column of the kernel:
-    # r = H e with e = kernel @ dW, var(dW) = ds → E[Σ w r²] = ‖W^½ H kernel‖²_F · ds
-    n_cos = int(math.floor(2.0 * cutoff_cycles))
-    if window.kind == "rect":
-        r = _removable_projector(n, n_cos) @ kernel
-        return float(math.sqrt(np.sum(r * r) * ds / n))
-    w = window.samples(n) ** 2
-    sw = np.sqrt(w / w.max())
-    b = _removable_basis(n, n_cos)
-    # weighted least squares as in highpass_phase: H = I − B (diag(sw) B)⁺ diag(sw)
-    r = kernel - b @ (np.linalg.pinv(b * sw[:, None]) @ (sw[:, None] * kernel))
-    return float(math.sqrt(np.sum(w[:, None] * r * r) * ds / w.sum()))
+    # highpass_phase (a linear operator H) applied to every column of the kernel: r = H e with
+    # e = kernel @ dW, var(dW) = ds → E[Σ_i q_i r_i²] = Σ_i q_i ‖(H kernel)_i‖² · ds, q = w² the
+    # energy weight (1 for rect)
+    rect = window.kind == "rect"
+    q = np.ones(n) if rect else window.samples(n) ** 2
+    r = highpass_phase(kernel, cutoff_cycles, None if rect else q)
+    return float(math.sqrt(np.sum(q[:, None] * r * r) * ds / q.sum()))
