@@ -86,3 +86,18 @@ def test_the_check_reports_the_predicted_residual_per_part():
     assert math.isnan(rec["ADIS16490"]["fast_phase_residual_deg"])
     lines = {ln.split()[0]: ln for ln in r.summary().splitlines()}
     assert lines["STIM300"].rstrip().endswith(f"{expected:.3g}°") and lines["ADIS16490"].rstrip().endswith("-")
+
+
+def test_bad_window_and_sources_get_clear_errors():
+    from budget.errors import InputError
+    from budget.mc.sweep import sweep
+    with pytest.raises(InputError) as e:
+        fast_phase_limits(0.03, [1.0], aperture_window="hann")
+    assert e.value.field == "window" and "rect" in str(e.value)
+    from pydantic import ValidationError
+    with pytest.raises(ValidationError) as e:  # pydantic names the field and the choices
+        LeverArmAssumptions(aperture_window="hann")
+    assert "aperture_window" in str(e.value)
+    with pytest.raises(InputError) as e:
+        sweep([get_part("HG9900")], [get_preset("automotive_77ghz")], 1, 1, sources=["a.yaml", "b.yaml"])
+    assert e.value.field == "sources" and "one source" in str(e.value)
