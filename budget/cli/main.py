@@ -67,8 +67,9 @@ def _debug_wanted(args) -> bool:
 
 def _name_scenario_file(err: BaseException, args) -> None:
     """An error about a scenario key raised after ``--scenario FILE`` was loaded (the simulator's
-    or the motion engine's limits) names FILE (:func:`budget.scenario.name_scenario_file`); with
-    several scenario files, or files and presets, the file cannot be told and is not named."""
+    or the motion engine's limits) names FILE (:func:`budget.scenario.name_scenario_file`). With
+    several scenario files, or files and presets, only the command knows which one was running
+    (``sweep`` names it itself, :func:`budget.mc.sweep.sweep` ``sources``); nothing is named here."""
     from ..errors import InputError
     from ..scenario import name_scenario_file
 

@@ -64,9 +64,9 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
         try:  # the sampling limits, checked once per scenario (cheap: no echoes are formed)
             SarGeometry.from_scenario(scen, window=options.window_for(scen))
         except InputError as e:
+            status = f"not simulated: {name_scenario_file(e, source)}"
             for part in parts:
-                rows.append(_cell(scen, part) | {"trials": 0, "status": f"not simulated: "
-                                                 f"{name_scenario_file(e, source)}"})
+                rows.append(_cell(scen, part) | {"trials": 0, "status": status})
                 done += 1
                 if progress:
                     progress(done, total)
