@@ -115,7 +115,9 @@ fast-phase stage runs only after convergence).
 
 Code: this module drives the iterations and holds the policy; the operations on the candidate
 lines (steps 2–5) are in :mod:`budget.sar.pga_lines`, the fast-phase stage in
-:mod:`budget.sar.pga_fast`.
+:mod:`budget.sar.pga_fast`, and the loops over the (n, L) lines other than the FFTs (peak fit,
+phase ramps, centroid slope, window, line weights, the kernel's sums) are compiled in
+:mod:`budget.sar.pga_kernels`: the same arithmetic, without the temporaries.
 """
 
 from __future__ import annotations
@@ -128,6 +130,7 @@ import scipy.fft as sfft
 
 from ..errors import InputError
 from .pga_fast import _fast_bands
+from .pga_kernels import line_sums, weighted_rows
 from .pga_lines import (_LN2, _SG_STRETCH_INC, _Lines, _centre, _detrend, _integrated_estimate, _line_weights,
                         _lowpass, _predicted_noise, _refine, _window, _window_width, _wrms)
 
@@ -289,7 +292,7 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
         h_shift, shifted, pw = _centre(d, np.fft.ifftshift(phi_c))
         # line weights from the SCR inside the current window (step 4), then the window (step 3)
         scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
-        summed = pw @ w_line
+        summed = weighted_rows(pw, w_line)
         measured = _window_width(summed, d.win_db, d.win_scale) if summed[0] > 0 else width
         previous = width
         if it == 1 and first == "auto":
@@ -304,10 +307,10 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
         scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
         if not np.any(w_line > 0):
             break
-        _, win, big_g = _refine(d, h_shift, shifted, width, w_line)
-        weight = (big_g.real ** 2 + big_g.imag ** 2).sum(axis=1)
+        _, win, hist_w = _refine(d, h_shift, shifted, width, w_line)
+        weight, prod = line_sums(hist_w)
         weight = np.where(weight >= weight.max() * 10 ** (-d.band_db / 10), weight, 0.0)
-        inc = _detrend(_integrated_estimate(d, big_g, win, weight), weight)
+        inc = _detrend(_integrated_estimate(d, hist_w, win, prod, weight), weight)
         if d.smooth:
             inc = _lowpass(inc, weight >= 0.1 * weight.max(), min(width, d.smooth * max(measured, d.min_window)),
                            _SG_STRETCH_INC)

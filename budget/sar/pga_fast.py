@@ -8,6 +8,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .pga_kernels import group_products
 from .pga_lines import _SPAN_FRACTION, _Lines, _centre, _line_weights, _refine, _window
 from .residual import highpass_phase
 
@@ -56,12 +57,11 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
               "noise_rms_rad": float("nan"), "gain": 0.0, "noise_from": "jackknife"}
     if not np.any(w_line > 0):
         return np.zeros(n), record
-    keep, _, big_g = _refine(d, h_shift, shifted, width, w_line)
+    keep, _, hist_w = _refine(d, h_shift, shifted, width, w_line)
     # lines of zero weight carry nothing: their groups are not data
     starts = np.flatnonzero(np.diff(groups[keep], prepend=-1))  # groups are runs of sorted lines
     n_g = starts.size
-    prod = big_g[lo + 1:hi] * np.conj(big_g[lo:hi - 1])  # G(k) G*(k−1) inside the span
-    per_group = np.add.reduceat(prod, starts, axis=1)
+    per_group = group_products(hist_w, lo, hi, starts)  # Σ G(k) G*(k−1) per group inside the span
     total = per_group.sum(axis=1)
     est = np.concatenate([[0.0], np.cumsum(np.angle(total))])
     basis = _dct_basis(hi - lo)[m_lo + 1:m_hi + 1]

@@ -12,6 +12,9 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.signal import savgol_coeffs
 
+from .pga_kernels import (centroid_slope, line_weights, peak_shift, power, ramp_columns, ramp_in_place,
+                          window_in_place)
+
 # Fast-phase bands: the span is the bins where the candidate lines' energy is within 10 dB of its
 # peak.
 _SPAN_FRACTION = 0.1
@@ -46,10 +49,7 @@ def _line_weights(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray) -> tuple
     beyond that bias b = (H_n − 1)/W; the weight SCR/(2 SCR + 1) per unit clutter then leaves
     clutter-only lines ≈ 0."""
     n = pw.shape[0]
-    w_in = max(rows.size, 1)
-    bias = (np.log(n) + 0.5772 - 1.0) / w_in
-    scr = np.maximum(pw[rows].sum(axis=0) / (w_in * c_line) - 1.0 - bias, 0.0)
-    return scr, scr / (2.0 * scr + 1.0) / (w_in * c_line)
+    return line_weights(pw, rows, c_line, (np.log(n) + 0.5772 - 1.0) / max(rows.size, 1))
 
 
 def _detrend(phi: np.ndarray, weight: np.ndarray) -> np.ndarray:
@@ -137,23 +137,14 @@ class _Lines:
         n = self.hist.shape[0]
         self.freq = np.fft.fftfreq(n)
         self.pos = self.freq * n  # signed sample index: the centre-shifted peak sits at 0
-        self.cols = np.arange(self.hist.shape[1])
         energy = (self.hist.real ** 2 + self.hist.imag ** 2).sum(axis=1)
         self.n_signal_bins = int(np.sum(energy >= _SPAN_FRACTION * energy.max()))
 
 
-def _ramp(n: int, shift: np.ndarray) -> np.ndarray:
-    """e^{−j2π f_k s_l} (n × L): the phase ramp that moves line l by s_l samples, f_k the DFT
-    frequencies in numpy order (cycles per sample), as powers of z_l = e^{−j2π s_l/n} (a cumulative
-    product: ≈ 10⁻¹³ from the direct exponential, ~7× faster)."""
-    n_pos, n_neg = (n - 1) // 2 + 1, n // 2
-    z = np.exp(-2j * np.pi * np.asarray(shift, dtype=float) / n)
-    powers = np.cumprod(np.broadcast_to(z, (max(n_pos - 1, n_neg), z.size)), axis=0)  # z^1, z^2, …
-    out = np.empty((n, z.size), dtype=complex)
-    out[0] = 1.0
-    out[1:n_pos] = powers[:n_pos - 1]
-    out[n_pos:] = np.conj(powers[:n_neg][::-1])  # f = −n_neg … −1 cycles per n samples: z^{−m} = conj(z^m)
-    return out
+def _ramp_factors(n: int, shift: np.ndarray) -> np.ndarray:
+    """z_l = e^{−j2π s_l/n} of the phase ramps e^{−j2π f_k s_l} that move line l by s_l samples
+    (:func:`~budget.sar.pga_kernels.ramp_in_place` forms its powers)."""
+    return np.exp(-2j * np.pi * np.asarray(shift, dtype=float) / n)
 
 
 def _centre(d: _Lines, phi_np: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -162,25 +153,18 @@ def _centre(d: _Lines, phi_np: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
     (parabolic fit) moved to index 0 by a phase ramp on its phase history."""
     n = d.hist.shape[0]
     corr = d.hist * np.exp(-1j * phi_np)[:, None]
-    mag = np.abs(sfft.fft(corr, axis=0))
-    peaks = np.argmax(mag, axis=0)
-    cols = d.cols
-    a_m, a_0, a_p = mag[(peaks - 1) % n, cols], mag[peaks, cols], mag[(peaks + 1) % n, cols]
-    den = a_m - 2 * a_0 + a_p
-    frac = np.where(den < 0, 0.5 * (a_m - a_p) / np.where(den < 0, den, -1.0), 0.0)
-    corr *= _ramp(n, peaks + frac)
+    ramp_in_place(corr, _ramp_factors(n, peak_shift(np.abs(sfft.fft(corr, axis=0)))))
     shifted = sfft.fft(corr, axis=0)
-    return corr, shifted, shifted.real ** 2 + shifted.imag ** 2
+    return corr, shifted, power(shifted)
 
 
 @lru_cache(maxsize=64)
 def _window(n: int, width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(rows (numpy order) of a centred window of ``width`` samples out of n; e^{j2πx/n} on them,
-    a column; the window as an (n, 1) 0/1 column). Cached: read-only."""
-    rows = np.flatnonzero(np.abs(np.fft.fftfreq(n) * n) <= width / 2.0)
-    column = np.zeros((n, 1))
-    column[rows] = 1.0
-    return rows, np.exp(2j * np.pi * rows / n)[:, None], column
+    """(rows (numpy order) of a centred window of ``width`` samples out of n; e^{j2πx/n} on them;
+    the window as a 0/1 mask over the n rows). Cached: read-only."""
+    inside = np.abs(np.fft.fftfreq(n) * n) <= width / 2.0
+    rows = np.flatnonzero(inside)
+    return rows, np.exp(2j * np.pi * rows / n), inside
 
 
 def _refine(d: _Lines, h_shift: np.ndarray, shifted: np.ndarray, width: float,
@@ -188,30 +172,32 @@ def _refine(d: _Lines, h_shift: np.ndarray, shifted: np.ndarray, width: float,
     """Step 2, second part, and step 3 for the lines of non-zero weight: each line's centre
     refined to the centroid given by the mean phase slope of its windowed phase history (unbiased
     for a sinc, unlike the parabolic peak fit), windowed again and scaled by √weight. Returns
-    (the lines used, mask over the candidates; windowed lines; their centred phase histories).
+    (the lines used, mask over the candidates; windowed lines; their phase histories, numpy
+    order: :func:`~budget.sar.pga_kernels.line_sums` reads them in centred order).
 
     The mean slope Σ_k h(k+1) h*(k) of the windowed line's phase history h = IDFT(w) is computed in
     the image domain: circularly it is (1/n) Σ_x |w(x)|² e^{j2πx/n} (Wiener–Khinchin), less the
     wrap-around term h(0) h*(n−1), h(0) = Σ w/n, h(n−1) = Σ w(x) e^{−j2πx/n}/n."""
     n = d.hist.shape[0]
     used = w_line > 0
-    rows, rot, column = _window(n, width)
-    w_in = shifted[rows][:, used]
-    circ = ((w_in.real ** 2 + w_in.imag ** 2) * rot).sum(axis=0) / n
-    wrap = w_in.sum(axis=0) * np.conj((w_in * np.conj(rot)).sum(axis=0)) / (n * n)
-    slope = np.angle(circ - wrap)
-    win = sfft.fft(h_shift[:, used] * _ramp(n, slope * n / (2.0 * np.pi)), axis=0)
-    win *= column * np.sqrt(w_line[used])[None, :]
-    return used, win, np.fft.fftshift(sfft.ifft(win, axis=0), axes=0)
+    cols = np.flatnonzero(used)
+    rows, rot, inside = _window(n, width)
+    slope = centroid_slope(shifted, rows, rot, cols)
+    win = sfft.fft(ramp_columns(h_shift, cols, _ramp_factors(n, slope * n / (2.0 * np.pi))), axis=0)
+    window_in_place(win, inside, np.sqrt(w_line[cols]))
+    return used, win, sfft.ifft(win, axis=0)
 
 
-def _integrated_estimate(d: _Lines, big_g: np.ndarray, win: np.ndarray, weight: np.ndarray) -> np.ndarray:
-    """Phase estimate (centred bins, not detrended) from windowed lines ``win`` and their
-    centred phase histories ``big_g`` (step 4 and the integration of step 5)."""
-    n = big_g.shape[0]
+def _integrated_estimate(d: _Lines, hist_w: np.ndarray, win: np.ndarray, prod: np.ndarray,
+                         weight: np.ndarray) -> np.ndarray:
+    """Phase estimate (centred bins, not detrended) from windowed lines ``win``, their phase
+    histories ``hist_w`` (numpy order) and the ML kernel's line sums ``prod`` (centred bins,
+    :func:`~budget.sar.pga_kernels.line_sums`) (step 4 and the integration of step 5)."""
+    n = hist_w.shape[0]
     if d.kernel == "ml":
-        dphi = np.angle((big_g[1:] * np.conj(big_g[:-1])).sum(axis=1)) * (weight[1:] > 0) * (weight[:-1] > 0)
+        dphi = np.angle(prod[1:]) * (weight[1:] > 0) * (weight[:-1] > 0)
         return np.concatenate([[0.0], np.cumsum(dphi)])
+    big_g = np.fft.fftshift(hist_w, axes=0)
     d_g = np.fft.fftshift(sfft.ifft(win * (2j * np.pi * d.pos / n)[:, None], axis=0), axes=0)
     grad = np.where(weight > 0, np.imag(np.conj(big_g) * d_g).sum(axis=1) / np.maximum(weight, 1e-300), 0.0)
     return np.concatenate([[0.0], np.cumsum(0.5 * (grad[1:] + grad[:-1]))])
