@@ -4,9 +4,8 @@ window that sees it and kept only where it is significant against its jackknife 
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
+import scipy.fft as sfft
 
 from .pga_kernels import group_products
 from .pga_lines import _SPAN_FRACTION, _Lines, _centre, _line_weights, _refine, _window
@@ -23,15 +22,6 @@ _MIN_GROUPS = 3
 
 # the span holds bins whose energy is at least this many times the 5th percentile (signal ≥ noise)
 _SPAN_FLOOR = 2.0
-
-
-@lru_cache(maxsize=16)
-def _dct_basis(span: int) -> np.ndarray:
-    """Orthonormal DCT-II basis (rows: index m = 0 … span−1, m/2 cycles over the span)."""
-    i = np.arange(span) + 0.5
-    basis = np.cos(np.pi * np.arange(span)[:, None] * i[None, :] / span) * np.sqrt(2.0 / span)
-    basis[0] /= np.sqrt(2.0)
-    return basis
 
 
 def _groups(lines: np.ndarray) -> np.ndarray:
@@ -64,11 +54,11 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
     per_group = group_products(hist_w, lo, hi, starts)  # Σ G(k) G*(k−1) per group inside the span
     total = per_group.sum(axis=1)
     est = np.concatenate([[0.0], np.cumsum(np.angle(total))])
-    basis = _dct_basis(hi - lo)[m_lo + 1:m_hi + 1]
-    coef = basis @ est
+    # orthonormal DCT-II over the span (index m ↔ m/2 cycles), the band's coefficients
+    coef = sfft.dct(est, norm="ortho")[m_lo + 1:m_hi + 1]
     if n_g >= _MIN_GROUPS:
         jk = np.concatenate([np.zeros((1, n_g)), np.cumsum(np.angle(total[:, None] - per_group), axis=0)])
-        coef_jk = basis @ jk
+        coef_jk = sfft.dct(jk, axis=0, norm="ortho")[m_lo + 1:m_hi + 1]
         noise = float(np.sum((n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)))
     else:
         # one or two scatterers (a calibration reflector): no jackknife; the closed form — white
@@ -82,7 +72,9 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
     out = np.zeros(n)
     if power > 0 and power >= band_snr * noise:
         record["gain"] = 1.0 - noise / power
-        out[lo:hi] = record["gain"] * (coef @ basis)
+        full = np.zeros(hi - lo)
+        full[m_lo + 1:m_hi + 1] = coef
+        out[lo:hi] = record["gain"] * sfft.idct(full, norm="ortho")
     return out, record
 
 
