@@ -97,3 +97,12 @@ def test_line_weights_weighted_rows_and_group_products(shape):
     lo, hi = n // 5, n - n // 7
     expected = np.add.reduceat(g[lo + 1:hi] * np.conj(g[lo:hi - 1]), starts, axis=1)
     assert np.allclose(k.group_products(h, lo, hi, starts), expected, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("shape", [(462, 135), (128, 128), (95, 7), (16, 1)])
+def test_pga_median_equals_numpy(shape):
+    """PGA's one-partition median equals np.median exactly, whole array and per column."""
+    from budget.sar.pga import _median
+    x = np.random.default_rng(6).random(shape) ** 4
+    assert _median(x) == np.median(x)
+    assert np.array_equal(_median(x, axis=0), np.median(x, axis=0))

@@ -247,6 +247,18 @@ def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fract
                                   "band_snr ≥ 1")
 
 
+def _median(x: np.ndarray, axis: int | None = None):
+    """``np.median(x, axis)`` of a finite array (axis None or 0), from one partition: with an even
+    count the lower middle value is the largest of the lower half (exactly np.median's value, at
+    a fraction of its time on the image)."""
+    if axis is None:
+        x = x.ravel()
+    n = x.shape[0]
+    k = n // 2
+    part = np.partition(x, k, axis=0)
+    return part[k] if n % 2 else (part[:k].max(axis=0) + part[k]) / 2
+
+
 def _random_walk_rms(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray, n_bins: int) -> float:
     """Predicted rms (rad) of the part of an ML estimate that does not cancel in the integration:
     the clutter × clutter term of G(k)G*(k−1), independent from bin to bin, so its running sum
@@ -344,7 +356,7 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
     zero = np.zeros(n)
     power = g.real ** 2 + g.imag ** 2
     peak_all = float(power.max())
-    clutter = float(np.median(power)) / _LN2
+    clutter = float(_median(power)) / _LN2
     if peak_all <= 0:
         return PgaResult(image=g, phase_error_rad=zero, iterations=0, converged=False, usable_lines=0,
                          reason="no usable scatterers: the image is zero")
@@ -352,7 +364,7 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
     n_cand = min(n_lines, max(min_lines, min(max_lines, int(np.ceil(line_fraction * n_lines)))))
     lines = np.sort(np.argsort(power.sum(axis=0))[::-1][:n_cand])
     d = _Lines(hist=sfft.ifft(g[:, lines], axis=0),
-               c_line=np.maximum(np.median(power[:, lines], axis=0) / _LN2, floor), kernel=kernel,
+               c_line=np.maximum(_median(power[:, lines], axis=0) / _LN2, floor), kernel=kernel,
                tol_rad=tol_rad, win_db=win_db, win_scale=win_scale, shrink=shrink, min_window=min_window,
                band_db=band_db, smooth=smooth)
     run = _iterate(d, zero, n, max_iter, first=first_window)
