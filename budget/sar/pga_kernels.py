@@ -3,7 +3,8 @@ peak fit and phase ramps, the centroid slope, the window, and the kernel's line 
 
 Each loop computes what the NumPy expression in its docstring computes, element by element and
 in the same order where the order matters (a ramp's powers are the same sequential products as
-``np.cumprod``), without the (n, L) temporaries: PGA on the Monte Carlo's 462 × 41 lines and on
+``np.cumprod``; sums over lines add one after the other where NumPy may pair them, so their last
+bits can differ), without the (n, L) temporaries: PGA on the Monte Carlo's 462 × 41 lines and on
 128² image chips spends most of its time allocating, filling and reading those, not in its FFTs.
 Compiled by numba on first use and cached beside this file (``cache=True``); each function is
 tested against its NumPy form in ``tests/test_sar_pga_kernels.py``.
