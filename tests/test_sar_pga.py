@@ -129,18 +129,6 @@ def test_pga_bad_input():
         pga(good, max_iter=0)
 
 
-def test_savgol_matches_scipy():
-    """The Savitzky–Golay filter built from its coefficients and end fits equals scipy's
-    savgol_filter(mode="interp") (seeded random inputs; the compiled loops are checked against
-    their NumPy forms in test_sar_pga_kernels.py)."""
-    from scipy.signal import savgol_filter
-    from budget.sar.pga_lines import _savgol
-    rng = np.random.default_rng(11)
-    for span, length in ((313, 145), (64, 7), (101, 71)):
-        x = rng.standard_normal(span)
-        assert np.allclose(_savgol(x, length), savgol_filter(x, length, 3, mode="interp"), atol=1e-12)
-
-
 def test_pga_without_the_corrected_image_gives_the_same_estimate(defocused):
     """corrected_image=False skips only the final correction: same estimate, input image returned,
     and applying the estimate reproduces the corrected image."""

@@ -115,9 +115,11 @@ fast-phase stage runs only after convergence).
 
 Code: this module drives the iterations and holds the policy; the operations on the candidate
 lines (steps 2–5) are in :mod:`budget.sar.pga_lines`, the fast-phase stage in
-:mod:`budget.sar.pga_fast`, and the loops over the (n, L) lines other than the FFTs (peak fit,
-phase ramps, centroid slope, window, line weights, the kernel's sums) are compiled in
-:mod:`budget.sar.pga_kernels`: the same arithmetic, without the temporaries.
+:mod:`budget.sar.pga_fast`, and the loops other than the FFTs (phase correction, peak fit and
+phase ramps, centroid slope, window, line weights, the kernel's sums, the increment's
+integration, detrending and smoothing, the bands' group sums) are compiled in
+:mod:`budget.sar.pga_kernels`: the same arithmetic, without the temporaries and the per-call
+overhead of many small NumPy steps (sums over lines add in sequence, so the last bits can differ).
 """
 
 from __future__ import annotations
@@ -130,9 +132,9 @@ import scipy.fft as sfft
 
 from ..errors import InputError
 from .pga_fast import _fast_bands
-from .pga_kernels import line_sums, weighted_rows
-from .pga_lines import (_LN2, _SG_STRETCH_INC, _Lines, _centre, _detrend, _integrated_estimate, _line_weights,
-                        _lowpass, _predicted_noise, _refine, _window, _window_width, _wrms)
+from .pga_kernels import line_sums, weighted_rows, wrms
+from .pga_lines import (_LN2, _SG_STRETCH_INC, _Lines, _centre, _detrend, _increment, _line_weights, _lowpass,
+                        _predicted_noise, _refine, _window, _window_width)
 
 # First window on clutter (step 3, "auto"): this many times the measured width, which holds the
 # tails of a blurred response below win_db.
@@ -301,7 +303,7 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
     scr = np.zeros(d.hist.shape[1])
     converged = False
     for it in range(1, max_iter + 1):
-        h_shift, shifted, pw = _centre(d, np.fft.ifftshift(phi_c))
+        h_shift, shifted, pw = _centre(d, phi_c)
         # line weights from the SCR inside the current window (step 4), then the window (step 3)
         scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
         summed = weighted_rows(pw, w_line)
@@ -320,13 +322,10 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
         if not np.any(w_line > 0):
             break
         _, win, hist_w = _refine(d, h_shift, shifted, width, w_line)
-        weight, prod = line_sums(hist_w)
-        weight = np.where(weight >= weight.max() * 10 ** (-d.band_db / 10), weight, 0.0)
-        inc = _detrend(_integrated_estimate(d, hist_w, win, prod, weight), weight)
+        inc, weight = _increment(d, hist_w, win, *line_sums(hist_w)[::-1])
         if d.smooth:
-            inc = _lowpass(inc, weight >= 0.1 * weight.max(), min(width, d.smooth * max(measured, d.min_window)),
-                           _SG_STRETCH_INC)
-        rms = _wrms(inc, weight)
+            inc = _lowpass(inc, weight, min(width, d.smooth * max(measured, d.min_window)), _SG_STRETCH_INC)
+        rms = float(wrms(inc, weight))
         phi_c += inc
         history.append({"iteration": it, "rms_increment_rad": rms, "window": int(width),
                         "lines_weighted": int(np.sum(w_line > 0))})

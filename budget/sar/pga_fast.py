@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
-from .pga_kernels import group_products
+from .pga_kernels import band_phases, group_products, group_starts, phase_corrected
 from .pga_lines import _SPAN_FRACTION, _Lines, _centre, _line_weights, _refine, _window
 from .residual import highpass_phase
 
@@ -41,7 +41,7 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
     n = d.hist.shape[0]
     h_shift, shifted, pw = centred
     if np.any(added):
-        h_shift = h_shift * np.exp(-1j * np.fft.ifftshift(added))[:, None]
+        h_shift = phase_corrected(h_shift, added)
     scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
     record = {"window": int(width), "m_lo": int(m_lo), "m_hi": int(m_hi), "band_rms_rad": 0.0,
               "noise_rms_rad": float("nan"), "gain": 0.0, "noise_from": "jackknife"}
@@ -49,15 +49,13 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
         return np.zeros(n), record
     keep, _, hist_w = _refine(d, h_shift, shifted, width, w_line)
     # lines of zero weight carry nothing: their groups are not data
-    starts = np.flatnonzero(np.diff(groups[keep], prepend=-1))  # groups are runs of sorted lines
+    starts = group_starts(groups, keep)  # groups are runs of sorted lines
     n_g = starts.size
     per_group = group_products(hist_w, lo, hi, starts)  # Σ G(k) G*(k−1) per group inside the span
-    total = per_group.sum(axis=1)
-    est = np.concatenate([[0.0], np.cumsum(np.angle(total))])
+    est, jk = band_phases(per_group)  # the estimate over the span, and without each group
     # orthonormal DCT-II over the span (index m ↔ m/2 cycles), the band's coefficients
     coef = sfft.dct(est, norm="ortho")[m_lo + 1:m_hi + 1]
     if n_g >= _MIN_GROUPS:
-        jk = np.concatenate([np.zeros((1, n_g)), np.cumsum(np.angle(total[:, None] - per_group), axis=0)])
         coef_jk = sfft.dct(jk, axis=0, norm="ortho")[m_lo + 1:m_hi + 1]
         noise = float(np.sum((n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)))
     else:
@@ -110,7 +108,7 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     phi_c = phi_c.copy()
     phi_c[c_lo:c_hi] -= highpass_phase(phi_c[c_lo:c_hi], width * (c_hi - c_lo) / (2.0 * n), energy[c_lo:c_hi])
     records = []
-    centred = _centre(d, np.fft.ifftshift(phi_c))  # the lines centred once, on the converged estimate
+    centred = _centre(d, phi_c)  # the lines centred once, on the converged estimate
     added = np.zeros(n)
     while m_prev < span - 1 and w < n:
         w = min(2 * w, n)

@@ -1,11 +1,15 @@
-"""Compiled loops for PGA's per-line operations (:mod:`budget.sar.pga_lines`): the centre shift's
-peak fit and phase ramps, the centroid slope, the window, and the kernel's line sums.
+"""Compiled loops for PGA's per-line operations (:mod:`budget.sar.pga_lines`, :mod:`budget.sar.pga_fast`):
+the phase correction, the centre shift's peak fit and phase ramps, the centroid slope, the window,
+the line weights, the kernel's line sums, the increment's integration, detrending, smoothing and
+rms, and the fast-phase bands' group sums.
 
 Each loop computes what the NumPy expression in its docstring computes, element by element and
 in the same order where the order matters (a ramp's powers are the same sequential products as
-``np.cumprod``; sums over lines add one after the other where NumPy may pair them, so their last
-bits can differ), without the (n, L) temporaries: PGA on the Monte Carlo's 462 × 41 lines and on
-128² image chips spends most of its time allocating, filling and reading those, not in its FFTs.
+``np.cumprod``; sums add one after the other where NumPy may pair them, so their last bits can
+differ: on PGA's outputs ≤ 3e-11 rad), without the (n, L) temporaries and the per-call
+overhead: PGA on the Monte Carlo's 462 × 41 lines and on 128² image chips spent most of its time
+allocating, filling and reading those, and in the calls of many small NumPy steps, not in its
+FFTs.
 Compiled by numba on first use and cached beside this file (``cache=True``); each function is
 tested against its NumPy form in ``tests/test_sar_pga_kernels.py``.
 """
@@ -14,27 +18,6 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
-
-
-@njit(cache=True)
-def peak_shift(mag: np.ndarray) -> np.ndarray:
-    """Per column of ``mag`` (n, L): the index of its largest value plus the parabolic fit's
-    sub-sample offset through it and its circular neighbours,
-    0.5 (a₋ − a₊)/(a₋ − 2a₀ + a₊) where that denominator is < 0, else 0."""
-    n, n_l = mag.shape
-    out = np.empty(n_l)
-    for col in range(n_l):
-        best = 0
-        top = mag[0, col]
-        for i in range(1, n):
-            if mag[i, col] > top:  # first maximum, as np.argmax
-                top = mag[i, col]
-                best = i
-        a_m = mag[(best - 1) % n, col]
-        a_p = mag[(best + 1) % n, col]
-        den = a_m - 2.0 * top + a_p
-        out[col] = best + (0.5 * (a_m - a_p) / den if den < 0 else 0.0)
-    return out
 
 
 @njit(cache=True)
@@ -52,24 +35,6 @@ def _ramp_column(out: np.ndarray, src: np.ndarray, col_out: int, col_src: int, z
         if m <= n_neg:
             out[n - m, col_out] = src[n - m, col_src] * np.conj(p)
         p = p * z
-
-
-@njit(cache=True)
-def ramp_in_place(h: np.ndarray, z: np.ndarray) -> None:
-    """h[:, l] *= e^{−j2π f_k s_l} (n × L, in place), given z_l = e^{−j2π s_l/n}: moves line l
-    by s_l samples in the image domain (f_k the DFT frequencies, numpy order)."""
-    for col in range(h.shape[1]):
-        _ramp_column(h, h, col, col, z[col])
-
-
-@njit(cache=True)
-def ramp_columns(h: np.ndarray, cols: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """h[:, cols] times the ramps of :func:`ramp_in_place` for z (one per selected column), as a
-    new (n, len(cols)) array."""
-    out = np.empty((h.shape[0], cols.size), dtype=np.complex128)
-    for j in range(cols.size):
-        _ramp_column(out, h, j, cols[j], z[j])
-    return out
 
 
 @njit(cache=True)
@@ -95,9 +60,11 @@ def centroid_slope(shifted: np.ndarray, rows: np.ndarray, rot: np.ndarray, cols:
 
 
 @njit(cache=True)
-def window_in_place(win: np.ndarray, inside: np.ndarray, scale: np.ndarray) -> None:
-    """win[k, l] *= inside[k] · scale[l] (inside: 0/1 per row)."""
+def window_in_place(win: np.ndarray, inside: np.ndarray, w_line: np.ndarray, cols: np.ndarray) -> None:
+    """win[k, j] *= inside[k] · √w_line[cols[j]] (inside: 0/1 per row): the window, and each
+    selected line scaled by the root of its weight."""
     n, n_l = win.shape
+    scale = np.sqrt(w_line[cols])
     for k in range(n):
         if inside[k]:
             for col in range(n_l):
@@ -196,3 +163,239 @@ def group_products(h: np.ndarray, lo: int, hi: int, starts: np.ndarray) -> np.nd
                 s += h[k, col] * np.conj(h[kp, col])
             out[c - lo - 1, g] = s
     return out
+
+
+@njit(cache=True)
+def phase_corrected(hist: np.ndarray, phi_c: np.ndarray) -> np.ndarray:
+    """hist · e^{−jφ} per row: ``hist`` (n, L) in numpy order, ``phi_c`` (n,) in centred order
+    (row k takes φ_c[(k + n//2) mod n], as ``np.fft.ifftshift``)."""
+    n, n_l = hist.shape
+    half = n // 2
+    out = np.empty((n, n_l), dtype=np.complex128)
+    for k in range(n):
+        p = phi_c[(k + half) % n]
+        e = complex(np.cos(p), -np.sin(p))
+        for col in range(n_l):
+            out[k, col] = hist[k, col] * e
+    return out
+
+
+@njit(cache=True)
+def _ramp_factor(shift: float, n: int) -> complex:
+    """z = e^{−j2π s/n}, the angle formed as (−2π s)·(1/n), as NumPy's complex division by n
+    forms it."""
+    y = (-2.0 * np.pi * shift) * (1.0 / n)
+    return complex(np.cos(y), np.sin(y))
+
+
+@njit(cache=True)
+def centre_in_place(corr: np.ndarray, spec: np.ndarray) -> None:
+    """Moves each line of ``corr`` (phase histories, numpy order) so that the brightest point of
+    its image ``spec`` = DFT(corr) lands at index 0: corr[:, l] ·= e^{−j2π f_k s_l}
+    (the powers of z_l = e^{−j2π s_l/n}, :func:`_ramp_column`), s_l = the index of the largest
+    |spec| plus the parabolic fit's offset 0.5 (a₋ − a₊)/(a₋ − 2a₀ + a₊) through |spec| there and at
+    its circular neighbours (where that denominator is < 0, else 0). The largest is
+    found on |spec|² (no square roots over the whole line), the three magnitudes of the fit are
+    |·| as np.abs forms them."""
+    n, n_l = spec.shape
+    for col in range(n_l):
+        best = 0
+        v = spec[0, col]
+        top = v.real * v.real + v.imag * v.imag
+        for i in range(1, n):
+            v = spec[i, col]
+            p = v.real * v.real + v.imag * v.imag
+            if p > top:  # first maximum, as np.argmax
+                top = p
+                best = i
+        a_0 = abs(spec[best, col])
+        a_m = abs(spec[(best - 1) % n, col])
+        a_p = abs(spec[(best + 1) % n, col])
+        den = a_m - 2.0 * a_0 + a_p
+        shift = best + (0.5 * (a_m - a_p) / den if den < 0 else 0.0)
+        _ramp_column(corr, corr, col, col, _ramp_factor(shift, n))
+
+
+@njit(cache=True)
+def refine_ramp(shifted: np.ndarray, h_shift: np.ndarray, rows: np.ndarray, rot: np.ndarray,
+                cols: np.ndarray) -> np.ndarray:
+    """The selected lines ``h_shift[:, cols]`` moved by their centroid offsets s = slope·n/(2π),
+    slope from :func:`centroid_slope` of ``shifted`` over the window ``rows``: a new (n, len(cols))
+    array (the ramps of :func:`_ramp_column`)."""
+    n = h_shift.shape[0]
+    slope = centroid_slope(shifted, rows, rot, cols)
+    out = np.empty((n, cols.size), dtype=np.complex128)
+    for j in range(cols.size):
+        _ramp_column(out, h_shift, j, cols[j], _ramp_factor(slope[j] * n / (2.0 * np.pi), n))
+    return out
+
+
+@njit(cache=True)
+def detrend(phi: np.ndarray, weight: np.ndarray) -> np.ndarray:
+    """``phi`` less its weighted least-squares constant + linear term in the bin index k
+    (closed form: k̄, φ̄ weighted means, slope Σw(k−k̄)(φ−φ̄)/Σw(k−k̄)²); ``phi`` itself when
+    Σw ≤ 0."""
+    n = phi.size
+    sw = 0.0
+    swk = 0.0
+    swp = 0.0
+    for i in range(n):
+        sw += weight[i]
+        swk += weight[i] * i
+        swp += weight[i] * phi[i]
+    if sw <= 0:
+        return phi.copy()
+    km = swk / sw
+    pm = swp / sw
+    var = 0.0
+    cov = 0.0
+    for i in range(n):
+        dk = i - km
+        var += weight[i] * dk * dk
+        cov += weight[i] * dk * (phi[i] - pm)
+    slope = cov / var if var > 0 else 0.0
+    out = np.empty(n)
+    for i in range(n):
+        out[i] = phi[i] - pm - slope * (i - km)
+    return out
+
+
+@njit(cache=True)
+def ml_increment(prod: np.ndarray, energy: np.ndarray, band_db: float) -> tuple[np.ndarray, np.ndarray]:
+    """The ML kernel's integrated, detrended estimate (centred bins) and the bins' weights:
+    weights = ``energy`` where it is within ``band_db`` of its peak, else 0; increments arg(prod)
+    between two weighted bins (0 elsewhere), summed from 0, then :func:`detrend` with the weights."""
+    n = energy.size
+    top = energy.max()
+    thr = top * 10.0 ** (-band_db / 10.0)
+    weight = np.empty(n)
+    for i in range(n):
+        weight[i] = energy[i] if energy[i] >= thr else 0.0
+    est = np.empty(n)
+    est[0] = 0.0
+    acc = 0.0
+    for i in range(1, n):
+        if weight[i] > 0 and weight[i - 1] > 0:
+            acc += np.arctan2(prod[i].imag, prod[i].real)
+        est[i] = acc
+    return detrend(est, weight), weight
+
+
+@njit(cache=True)
+def savgol_span(weight: np.ndarray, window: float, stretch: float, max_fraction: float) -> tuple[int, int, int]:
+    """(lo, hi, length) of the increment smoothing (:func:`~budget.sar.pga_lines._lowpass`): the
+    bins lo … hi−1 from the first to the last with weight ≥ 0.1 × its peak, and the odd filter
+    length min(stretch·n/window, max_fraction·span) ≤ span; length 0 when the span has < 8 such
+    bins, ``window`` ≤ 0 or the length would be < 7 (no smoothing)."""
+    n = weight.size
+    thr = 0.1 * weight.max()
+    lo = -1
+    hi = -1
+    count = 0
+    for i in range(n):
+        if weight[i] >= thr:
+            if lo < 0:
+                lo = i
+            hi = i + 1
+            count += 1
+    if count < 8 or window <= 0:
+        return 0, 0, 0
+    span = hi - lo
+    length = min(int(stretch * n / window), int(max_fraction * span)) | 1
+    length = min(length, span if span % 2 else span - 1)
+    if length < 7:
+        return 0, 0, 0
+    return lo, hi, length
+
+
+@njit(cache=True)
+def savgol_in_place(x: np.ndarray, lo: int, hi: int, coef: np.ndarray, ends: np.ndarray) -> None:
+    """x[lo:hi] replaced by its cubic Savitzky–Golay filter (mode "interp") of len(coef) bins:
+    interior outputs Σ_j x[i+j] coef[j] over the window, the len//2 outputs at each end the end
+    fit operator ``ends`` applied to the first (last) len bins."""
+    length = coef.size
+    half = length // 2
+    seg = x[lo:hi].copy()
+    m = seg.size
+    for i in range(m - length + 1):
+        acc = 0.0
+        for j in range(length):
+            acc += seg[i + j] * coef[j]
+        x[lo + half + i] = acc
+    for i in range(half):
+        a = 0.0
+        b = 0.0
+        for j in range(length):
+            a += ends[i, j] * seg[j]
+            b += ends[length - half + i, j] * seg[m - length + j]
+        x[lo + i] = a
+        x[lo + m - half + i] = b
+
+
+@njit(cache=True)
+def wrms(phi: np.ndarray, weight: np.ndarray) -> float:
+    """√(Σ w φ² / max(Σ w, 1e-300))."""
+    num = 0.0
+    sw = 0.0
+    for i in range(phi.size):
+        num += weight[i] * phi[i] * phi[i]
+        sw += weight[i]
+    return np.sqrt(num / max(sw, 1e-300))
+
+
+@njit(cache=True)
+def window_width(summed: np.ndarray, win_db: float, win_scale: float) -> int:
+    """⌈win_scale · (right + left + 1)⌉: right (left) the first index after (before) 0, circularly,
+    at which ``summed`` falls below ``win_db`` under summed[0], searched over n//2 − 1 (n//2)
+    samples and n//2 where it never does."""
+    n = summed.size
+    half = n // 2
+    thr = summed[0] * 10.0 ** (-win_db / 10.0)
+    right = half
+    for i in range(1, half):
+        if summed[i] < thr:
+            right = i - 1
+            break
+    left = half
+    for i in range(half):
+        if summed[n - 1 - i] < thr:
+            left = i
+            break
+    return int(np.ceil(win_scale * (right + left + 1)))
+
+
+@njit(cache=True)
+def group_starts(groups: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """Positions, among the kept lines, where a new group begins (groups are runs of sorted lines):
+    ``np.flatnonzero(np.diff(groups[keep], prepend=-1))``."""
+    out = np.empty(groups.size, dtype=np.int64)
+    m = 0
+    j = 0
+    prev = -1
+    for i in range(groups.size):
+        if keep[i]:
+            if groups[i] != prev:
+                out[m] = j
+                m += 1
+            prev = groups[i]
+            j += 1
+    return out[:m]
+
+
+@njit(cache=True)
+def band_phases(per_group: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """From the ML products per group (bins × groups): the estimate over the span
+    [0, cumsum(arg Σ_g)] and its delete-one-group versions [0, cumsum(arg(Σ_g − group g))]
+    (span × groups)."""
+    m, n_g = per_group.shape
+    est = np.zeros(m + 1)
+    jk = np.zeros((m + 1, n_g))
+    for i in range(m):
+        t = 0.0 + 0.0j
+        for g in range(n_g):
+            t += per_group[i, g]
+        est[i + 1] = est[i] + np.arctan2(t.imag, t.real)
+        for g in range(n_g):
+            r = t - per_group[i, g]
+            jk[i + 1, g] = jk[i, g] + np.arctan2(r.imag, r.real)
+    return est, jk

@@ -12,8 +12,8 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.signal import savgol_coeffs
 
-from .pga_kernels import (centroid_slope, line_weights, peak_shift, power, ramp_columns, ramp_in_place,
-                          window_in_place)
+from .pga_kernels import (centre_in_place, detrend, line_weights, ml_increment, phase_corrected, power, refine_ramp,
+                          savgol_in_place, savgol_span, window_in_place, window_width)
 
 # Fast-phase bands: the span is the bins where the candidate lines' energy is within 10 dB of its
 # peak.
@@ -32,14 +32,9 @@ _SG_MAX_FRACTION = 0.7
 
 
 def _window_width(summed: np.ndarray, win_db: float, win_scale: float) -> int:
-    """Width (samples) of the region around index 0 where ``summed`` stays within ``win_db``."""
-    n = summed.size
-    thr = summed[0] * 10 ** (-win_db / 10)
-    below = summed[1:n // 2] < thr
-    right = int(np.argmax(below)) if below.any() else n // 2
-    below = summed[::-1][:n // 2] < thr
-    left = int(np.argmax(below)) if below.any() else n // 2
-    return int(np.ceil(win_scale * (right + left + 1)))
+    """Width (samples) of the region around index 0 where ``summed`` stays within ``win_db``
+    (:func:`~budget.sar.pga_kernels.window_width`)."""
+    return int(window_width(summed, win_db, win_scale))
 
 
 def _line_weights(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -53,15 +48,9 @@ def _line_weights(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray) -> tuple
 
 
 def _detrend(phi: np.ndarray, weight: np.ndarray) -> np.ndarray:
-    """``phi`` less its least-squares constant + linear term in the bin index, weighted (closed form)."""
-    k = np.arange(phi.size, dtype=float)
-    sw = weight.sum()
-    if sw <= 0:
-        return phi
-    km, pm = (weight * k).sum() / sw, (weight * phi).sum() / sw
-    var = (weight * (k - km) ** 2).sum()
-    slope = (weight * (k - km) * (phi - pm)).sum() / var if var > 0 else 0.0
-    return phi - pm - slope * (k - km)
+    """``phi`` less its least-squares constant + linear term in the bin index, weighted (closed
+    form, :func:`~budget.sar.pga_kernels.detrend`)."""
+    return detrend(np.ascontiguousarray(phi, dtype=float), np.ascontiguousarray(weight, dtype=float))
 
 
 @lru_cache(maxsize=128)
@@ -74,36 +63,21 @@ def _savgol_parts(length: int) -> tuple[np.ndarray, np.ndarray]:
     return savgol_coeffs(length, 3, use="dot"), v @ np.linalg.pinv(v)
 
 
-def _savgol(x: np.ndarray, length: int) -> np.ndarray:
-    """Cubic Savitzky–Golay filter of ``length`` (odd, ≤ x.size) bins, mode="interp"."""
-    coef, ends = _savgol_parts(length)
-    half = length // 2
-    out = np.empty_like(x)
-    out[half:x.size - half] = np.correlate(x, coef, mode="valid")
-    out[:half] = ends[:half] @ x[:length]
-    out[x.size - half:] = ends[length - half:] @ x[x.size - length:]
-    return out
-
-
-def _lowpass(phi: np.ndarray, mask: np.ndarray, window: float, stretch: float = 1.0) -> np.ndarray:
-    """``phi`` over the bins of ``mask`` (first to last) smoothed by a cubic Savitzky–Golay filter
-    of ``stretch`` · n/``window`` bins, at most ``_SG_MAX_FRACTION`` of the span (longer, the
-    local fit becomes one global cubic). Lines windowed to W samples carry phase that varies at
-    most W/2 cycles per n bins (a W-sample function's DFT), so faster wiggles of an estimate are
-    its noise; a cubic SG filter of L bins passes ≈ 2.5/L cycles per bin (−3 dB), so
-    ``stretch`` = 5 matches that bandwidth. A local cubic keeps polynomial errors exact (a
-    truncated DCT rings at the ends)."""
-    idx = np.nonzero(mask)[0]
-    if idx.size < 8 or window <= 0:
-        return phi
-    lo, hi = idx[0], idx[-1] + 1
-    span = hi - lo
-    length = min(int(stretch * phi.size / window), int(_SG_MAX_FRACTION * span)) | 1
-    length = min(length, span if span % 2 else span - 1)
-    if length < 7:
+def _lowpass(phi: np.ndarray, mask_weight: np.ndarray, window: float, stretch: float = 1.0) -> np.ndarray:
+    """``phi`` over the bins from the first to the last whose ``mask_weight`` is ≥ 0.1 × its peak
+    smoothed by a cubic Savitzky–Golay filter of ``stretch`` · n/``window`` bins, at most
+    ``_SG_MAX_FRACTION`` of the span (longer, the local fit becomes one global cubic). Lines
+    windowed to W samples carry phase that varies at most W/2 cycles per n bins (a W-sample
+    function's DFT), so faster wiggles of an estimate are its noise; a cubic SG filter of L bins
+    passes ≈ 2.5/L cycles per bin (−3 dB), so ``stretch`` = 5 matches that bandwidth. A local
+    cubic keeps polynomial errors exact (a truncated DCT rings at the ends). Fewer than 8 such
+    bins, or a filter shorter than 7: ``phi`` unchanged."""
+    lo, hi, length = savgol_span(mask_weight, float(window), float(stretch), _SG_MAX_FRACTION)
+    if length == 0:
         return phi
     out = phi.copy()
-    out[lo:hi] = _savgol(phi[lo:hi], length)
+    coef, ends = _savgol_parts(int(length))
+    savgol_in_place(out, lo, hi, coef, ends)
     return out
 
 
@@ -112,10 +86,6 @@ def _predicted_noise(scr: np.ndarray) -> float:
     ratios ``scr``: 1/√(2 Σ SCR_r) (white clutter, high SCR; Jakowatz & Wahl 1993)."""
     total = float(np.sum(scr))
     return float(np.sqrt(0.5 / total)) if total > 0 else float("inf")
-
-
-def _wrms(phi: np.ndarray, weight: np.ndarray) -> float:
-    return float(np.sqrt(np.sum(weight * phi ** 2) / max(weight.sum(), 1e-300)))
 
 
 @dataclass
@@ -141,19 +111,12 @@ class _Lines:
         self.n_signal_bins = int(np.sum(energy >= _SPAN_FRACTION * energy.max()))
 
 
-def _ramp_factors(n: int, shift: np.ndarray) -> np.ndarray:
-    """z_l = e^{−j2π s_l/n} of the phase ramps e^{−j2π f_k s_l} that move line l by s_l samples
-    (:func:`~budget.sar.pga_kernels.ramp_in_place` forms its powers)."""
-    return np.exp(-2j * np.pi * np.asarray(shift, dtype=float) / n)
-
-
-def _centre(d: _Lines, phi_np: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _centre(d: _Lines, phi_c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Step 2, first part: (phase histories of the centre-shifted lines, the lines, their
-    intensity) of the lines corrected with ``phi_np`` (numpy order): each line's brightest point
+    intensity) of the lines corrected with ``phi_c`` (centred bins): each line's brightest point
     (parabolic fit) moved to index 0 by a phase ramp on its phase history."""
-    n = d.hist.shape[0]
-    corr = d.hist * np.exp(-1j * phi_np)[:, None]
-    ramp_in_place(corr, _ramp_factors(n, peak_shift(np.abs(sfft.fft(corr, axis=0)))))
+    corr = phase_corrected(d.hist, phi_c)
+    centre_in_place(corr, sfft.fft(corr, axis=0))
     shifted = sfft.fft(corr, axis=0)
     return corr, shifted, power(shifted)
 
@@ -182,22 +145,23 @@ def _refine(d: _Lines, h_shift: np.ndarray, shifted: np.ndarray, width: float,
     used = w_line > 0
     cols = np.flatnonzero(used)
     rows, rot, inside = _window(n, width)
-    slope = centroid_slope(shifted, rows, rot, cols)
-    win = sfft.fft(ramp_columns(h_shift, cols, _ramp_factors(n, slope * n / (2.0 * np.pi))), axis=0)
-    window_in_place(win, inside, np.sqrt(w_line[cols]))
+    win = sfft.fft(refine_ramp(shifted, h_shift, rows, rot, cols), axis=0)
+    window_in_place(win, inside, w_line, cols)
     return used, win, sfft.ifft(win, axis=0)
 
 
-def _integrated_estimate(d: _Lines, hist_w: np.ndarray, win: np.ndarray, prod: np.ndarray,
-                         weight: np.ndarray) -> np.ndarray:
-    """Phase estimate (centred bins, not detrended) from windowed lines ``win``, their phase
-    histories ``hist_w`` (numpy order) and the ML kernel's line sums ``prod`` (centred bins,
-    :func:`~budget.sar.pga_kernels.line_sums`) (step 4 and the integration of step 5)."""
-    n = hist_w.shape[0]
+def _increment(d: _Lines, hist_w: np.ndarray, win: np.ndarray, prod: np.ndarray,
+               energy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(detrended increment, weight per bin), centred bins, from windowed lines ``win``, their
+    phase histories ``hist_w`` (numpy order), the ML kernel's line sums ``prod`` and the lines'
+    ``energy`` per bin (:func:`~budget.sar.pga_kernels.line_sums`) (step 4 and the integration
+    of step 5): bins more than ``band_db`` below the peak energy carry no gradient and no weight;
+    the rest carry their energy as the detrending's weight."""
     if d.kernel == "ml":
-        dphi = np.angle(prod[1:]) * (weight[1:] > 0) * (weight[:-1] > 0)
-        return np.concatenate([[0.0], np.cumsum(dphi)])
+        return ml_increment(prod, energy, d.band_db)
+    n = hist_w.shape[0]
+    weight = np.where(energy >= energy.max() * 10 ** (-d.band_db / 10), energy, 0.0)
     big_g = np.fft.fftshift(hist_w, axes=0)
     d_g = np.fft.fftshift(sfft.ifft(win * (2j * np.pi * d.pos / n)[:, None], axis=0), axes=0)
     grad = np.where(weight > 0, np.imag(np.conj(big_g) * d_g).sum(axis=1) / np.maximum(weight, 1e-300), 0.0)
-    return np.concatenate([[0.0], np.cumsum(0.5 * (grad[1:] + grad[:-1]))])
+    return _detrend(np.concatenate([[0.0], np.cumsum(0.5 * (grad[1:] + grad[:-1]))]), weight), weight
