@@ -70,8 +70,10 @@ class McOptions(BaseModel):
                               "runs on it; the metrics on five clutter-free points focused with its "
                               "estimate); points: five noise-free points (PGA's best case); auto: "
                               "realistic when the scene builder is available, else points. The "
-                              "default stays 'points' while PGA's own estimation error on the "
-                              "realistic scene fails every part (README, Monte Carlo section)")
+                              "default stays 'points' while PGA's clutter-limited error on the "
+                              "realistic scene grows with the motion error it removes, so that a "
+                              "verdict there says as much about PGA on clutter as about the IMU "
+                              "(README, Monte Carlo section)")
     scene_reference: Literal["perfect_imu", "none"] = Field(
         "perfect_imu", description="on a scene with clutter or receiver noise, judge the image and the "
                                    "PGA residual relative to what a perfect IMU gets on the same scene "
