@@ -78,13 +78,20 @@ def run(args) -> int:
           f"contrast {s['contrast_before']:.4g} → {s['contrast_after']:.4g}")
     if result.pga:
         print(f"PGA: {result.pga.get('reason')}; {result.pga.get('usable_lines')} usable lines")
-    if c:
+    if "recorded_beyond_linear_rms_rad" in c:
         print(f"recorded solution beyond linear: {c['recorded_beyond_linear_rms_rad']:.3g} rad rms; "
               f"estimate {c['estimate_beyond_linear_rms_rad']:.3g} rad rms; difference {c['rms_diff_rad']:.3g} rad rms")
         if "rms_diff_slow_rad" in c:
             print(f"within PGA's bandwidth ({c['pga_bandwidth_cycles']:.3g} cycles/aperture): recorded "
                   f"{c['recorded_slow_rms_rad']:.3g} rad rms, difference {c['rms_diff_slow_rad']:.3g} rad rms; "
                   f"recorded above it {c['recorded_fast_rms_rad']:.3g} rad rms")
+    known = c.get("known")
+    if known:
+        line = (f"against the known error ({known['reference']}), {known['recorded_beyond_linear_rms_rad']:.3g} rad "
+                f"rms beyond linear: difference {known['rms_diff_rad']:.3g} rad rms")
+        if "rms_diff_slow_rad" in known:
+            line += f", within PGA's bandwidth {known['rms_diff_slow_rad']:.3g} rad rms"
+        print(line)
     for note in result.notes:
         print("note: " + note)
     return 0

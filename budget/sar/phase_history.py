@@ -45,6 +45,9 @@ class PhaseHistory:
     recorded_phase_correction_rad: np.ndarray | None = field(default=None, repr=False)
     azimuth_deg: np.ndarray | None = field(default=None, repr=False)
     elevation_deg: np.ndarray | None = field(default=None, repr=False)
+    #: Phase error per pulse (rad) added by :meth:`with_phase_error` (an injection experiment):
+    #: known, so that an autofocus estimate can be scored against it.
+    injected_phase_rad: np.ndarray | None = field(default=None, repr=False)
     notes: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
@@ -76,7 +79,7 @@ class PhaseHistory:
         if self.pulse_source.size != n:
             raise InputError("one source name per pulse expected", field="pulse_source")
         for name in ("recorded_range_correction_m", "recorded_phase_correction_rad", "azimuth_deg",
-                     "elevation_deg"):
+                     "elevation_deg", "injected_phase_rad"):
             v = getattr(self, name)
             if v is not None:
                 v = np.asarray(v, dtype=float).ravel()
@@ -112,12 +115,23 @@ class PhaseHistory:
 
     # --- corrections ------------------------------------------------------------------------
     def with_phase_error(self, phase_rad) -> "PhaseHistory":
-        """A copy with pulse n multiplied by exp(j phase_rad[n]) (an injected or removed error)."""
+        """A copy with pulse n multiplied by exp(j phase_rad[n]) (an injected or removed error),
+        added to :attr:`injected_phase_rad`."""
         ph = np.asarray(phase_rad, dtype=float).ravel()
         if ph.size != self.n_pulses or not np.all(np.isfinite(ph)):
             raise InputError("one finite phase per pulse expected", field="phase_rad",
                              expected=f"{self.n_pulses} values in rad")
-        return self._replace(samples=self.samples * np.exp(1j * ph)[:, None].astype(self.samples.dtype))
+        injected = ph if self.injected_phase_rad is None else self.injected_phase_rad + ph
+        return self._replace(samples=self.samples * np.exp(1j * ph)[:, None].astype(self.samples.dtype),
+                             injected_phase_rad=injected)
+
+    def known_phase_error_rad(self) -> np.ndarray | None:
+        """The phase error per pulse the data are known to carry (rad, the sign of (1)'s ψ_n): the
+        recorded solution's (:meth:`recorded_phase_error_rad`) plus the injected one, either
+        alone, or None when neither is known."""
+        parts = [p for p in ((self.recorded_phase_error_rad() if self.has_recorded_autofocus else None),
+                             self.injected_phase_rad) if p is not None]
+        return sum(parts[1:], parts[0].copy()) if parts else None
 
     def with_recorded_autofocus(self) -> "PhaseHistory":
         """The provider's correction applied: R0 + ΔR and each pulse × exp(jχ) (module docstring)."""
@@ -143,7 +157,8 @@ class PhaseHistory:
     def _replace(self, **changes) -> "PhaseHistory":
         kw = {k: getattr(self, k) for k in ("samples", "frequency_hz", "antenna_m", "scene_range_m",
                                              "pulse_source", "recorded_range_correction_m",
-                                             "recorded_phase_correction_rad", "azimuth_deg", "elevation_deg")}
+                                             "recorded_phase_correction_rad", "azimuth_deg", "elevation_deg",
+                                             "injected_phase_rad")}
         kw.update(changes)
         return PhaseHistory(**kw, notes=list(self.notes))
 
@@ -168,6 +183,8 @@ class PhaseHistory:
                "track_length_m": float(track), "scene_range_mean_m": float(self.scene_range_m.mean()),
                "sources": list(dict.fromkeys(self.pulse_source.tolist())),
                "recorded_autofocus": self.has_recorded_autofocus, "notes": list(self.notes)}
+        if self.injected_phase_rad is not None:
+            out["injected_phase_rms_rad"] = float(np.sqrt(np.mean(self.injected_phase_rad ** 2)))
         if self.azimuth_deg is not None:
             out["azimuth_span_deg"] = [float(self.azimuth_deg[0]), float(self.azimuth_deg[-1])]
         if self.elevation_deg is not None:
