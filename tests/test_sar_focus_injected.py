@@ -77,10 +77,17 @@ def test_focus_scores_pga_against_the_injected_error():
     assert known["recorded_fast_rms_rad"] < 0.01 * known["recorded_beyond_linear_rms_rad"]
     assert known["rms_diff_slow_rad"] < 0.05
     assert "known error (injected)" in res.summary()
+    frame = res.to_frame()
+    m = res.estimated_pulses
+    assert np.allclose(frame["known_phase_error_rad"][m], res.known_phase_error_rad[m])
+    resid = frame["phase_estimate_rad"][m] - frame["known_phase_error_rad"][m]
+    assert float(np.sqrt(np.mean((resid - resid.mean()) ** 2))) < 0.05  # both beyond linear over the same pulses
+    assert res.to_dict()["known_phase_error_rad"] is not None
     assert "no comparison" not in " ".join(res.notes)
     # without the injection there is nothing to compare with, as before
     plain = focus(ph, opt, "pga")
     assert "known" not in plain.comparison and any("no comparison" in n for n in plain.notes)
+    assert plain.known_phase_error_rad is None and "known_phase_error_rad" not in plain.to_frame()
 
 
 def test_injected_phase_of_the_wrong_size_or_nan_is_refused():

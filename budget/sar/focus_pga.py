@@ -103,6 +103,8 @@ class FocusResult:
     phase_estimate_rad: np.ndarray = field(repr=False)  # per pulse, beyond linear; correction = −this
     estimated_pulses: np.ndarray = field(repr=False)
     recorded_phase_error_rad: np.ndarray | None = field(default=None, repr=False)  # beyond linear
+    #: With an injected error: recorded + injected (or injected alone) per pulse, beyond linear.
+    known_phase_error_rad: np.ndarray | None = field(default=None, repr=False)
     comparison: dict = field(default_factory=dict)
     pga: dict = field(default_factory=dict)
     timings_s: dict = field(default_factory=dict)
@@ -158,6 +160,8 @@ class FocusResult:
                            "phase_estimate_rad": self.phase_estimate_rad, "estimated": self.estimated_pulses})
         if self.recorded_phase_error_rad is not None:
             df["recorded_phase_error_rad"] = self.recorded_phase_error_rad
+        if self.known_phase_error_rad is not None:
+            df["known_phase_error_rad"] = self.known_phase_error_rad
         df.index.name = "pulse"
         return df
 
@@ -168,6 +172,8 @@ class FocusResult:
                     "estimated_pulses": self.estimated_pulses.tolist(),
                     "recorded_phase_error_rad": (None if self.recorded_phase_error_rad is None
                                                  else self.recorded_phase_error_rad.tolist()),
+                    "known_phase_error_rad": (None if self.known_phase_error_rad is None
+                                              else self.known_phase_error_rad.tolist()),
                     "image": {"shape": list(self.before.data.shape), "spacing_m": self.before.grid.spacing_m,
                               "range_m": [float(self.before.grid.u_m[0]), float(self.before.grid.u_m[-1])],
                               "azimuth_m": [float(self.before.grid.v_m[0]), float(self.before.grid.v_m[-1])]},
@@ -239,9 +245,13 @@ def focus(ph: PhaseHistory, options: FocusOptions | None = None, autofocus: str 
         rec_out = _beyond_linear(rec, mask)
     elif ph.injected_phase_rad is None:
         notes.append("no recorded autofocus solution in the files: no comparison")
+    known_out = None
     if ph.injected_phase_rad is not None:
-        comparison["known"] = compare_with_recorded(est, ph.known_phase_error_rad(), mask, bandwidth)
+        known = ph.known_phase_error_rad()
+        comparison["known"] = compare_with_recorded(est, known, mask, bandwidth)
         comparison["known"]["reference"] = "recorded + injected" if rec is not None else "injected"
+        known_out = _beyond_linear(known, mask)
     return FocusResult(autofocus=autofocus, before=before, after=after, phase_estimate_rad=est,
-                       estimated_pulses=mask, recorded_phase_error_rad=rec_out, comparison=comparison,
+                       estimated_pulses=mask, recorded_phase_error_rad=rec_out, known_phase_error_rad=known_out,
+                       comparison=comparison,
                        pga=pga_info, timings_s=timings, options=options.model_dump(), notes=notes)
