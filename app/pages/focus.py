@@ -36,13 +36,20 @@ def _files_in(directory: str) -> list[Path]:
     return files
 
 
+def _with_injection(ph, inject: tuple[float, float, float, float] | None):
+    return ph if inject is None else ph.with_smooth_phase_error(*inject)
+
+
 @st.cache_data(show_spinner="Backprojecting and autofocusing …", max_entries=4)
-def _run_paths(paths: tuple[str, ...], options_json: str, autofocus: str):
-    return focus(read_afrl(list(paths)), FocusOptions.model_validate_json(options_json), autofocus)
+def _run_paths(paths: tuple[str, ...], options_json: str, autofocus: str,
+               inject: tuple[float, float, float, float] | None = None):
+    return focus(_with_injection(read_afrl(list(paths)), inject), FocusOptions.model_validate_json(options_json),
+                 autofocus)
 
 
 @st.cache_data(show_spinner="Backprojecting and autofocusing …", max_entries=2)
-def _run_uploads(blobs: tuple[tuple[str, bytes], ...], options_json: str, autofocus: str):
+def _run_uploads(blobs: tuple[tuple[str, bytes], ...], options_json: str, autofocus: str,
+                 inject: tuple[float, float, float, float] | None = None):
     with tempfile.TemporaryDirectory() as tmp:
         paths = []
         for name, data in blobs:
@@ -56,7 +63,31 @@ def _run_uploads(blobs: tuple[tuple[str, bytes], ...], options_json: str, autofo
             if err.file and tmp in err.file:
                 err.rename_file(err.file.replace(tmp + os.sep, ""))
             raise
-    return focus(ph, FocusOptions.model_validate_json(options_json), autofocus)
+    return focus(_with_injection(ph, inject), FocusOptions.model_validate_json(options_json), autofocus)
+
+
+def _injection() -> tuple[float, float, float, float] | None:
+    """A known smooth phase error to multiply into the phase history (to see what PGA recovers)."""
+    if not st.checkbox("inject a known phase error q u² + c u³ + s sin(Nπu) (u = −1 … 1 over the pulses)",
+                       key="focus_inject"):
+        return None
+    a, b, c2, d = st.columns(4)
+    return (a.number_input("q (rad)", -50.0, 50.0, 4.0, 0.5, key="focus_inject_q"),
+            b.number_input("c (rad)", -50.0, 50.0, 2.0, 0.5, key="focus_inject_c"),
+            c2.number_input("s (rad)", -50.0, 50.0, 1.5, 0.5, key="focus_inject_s"),
+            d.number_input("N (cycles)", 0.0, 50.0, 1.5, 0.5, key="focus_inject_n"))
+
+
+def _comparison_rows(comparison: dict) -> list[dict]:
+    """One row per number; the comparison with the known error (recorded + injected) prefixed."""
+    rows = []
+    for k, v in comparison.items():
+        if isinstance(v, dict):
+            ref = v.get("reference", "known")
+            rows += [{"quantity": f"against {ref}: {kk}", "value": vv} for kk, vv in v.items() if kk != "reference"]
+        else:
+            rows.append({"quantity": k, "value": v})
+    return rows
 
 
 def _options() -> FocusOptions:
@@ -76,6 +107,7 @@ def render() -> None:
     src = st.radio("phase history", SOURCES, horizontal=True, key="focus_source")
     autofocus = st.radio("autofocus", AUTOFOCUS_MODES, horizontal=True, key="focus_mode")
     options = _options()
+    inject = _injection()
     if src == SOURCES[0]:
         directory = st.text_input("directory (all its .mat files, in name order, form one aperture)",
                                   os.environ.get(DATA_ENV, ""), key="focus_dir")
@@ -85,7 +117,8 @@ def render() -> None:
         run = st.button("Focus", type="primary", key="focus_run")
         if not run and "focus_last" not in st.session_state:
             return
-        result = _run_paths(tuple(str(p) for p in _files_in(directory)), options.model_dump_json(), autofocus)
+        result = _run_paths(tuple(str(p) for p in _files_in(directory)), options.model_dump_json(), autofocus,
+                            inject)
     else:
         ups = st.file_uploader(f"AFRL .mat files (at most {MAX_UPLOAD_MB} MB each)", type=["mat"],
                                accept_multiple_files=True, key="focus_upload", max_upload_size=MAX_UPLOAD_MB)
@@ -96,7 +129,7 @@ def render() -> None:
         if not run and "focus_last" not in st.session_state:
             return
         blobs = tuple(sorted((u.name, u.getvalue()) for u in ups))
-        result = _run_uploads(blobs, options.model_dump_json(), autofocus)
+        result = _run_uploads(blobs, options.model_dump_json(), autofocus, inject)
     st.session_state["focus_last"] = True
     s = result.scalars()
     m1, m2, m3, m4 = st.columns(4)
@@ -106,11 +139,15 @@ def render() -> None:
               delta_color="inverse")
     diff = s["recorded_af_rms_diff_rad"]
     m4.metric("rms diff. from recorded (rad)", "—" if diff is None else f"{diff:.3g}")
+    known = result.comparison.get("known")
+    if known:
+        k1, k2, _, _ = st.columns(4)
+        k1.metric(f"known error ({known['reference']}), rms (rad)", f"{known['recorded_beyond_linear_rms_rad']:.3g}")
+        k2.metric("rms diff. from known (rad)", f"{known['rms_diff_rad']:.3g}")
     st.plotly_chart(image_pair_figure(result), key="focus_images")
     st.plotly_chart(phase_figure(result), key="focus_phase")
     if result.comparison:
-        st.dataframe([{"quantity": k, "value": v} for k, v in result.comparison.items()], hide_index=True,
-                     key="focus_comparison")
+        st.dataframe(_comparison_rows(result.comparison), hide_index=True, key="focus_comparison")
     if result.pga:
         st.caption(f"PGA: {result.pga.get('reason')}")
     for note in result.notes:

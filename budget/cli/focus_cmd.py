@@ -10,7 +10,6 @@ from ..errors import InputError
 from ..sar.afrl import read_afrl
 from ..sar.focus import FocusOptions
 from ..sar.focus_pga import AUTOFOCUS_MODES, focus
-from ..sar.phase import smooth_phase_error
 from .output import add_json_option, write_json
 
 
@@ -41,7 +40,7 @@ def add_parser(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _injected(spec: str, n_pulses: int) -> np.ndarray:
+def _injected(spec: str) -> tuple[float, float, float, float]:
     try:
         q, c, s, n = (float(x) for x in spec.split(","))
     except ValueError:
@@ -49,8 +48,7 @@ def _injected(spec: str, n_pulses: int) -> np.ndarray:
                          expected="Q,C,S,N in rad (and cycles for N), e.g. 4,2,1.5,1.5") from None
     if not all(np.isfinite([q, c, s, n])):
         raise InputError("must be finite", field="--inject", value=spec)
-    u = np.linspace(-1.0, 1.0, n_pulses)
-    return smooth_phase_error(u, quadratic_rad=q, cubic_rad=c, sinusoid_rad=s, sinusoid_cycles=n)
+    return q, c, s, n
 
 
 def run(args) -> int:
@@ -60,8 +58,7 @@ def run(args) -> int:
                                  azimuth_window=args.window, workers=args.workers)
     ph = read_afrl(args.files)
     if args.inject:
-        ph = ph.with_phase_error(_injected(args.inject, ph.n_pulses))
-        ph.notes.append(f"injected phase error {args.inject} (Q u² + C u³ + S sin(Nπu) rad)")
+        ph = ph.with_smooth_phase_error(*_injected(args.inject))
     result = focus(ph, options, args.autofocus, kernel=args.kernel)
     if args.image:
         from ..plots.focus import write_before_after_png

@@ -47,12 +47,17 @@ def image_pair_figure(result: FocusResult, dynamic_range_db: float = 40.0, max_p
 
 
 def phase_figure(result: FocusResult) -> go.Figure:
-    """Estimated phase error per pulse against the recorded solution (both beyond linear, rad)."""
+    """Estimated phase error per pulse against the recorded solution and, after an injection, the
+    known error (recorded + injected) (all beyond linear, rad)."""
     n = np.arange(result.pulses)
     fig = go.Figure()
     if result.recorded_phase_error_rad is not None:
         fig.add_trace(go.Scatter(x=n, y=result.recorded_phase_error_rad, mode="lines", name="recorded solution",
                                  line={"width": 1, "color": "#999"}))
+    if result.known_phase_error_rad is not None:
+        ref = result.comparison.get("known", {}).get("reference", "known")
+        fig.add_trace(go.Scatter(x=n, y=result.known_phase_error_rad, mode="lines", name=f"known error ({ref})",
+                                 line={"width": 1.5, "color": "#1f77b4", "dash": "dash"}))
     est = np.where(result.estimated_pulses, result.phase_estimate_rad, np.nan)
     fig.add_trace(go.Scatter(x=n, y=est, mode="lines", name=f"estimate ({result.autofocus})",
                              line={"width": 2, "color": "#d62728"}))

@@ -125,6 +125,22 @@ class PhaseHistory:
         return self._replace(samples=self.samples * np.exp(1j * ph)[:, None].astype(self.samples.dtype),
                              injected_phase_rad=injected)
 
+    def with_smooth_phase_error(self, quadratic_rad: float, cubic_rad: float, sinusoid_rad: float,
+                                sinusoid_cycles: float) -> "PhaseHistory":
+        """:meth:`with_phase_error` of ψ(u) = q u² + c u³ + s sin(π N u) over the pulses,
+        u = −1 … 1 (:func:`budget.sar.phase.smooth_phase_error`), with a note saying so."""
+        from .phase import smooth_phase_error  # the SAR simulation's model; imported only here
+        values = {"quadratic_rad": quadratic_rad, "cubic_rad": cubic_rad, "sinusoid_rad": sinusoid_rad,
+                  "sinusoid_cycles": sinusoid_cycles}
+        for name, v in values.items():
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
+                raise InputError("must be a finite number", field=name, value=v, expected="rad (cycles for N)")
+        psi = smooth_phase_error(np.linspace(-1.0, 1.0, self.n_pulses), **{k: float(v) for k, v in values.items()})
+        out = self.with_phase_error(psi)
+        out.notes.append(f"injected phase error {quadratic_rad:g} u² + {cubic_rad:g} u³ + {sinusoid_rad:g} "
+                         f"sin({sinusoid_cycles:g}πu) rad over the pulses (u = −1 … 1)")
+        return out
+
     def known_phase_error_rad(self) -> np.ndarray | None:
         """The phase error per pulse the data are known to carry (rad, the sign of (1)'s ψ_n): the
         recorded solution's (:meth:`recorded_phase_error_rad`) plus the injected one, either
