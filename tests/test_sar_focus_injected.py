@@ -53,6 +53,12 @@ def test_injections_accumulate_and_the_known_error_adds_the_recorded_one():
     both = rec.with_phase_error(a)
     assert np.allclose(both.known_phase_error_rad(), rec.recorded_phase_error_rad() + a, atol=1e-12)
     assert np.array_equal(rec.known_phase_error_rad(), rec.recorded_phase_error_rad())
+    # the provider's solution applied first: the data then carry only what is injected after it
+    applied = rec.with_recorded_autofocus()
+    assert not applied.has_recorded_autofocus and applied.known_phase_error_rad() is None
+    assert np.array_equal(applied.with_phase_error(a).known_phase_error_rad(), a)
+    # an injection made before applying the solution is still in the data
+    assert np.array_equal(both.with_recorded_autofocus().known_phase_error_rad(), a)
 
 
 def test_focus_scores_pga_against_the_injected_error():

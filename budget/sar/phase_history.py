@@ -150,13 +150,16 @@ class PhaseHistory:
         return sum(parts[1:], parts[0].copy()) if parts else None
 
     def with_recorded_autofocus(self) -> "PhaseHistory":
-        """The provider's correction applied: R0 + ΔR and each pulse × exp(jχ) (module docstring)."""
+        """The provider's correction applied: R0 + ΔR and each pulse × exp(jχ) (module docstring).
+        The copy carries no recorded solution any more (it is in the data), so an error injected
+        into it afterwards is all :meth:`known_phase_error_rad` reports."""
         if not self.has_recorded_autofocus:
             raise InputError("the phase history has no recorded autofocus solution", field="af",
                              expected="files with data.af.r_correct and data.af.ph_correct")
         chi = np.exp(1j * self.recorded_phase_correction_rad)[:, None].astype(self.samples.dtype)
         out = self._replace(samples=self.samples * chi,
-                            scene_range_m=self.scene_range_m + self.recorded_range_correction_m)
+                            scene_range_m=self.scene_range_m + self.recorded_range_correction_m,
+                            recorded_range_correction_m=None, recorded_phase_correction_rad=None)
         out.notes = self.notes + ["recorded autofocus solution applied (R0 + r_correct, × exp(j ph_correct))"]
         return out
 
