@@ -154,6 +154,7 @@ def test_detrend_and_ml_increment(n):
     inc, w = k.ml_increment(prod, energy, 30.0)
     w_exp = np.where(energy >= energy.max() * 1e-3, energy, 0.0)
     assert np.array_equal(w, w_exp)
+    assert np.array_equal(k.band_weight(energy, 30.0), w_exp)
     dphi = np.angle(prod[1:]) * (w_exp[1:] > 0) * (w_exp[:-1] > 0)
     assert np.allclose(inc, _np_detrend(np.r_[0.0, np.cumsum(dphi)], w_exp), atol=1e-9)
     assert np.isclose(k.wrms(inc, w_exp), np.sqrt(np.sum(w_exp * inc ** 2) / w_exp.sum()), rtol=1e-12)

@@ -261,16 +261,22 @@ def detrend(phi: np.ndarray, weight: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def ml_increment(prod: np.ndarray, energy: np.ndarray, band_db: float) -> tuple[np.ndarray, np.ndarray]:
-    """The ML kernel's integrated, detrended estimate (centred bins) and the bins' weights:
-    weights = ``energy`` where it is within ``band_db`` of its peak, else 0; increments arg(prod)
-    between two weighted bins (0 elsewhere), summed from 0, then :func:`detrend` with the weights."""
-    n = energy.size
-    top = energy.max()
-    thr = top * 10.0 ** (-band_db / 10.0)
-    weight = np.empty(n)
-    for i in range(n):
+def band_weight(energy: np.ndarray, band_db: float) -> np.ndarray:
+    """The bins' weights: ``energy`` where it is within ``band_db`` of its peak, else 0."""
+    thr = energy.max() * 10.0 ** (-band_db / 10.0)
+    weight = np.empty(energy.size)
+    for i in range(energy.size):
         weight[i] = energy[i] if energy[i] >= thr else 0.0
+    return weight
+
+
+@njit(cache=True)
+def ml_increment(prod: np.ndarray, energy: np.ndarray, band_db: float) -> tuple[np.ndarray, np.ndarray]:
+    """The ML kernel's integrated, detrended estimate (centred bins) and the bins' weights
+    (:func:`band_weight`): increments arg(prod) between two weighted bins (0 elsewhere), summed
+    from 0, then :func:`detrend` with the weights."""
+    n = energy.size
+    weight = band_weight(energy, band_db)
     est = np.empty(n)
     est[0] = 0.0
     acc = 0.0

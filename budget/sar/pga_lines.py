@@ -12,8 +12,8 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.signal import savgol_coeffs
 
-from .pga_kernels import (centre_in_place, detrend, line_weights, ml_increment, phase_corrected, power, refine_ramp,
-                          savgol_in_place, savgol_span, window_in_place, window_width)
+from .pga_kernels import (band_weight, centre_in_place, detrend, line_weights, ml_increment, phase_corrected, power,
+                          refine_ramp, savgol_in_place, savgol_span, window_in_place, window_width)
 
 # Fast-phase bands: the span is the bins where the candidate lines' energy is within 10 dB of its
 # peak.
@@ -160,7 +160,7 @@ def _increment(d: _Lines, hist_w: np.ndarray, win: np.ndarray, prod: np.ndarray,
     if d.kernel == "ml":
         return ml_increment(prod, energy, d.band_db)
     n = hist_w.shape[0]
-    weight = np.where(energy >= energy.max() * 10 ** (-d.band_db / 10), energy, 0.0)
+    weight = band_weight(energy, d.band_db)
     big_g = np.fft.fftshift(hist_w, axes=0)
     d_g = np.fft.fftshift(sfft.ifft(win * (2j * np.pi * d.pos / n)[:, None], axis=0), axes=0)
     grad = np.where(weight > 0, np.imag(np.conj(big_g) * d_g).sum(axis=1) / np.maximum(weight, 1e-300), 0.0)

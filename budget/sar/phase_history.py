@@ -17,7 +17,7 @@ multiplies pulse n by exp(−j 4π f ΔR_n / c), so the net correction at freque
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 import pandas as pd
@@ -145,9 +145,11 @@ class PhaseHistory:
         """The phase error per pulse the data are known to carry (rad, the sign of (1)'s ψ_n): the
         recorded solution's (:meth:`recorded_phase_error_rad`) plus the injected one, either
         alone, or None when neither is known."""
-        parts = [p for p in ((self.recorded_phase_error_rad() if self.has_recorded_autofocus else None),
-                             self.injected_phase_rad) if p is not None]
-        return sum(parts[1:], parts[0].copy()) if parts else None
+        rec = self.recorded_phase_error_rad() if self.has_recorded_autofocus else None
+        inj = self.injected_phase_rad
+        if rec is None:
+            return None if inj is None else inj.copy()
+        return rec if inj is None else rec + inj
 
     def with_recorded_autofocus(self) -> "PhaseHistory":
         """The provider's correction applied: R0 + ΔR and each pulse × exp(jχ) (module docstring).
@@ -174,10 +176,7 @@ class PhaseHistory:
         return -np.unwrap(net)
 
     def _replace(self, **changes) -> "PhaseHistory":
-        kw = {k: getattr(self, k) for k in ("samples", "frequency_hz", "antenna_m", "scene_range_m",
-                                             "pulse_source", "recorded_range_correction_m",
-                                             "recorded_phase_correction_rad", "azimuth_deg", "elevation_deg",
-                                             "injected_phase_rad")}
+        kw = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "notes"}
         kw.update(changes)
         return PhaseHistory(**kw, notes=list(self.notes))
 
