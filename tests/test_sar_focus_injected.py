@@ -165,3 +165,13 @@ def test_dashboard_page_injects_and_shows_the_known_error(tmp_path, monkeypatch)
         f"{ref.comparison['known']['recorded_beyond_linear_rms_rad']:.3g}"
     table = at.dataframe[0].value
     assert any(q.startswith("against injected: ") for q in table["quantity"])
+
+
+@pytest.mark.parametrize("spec, expected", [("1,2,3", "expected four numbers"), ("nan,1,1,1", "must be finite"),
+                                            ("a,b,c,d", "expected four numbers")])
+def test_focus_cli_refuses_a_bad_injection(tmp_path, capsys, spec, expected):
+    from budget.cli.main import main
+    path = _write_afrl(tmp_path / "points.mat", _points_history(n_pulses=40, n_freq=16))
+    assert main(["focus", str(path), "--inject", spec]) == 2
+    err = capsys.readouterr().err
+    assert "--inject" in err and expected in err and "Traceback" not in err
