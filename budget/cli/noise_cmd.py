@@ -36,6 +36,9 @@ def add_parser(sub) -> None:
     c.add_argument("--grade", help="grade of the row (default: inferred from the grades table)")
     c.add_argument("--vendor", default="")
     c.add_argument("--model", default="")
+    c.add_argument("--keep-spikes", action="store_true",
+                   help="keep isolated spikes that would decide the short-τ Allan deviation (default: "
+                        "replaced before the fit, named in a warning)")
     c.add_argument("--as-part", metavar="ID", help="part_id of the catalog row")
     c.add_argument("--append", metavar="CSV", help="append the row to this user catalog CSV")
     c.add_argument("--replace", action="store_true", help="with --append: replace an existing id")
@@ -83,7 +86,8 @@ def run_characterize(args) -> int:
             print(f"note: {note}", file=sys.stderr)
     with working(f"noise characterize: {path.name}", quiet=args.quiet):
         result = characterize(data, part_id=args.as_part or "measured", grade=args.grade,
-                              vendor=args.vendor, model=args.model, taus=args.taus)
+                              vendor=args.vendor, model=args.model, taus=args.taus,
+                              keep_spikes=args.keep_spikes)
     for warning in result.warnings:  # e.g. a log that is not one stationary regime
         print(f"warning: {path.name}: {warning}", file=sys.stderr)
     if args.append:

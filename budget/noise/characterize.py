@@ -30,6 +30,7 @@ from ..catalog.schema import GRADES, PartSpec
 from ..errors import InputError, from_validation_error
 from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
+from .spikes import find_spikes
 from .stationarity import check_stationarity
 from .terms import TERMS, NoiseTerms, fit_noise_terms
 
@@ -153,25 +154,36 @@ def infer_grade(row: Mapping[str, float | None]) -> str:
 def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "measured",
                  grade: str | None = None, vendor: str = "", model: str = "",
                  source: str | None = None, taus="octave", terms=TERMS,
-                 model_error: float = 0.05) -> Characterization:
+                 model_error: float = 0.05, keep_spikes: bool = False) -> Characterization:
     """Characterise a static log (:class:`ImuLog`) or Allan tables (``{channel: AllanResult}``).
 
     Constant channels and channels whose fit fails are skipped with a note. ``grade`` defaults
-    to :func:`infer_grade`; ``source`` to a description of the input.
+    to :func:`infer_grade`; ``source`` to a description of the input. Isolated spikes of a log
+    that would decide its short-τ Allan deviation are replaced before the fit unless
+    ``keep_spikes`` (:mod:`budget.noise.spikes`); every spike found is named in ``warnings``.
     """
     notes: list[str] = []
     regimes = []  # findings of the stationarity check (a log only)
+    spike_warnings: list[str] = []
+    replaced: list[str] = []  # channels whose spikes were replaced
     if isinstance(data, ImuLog):
         allan = {}
-        regimes = check_stationarity(data.channels, repaired=bool(data.issues.repairs))
+        repaired = bool(data.issues.repairs)
+        regimes = check_stationarity(data.channels, repaired=repaired)
         for ch, x in data.channels.items():
             if np.ptp(x) == 0:
                 notes.append(f"{ch}: constant channel skipped")
                 continue
             unit = u.channel_si_unit(ch)
+            x, spikes = find_spikes(x, ch, replace=not keep_spikes)
+            if spikes is not None:
+                if spikes.replaced:
+                    replaced.append(ch)
+                spike_warnings.append(f"{ch}: " + spikes.message(*((1, "sample") if repaired else (2, "row")), unit))
             allan[ch] = allan_deviation(x, data.rate_hz, taus, channel=ch, unit=unit)
         rate, origin = data.rate_hz, f"log {Path(data.source).name}"
         notes += [f"log repaired: {r}" for r in data.issues.repairs]
+        notes += [f"log: {i.text()}" for i in data.issues.issues if i.severity == "info"]  # e.g. columns not read
     elif isinstance(data, Mapping) and all(isinstance(v, AllanResult) for v in data.values()):
         allan = dict(data)
         rates = {r.rate_hz for r in allan.values()}
@@ -218,13 +230,18 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     if regimes:
         row_notes += ("; measured on a log that may not be one stationary regime: "
                       + ", ".join(f"{i.column} {i.kind.replace('_', ' ')}" for i in regimes))
+    if replaced:
+        row_notes += "; isolated spikes replaced before the fit on " + ", ".join(replaced)
     try:
         part = PartSpec(part_id=part_id, vendor=vendor, model=model, grade=grade, rate_hz=rate,
                         source=text, bias_instability_convention="adev_min",
                         notes=row_notes, **values)
     except ValidationError as err:
-        raise from_validation_error(err) from None
+        e = from_validation_error(err)
+        raise InputError(f"the values fitted to {origin} do not make a catalog row: {e.reason}",
+                         field=e.field, value=e.value, expected=e.expected) from None
     options = {"taus": taus if isinstance(taus, str) else np.asarray(taus, float).tolist(),
-               "terms": list(terms), "model_error": float(model_error), "grade": given_grade}
+               "terms": list(terms), "model_error": float(model_error), "grade": given_grade,
+               "keep_spikes": bool(keep_spikes)}
     return Characterization(part, fits, allan, COMBINE_RULE, notes, options,
-                            [f"{i.column}: {i.message}" for i in regimes])
+                            spike_warnings + [f"{i.column}: {i.message}" for i in regimes])
