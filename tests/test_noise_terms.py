@@ -175,3 +175,50 @@ def test_full_log_allan_equals_published_table(shared_data):
         t = tabs[ch]
         r = allan_deviation(log.channels[ch], log.rate_hz, t.tau_s)
         np.testing.assert_allclose(r.adev, t.adev, rtol=2e-5)
+
+
+def test_table_other_layouts_read_as_the_long_one(tmp_path):
+    """Header names in other spellings (Channel, Tau, ADEV), the Allan variance instead of the
+    deviation, and the wide layout (tau_s + one column per channel) give the same curve."""
+    y = imu_noise(50_000, RATE, np.random.default_rng(3), N=1e-3, B=1e-4)
+    r = allan_deviation(y, RATE)
+    ref = read_adev_table(_write_table(tmp_path / "t.csv", r, "dps", u.DEG, ci=False), RATE, 50_000)["gyro_x"]
+    dev = [float(a) for a in r.adev / u.DEG]
+    taus = [repr(float(x)) for x in r.tau_s]
+    texts = {
+        "names": "Channel,Tau,ADEV\n" + "".join(f"gyro_x_dps,{t},{a!r}\n" for t, a in zip(taus, dev)),
+        "avar": "channel,tau_s,avar\n" + "".join(f"gyro_x_dps,{t},{a * a!r}\n" for t, a in zip(taus, dev)),
+        "wide": "tau_s,gyro_x_dps,gyro_y_rps\n" + "".join(f"{t},{a!r},{a * u.DEG!r}\n" for t, a in zip(taus, dev)),
+    }
+    for name, text in texts.items():
+        p = tmp_path / f"{name}.csv"
+        p.write_text(text)
+        tabs = read_adev_table(p, RATE, 50_000)
+        np.testing.assert_allclose(tabs["gyro_x"].adev, ref.adev, rtol=1e-12, err_msg=name)
+        np.testing.assert_allclose(tabs["gyro_x"].edf, ref.edf, rtol=1e-12, err_msg=name)
+    np.testing.assert_allclose(tabs["gyro_y"].adev, ref.adev, rtol=1e-12)  # rad/s column of the wide table
+
+
+@pytest.mark.parametrize("text, match", [
+    ("tau_s,gyro_x,accel_y_mps2\n0.01,1,1\n", "column 'gyro_x' is not a channel with its unit"),
+    ("channel,tau_s,adev,avar\ngyro_x_dps,0.01,1,1\n", "both adev and avar"),
+    ("channel,tau_s,avar\ngyro_x_dps,0.01,-1\n", "positive"),
+    ("tau_s,gyro_x_dps\n0.01,1\n0.02,x\n", "row 3, field gyro_x_dps"),
+    ("Tau,TAU_S,adev,channel\n0.01,0.01,1,gyro_x_dps\n", "two header names"),
+])
+def test_table_layout_errors_name_the_file_row_and_column(tmp_path, text, match):
+    p = tmp_path / "bad.csv"
+    p.write_text(text)
+    with pytest.raises(InputError, match=match) as err:
+        read_adev_table(p, RATE, 100_000)
+    assert "bad.csv" in str(err.value)
+
+
+def test_any_table_with_a_tau_column_is_read_as_a_table_not_a_log(tmp_path):
+    """A table in a layout the reader refuses still goes to the table reader (a layout error),
+    not to the log reader (which would misread it as a 24-sample log)."""
+    from budget.noise.measurement import read_measurement
+    p = tmp_path / "other.csv"
+    p.write_text("tau_s,adev,n\n0.01,1,1\n")
+    with pytest.raises(InputError, match="not an Allan table layout"):
+        read_measurement(p, rate_hz=RATE, samples=100_000)

@@ -40,8 +40,21 @@ TAU_TOLERANCE = 0.15
 OPTIONAL = ("lci", "uci")
 
 
+#: Header names read as each column of a table (compared lower-case, without spaces): other
+#: tools write ``Tau``, ``tau (s)``, ``ADEV``, or the Allan variance instead of the deviation.
+_ALIASES = {"tau_s": ("tau_s", "tau", "taus", "tau(s)", "tau[s]"), "channel": ("channel",),
+            "adev": ("adev",), "avar": ("avar",), "lci": ("lci",), "uci": ("uci",)}
+_CANON = {a: c for c, names in _ALIASES.items() for a in names}
+
+
+def _canonical(col: str) -> str | None:
+    return _CANON.get(str(col).strip().lower().replace(" ", ""))
+
+
 def looks_like_adev_table(path: str | Path) -> bool:
-    """True when the first line of ``path`` has the ``channel, tau_s, adev`` columns."""
+    """True when the first line of ``path`` names a τ column (``tau_s``, ``tau``, …) or has the
+    ``channel, tau_s, adev`` columns: an Allan table, in any of the layouts
+    :func:`read_adev_table` reads (or refuses with a message about the layout); a log has no τ."""
     import gzip
     path = Path(path)
     opener = gzip.open if path.suffix == ".gz" else open
@@ -50,8 +63,53 @@ def looks_like_adev_table(path: str | Path) -> bool:
             head = fh.readline()
     except (OSError, EOFError):
         return False
-    cols = {c.strip() for c in head.split(",")}
-    return set(REQUIRED) <= cols
+    cols = {_canonical(c) for c in head.split(",")}
+    return "tau_s" in cols
+
+
+def _long_layout(df: pd.DataFrame, path: Path) -> tuple[pd.DataFrame, np.ndarray, bool]:
+    """(table in the long layout ``channel, tau_s, adev[, lci, uci]``, the file's 0-based data row
+    of each of its rows, whether it came from the wide layout). Accepted: the long layout with
+    header names as in :data:`_ALIASES` (any case), ``avar`` instead of ``adev`` (its square
+    root is taken, and of ``lci``/``uci`` with it), and the wide layout ``tau_s, <channel>, …``
+    (one ADEV column per channel, named with its unit like a log column, e.g. ``gyro_x_dps``)."""
+    expected = ("channel, tau_s, adev[, lci, uci] (one row per channel and τ; avar instead of adev "
+                "is read too), or tau_s and one ADEV column per channel named with its unit (gyro_x_dps, …)")
+    names = {c: _canonical(c) for c in df.columns}
+    dup = [c for c in set(n for n in names.values() if n) if list(names.values()).count(c) > 1]
+    if dup:
+        raise InputError(f"two header names read as {dup[0]}", file=path, row=1, expected=expected)
+    known = {c: n for c, n in names.items() if n}
+    rest = [c for c, n in names.items() if not n]
+    if set(known.values()) == {"tau_s"} and rest:  # wide: tau_s + one column per channel
+        for c in rest:
+            try:
+                u.split_channel_column(str(c).strip())
+            except ValueError as err:
+                raise InputError(f"wide Allan table: column {c!r} is not a channel with its unit ({err})",
+                                 file=path, row=1, expected=expected) from None
+        tau_col = next(iter(known))
+        rows = np.tile(np.arange(len(df)), len(rest))
+        long = pd.DataFrame({"channel": np.repeat([str(c).strip() for c in rest], len(df)),
+                             "tau_s": np.tile(df[tau_col].to_numpy(), len(rest)),
+                             "adev": np.concatenate([df[c].to_numpy() for c in rest])})
+        return long, rows, True
+    df = df.rename(columns=known)
+    value = "avar" if "avar" in df.columns else "adev"
+    missing = [c for c in ("channel", "tau_s") if c not in df.columns] + ([] if value in df.columns else ["adev"])
+    if missing or rest or ("avar" in df.columns and "adev" in df.columns):
+        what = "; ".join(t for t in (missing and f"missing {missing}", rest and f"unknown {rest}",
+                                     "avar" in df.columns and "adev" in df.columns and "both adev and avar")
+                         if t)
+        raise InputError(f"not an Allan table layout this tool reads: columns {what}", file=path, row=1,
+                         expected=expected)
+    if value == "avar":
+        for col in ("avar", "lci", "uci"):
+            if col in df.columns:
+                v = pd.to_numeric(df[col], errors="coerce")
+                df[col] = np.sqrt(v.where(v >= 0))  # a negative variance stays NaN: refused below
+        df = df.rename(columns={"avar": "adev"})
+    return df, np.arange(len(df)), False
 
 
 def edf_from_interval(adev: np.ndarray, lo: np.ndarray, hi: np.ndarray, ci_level: float) -> np.ndarray:
@@ -98,12 +156,7 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
     except pd.errors.ParserError as err:
         raise InputError(f"malformed CSV: {str(err).split('C error: ')[-1]}", file=path) from None
     df.columns = [str(c).strip() for c in df.columns]
-    missing = [c for c in REQUIRED if c not in df.columns]
-    extra = [c for c in df.columns if c not in REQUIRED + OPTIONAL]
-    if missing or extra:
-        raise InputError(f"columns {missing and 'missing ' + str(missing) or ''}"
-                         f"{extra and ' unknown ' + str(extra) or ''}".strip(), file=path, row=1,
-                         expected="channel, tau_s, adev[, lci, uci]")
+    df, file_rows, wide = _long_layout(df, path)
     has_ci = "lci" in df.columns or "uci" in df.columns
     if has_ci and not ("lci" in df.columns and "uci" in df.columns):
         raise InputError("lci and uci must be given together", file=path, row=1)
@@ -115,13 +168,15 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
         if bad.size:
             i = int(bad[0])
             raise InputError("not a positive finite number" if col != "lci" else "not a number",
-                             file=path, row=i + 2, field=col, value=df[col].iloc[i])
+                             file=path, row=int(file_rows[i]) + 2,
+                             field=df["channel"].iloc[i] if wide and col == "adev" else col, value=df[col].iloc[i])
         df[col] = vals.astype(float)
     if df.empty:
         raise InputError("no rows after the header", file=path)
     out: dict[str, AllanResult] = {}
     for name in dict.fromkeys(df["channel"]):
-        rows = np.flatnonzero((df["channel"] == name).to_numpy())
+        pos = np.flatnonzero((df["channel"] == name).to_numpy())
+        rows = file_rows[pos]
         try:
             ch, unit = u.split_channel_column(str(name).strip())
         except ValueError as err:
@@ -129,7 +184,7 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
         if ch in out:
             raise InputError(f"channel {ch} appears under two unit tags", file=path,
                              row=int(rows[0]) + 2, field="channel", value=name)
-        out[ch] = _channel(df.iloc[rows], rows, ch, unit, rate_hz, samples, has_ci, ci_level, path)
+        out[ch] = _channel(df.iloc[pos], rows, ch, unit, rate_hz, samples, has_ci, ci_level, path)
     return out
 
 
