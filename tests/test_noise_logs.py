@@ -213,3 +213,46 @@ def test_real_log_partial_read(shared_data):
     assert abs(np.mean(log.channels["accel_z"]) + G0) < 0.3
     lsb = log.channels["gyro_x"] / DEG / 0.05
     np.testing.assert_allclose(lsb, np.round(lsb), atol=1e-6)
+
+
+def test_time_jitter_without_lost_samples_is_not_a_gap(tmp_path):
+    """Gaussian stamp jitter of 10 % of the period makes some steps longer than 1.5 periods, but
+    every sample is there: a warning (jitter), not a gap; a real lost sample is still a gap."""
+    rng = np.random.default_rng(7)
+    t, d = _rows(20_000)
+    t = t + rng.normal(0, 0.001, t.size)  # σ = 1 ms at 100 Hz, still increasing
+    assert np.all(np.diff(t) > 0) and np.sum(np.diff(t) > 0.015) >= 1
+    log = read_log(_write(tmp_path / "jit.csv", t, d))
+    kinds = {i.kind: i.severity for i in log.issues.issues}
+    assert kinds == {"jitter": "warning"} and log.n_samples == 20_000
+    keep = np.delete(np.arange(t.size), [12_345])  # one sample lost
+    with pytest.raises(LogError, match="about 1 samples missing") as err:
+        read_log(_write(tmp_path / "lost.csv", t[keep], d[keep]))
+    assert {i.kind: i.rows for i in err.value.report.issues}["gap"] == (12_345 + 2,)
+
+
+def test_given_rate_that_contradicts_the_time_stamps_is_refused(tmp_path):
+    t, d = _rows(500)
+    p = _write(tmp_path / "log.csv", t, d)
+    with pytest.raises(InputError, match=r"time stamps give 100 Hz, the given rate is 200 Hz") as err:
+        read_log(p, rate_hz=200.0)
+    assert "log.csv" in str(err.value)
+    assert read_log(p, rate_hz=100.5).rate_hz == 100.5  # within 1 %: the given rate, no issue
+    # time in ms read as s (×10³): the given rate is the documented remedy, with a warning
+    ms = _write(tmp_path / "ms.csv", t * 1e3, d)
+    log = read_log(ms, rate_hz=100.0)
+    assert log.rate_hz == 100.0 and [i.kind for i in log.issues.issues] == ["rate_mismatch"]
+
+
+def test_columns_not_read_are_named(tmp_path):
+    from budget.noise import characterize
+    rng = np.random.default_rng(2)
+    t, d = _rows(4096)
+    header = HEADER.replace("gyro_x_dps", "GyrX") + ",status"
+    lines = [header] + [",".join([f"{ti:.6f}"] + [f"{v:.9g}" for v in row] + ["0"]) for ti, row in zip(t, d)]
+    p = tmp_path / "other.csv"
+    p.write_text("\n".join(lines) + "\n")
+    c = characterize(read_log(p))
+    named = [n for n in c.notes if "column not read" in n]
+    assert len(named) == 2 and "[GyrX]" in named[0] and "[status]" in named[1]
+    assert "gyro_x" not in c.channels and rng is not None

@@ -121,7 +121,7 @@ def _from_log(log: ImuLog) -> Measured:
                          "log or the mapping)")
     notes = ["each channel's mean was removed before comparing (turn-on bias, gravity and "
              "Earth rate are not noise statistics)"]
-    notes += [f"log: {i.text()}" for i in log.issues.issues if i.severity != "info"]
+    notes += [f"log: {i.text()}" for i in log.issues.issues]
     notes += [f"log repair: {r}" for r in log.issues.repairs]
     temp = None
     if log.temp_c is not None:

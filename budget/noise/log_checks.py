@@ -196,6 +196,31 @@ def check_rate(rate_hz: float, source: str = "time stamps") -> str | None:
             "after its unit")
 
 
+#: Samples on each side of a long time step whose stamps place it on the nominal grid.
+GRID_SAMPLES = 16
+
+
+def _missing_samples(t: np.ndarray, steps: np.ndarray, period: float) -> np.ndarray:
+    """Samples missing at each long step (data index ``steps``: the first sample after it): the
+    offset of the stamps from the nominal grid, t_j − j·period, by its median over the
+    :data:`GRID_SAMPLES` samples after the step minus the median over those before, in periods,
+    rounded. A lost sample moves every later stamp by one period; jitter moves one stamp, and a
+    step made long by it is followed by a short one (0 missing). Local medians, so a slow clock
+    drift over the record does not count."""
+    out = np.zeros(steps.size, dtype=np.int64)
+    idx = np.arange(t.size)
+    for i, k in enumerate(steps):
+        a, b = max(0, k - GRID_SAMPLES), min(t.size, k + GRID_SAMPLES)
+        before = t[a:k] - idx[a:k] * period
+        after = t[k:b] - idx[k:b] * period
+        before, after = before[np.isfinite(before)], after[np.isfinite(after)]
+        if before.size and after.size:
+            out[i] = int(np.rint((np.median(after) - np.median(before)) / period))
+        else:
+            out[i] = int(np.rint((t[k] - t[k - 1]) / period)) - 1
+    return out
+
+
 def _time_issues(data: np.ndarray, ti: int) -> list[LogIssue]:
     issues: list[LogIssue] = []
     t = data[:, ti]
@@ -219,12 +244,15 @@ def _time_issues(data: np.ndarray, ti: int) -> list[LogIssue]:
     fwd = t[1:] - np.fmax.accumulate(t)[:-1]
     fin = np.isfinite(fwd)
     gaps = np.flatnonzero(fin & (fwd > GAP_FACTOR * period)) + 1
+    lost_at = _missing_samples(t, gaps, period)
+    gaps, lost_at = gaps[lost_at > 0], lost_at[lost_at > 0]  # a long step followed by a short one is jitter
     if gaps.size:
-        lost = int(np.round(np.sum(fwd[gaps - 1]) / period - gaps.size))
+        lost = int(np.sum(lost_at))
         issues.append(LogIssue("gap", "error", f"{gaps.size} gap(s) longer than {GAP_FACTOR}× the "
                                f"period {period:.6g} s (about {lost} samples missing)",
                                int(gaps.size), _rows(gaps), "time"))
-    normal = dt[np.isfinite(dt) & (dt > 0) & (dt <= GAP_FACTOR * period)]
+    normal = np.delete(dt, gaps - 1)
+    normal = normal[np.isfinite(normal) & (normal > 0)]
     if normal.size > 2:
         jitter = float(np.std(normal) / period)
         if jitter > JITTER_WARN:
@@ -285,6 +313,7 @@ def repair_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
         period = nominal_period(t)
         if period is not None:
             breaks = np.flatnonzero(np.diff(t) > GAP_FACTOR * period) + 1
+            breaks = breaks[_missing_samples(t, breaks, period) > 0]  # not the jitter of one stamp
             if breaks.size:
                 edges = np.concatenate(([0], breaks, [t.size]))
                 k = int(np.argmax(np.diff(edges)))

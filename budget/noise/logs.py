@@ -244,8 +244,9 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     data = _read_chunks(path, plan, mapping, max_rows, chunk_rows)
     if data.shape[0] == 0:
         raise InputError("no data rows after the header", file=path)
-    report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "not a canonical column "
-                                              "and not mapped; not read", 0, (), c)
+    report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "column not read: not a "
+                                              "canonical name (time_s, gyro_x_dps, accel_x_mps2, temp_c, "
+                                              "…) and not mapped (--mapping)", 0, (), c)
                                   for c in plan.ignored])
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
     slip = lc.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
@@ -314,9 +315,18 @@ def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, 
         rate = float(round(rate))
     if given is not None:
         if abs(given - rate) > 0.01 * given:
+            # a factor of 10³ or 10⁶ is a time column in ms or µs read as s: the given rate is
+            # the remedy the low-rate warning suggests; any other factor contradicts the file
+            slip = any(abs(given / rate / f - 1) <= 0.02 for f in (1e3, 1e6, 1e-3, 1e-6))
+            if not slip:
+                raise InputError(f"the time stamps give {rate:.6g} Hz, the given rate is {given:.6g} Hz "
+                                 f"(×{given / rate:.4g}); every noise figure scales with the rate", file=path,
+                                 field="rate_hz", value=given,
+                                 expected="no --rate-hz for a log with a time column, or a time column "
+                                          "that agrees with it (within 1 %)")
             report.issues.append(lc.LogIssue(
                 "rate_mismatch", "warning", f"time stamps give {rate:.6g} Hz but {given:.6g} Hz "
-                "was given; using the given rate", 0, (), "time"))
+                "was given (a time unit slip, ×10³ or ×10⁶?); using the given rate", 0, (), "time"))
         return float(given)
     if rate < LOW_RATE_HZ:  # plausible for an averaged log, but also what ms read as s gives
         report.issues.append(lc.LogIssue(
