@@ -84,6 +84,9 @@ class CheckResult:
     #: (:func:`budget.bounds.fast_phase_residual`, weighted as the verdict images; seed 004's limit
     #: 1°); NaN when the part leaves either unspecified; None when not computed
     fast_phase_deg: np.ndarray | None = None
+    #: per scenario, the limit (deg) on that combined rms: the PGA-limited verdict fails a part
+    #: whose VRW and ARW each pass their own tightened bound but together exceed it
+    fast_phase_limit_deg: tuple[float, ...] = ()
 
     def fast_phase(self, i: int, s: int) -> float:
         """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
@@ -98,9 +101,14 @@ class CheckResult:
             return False, None
         paper_ok = bool(self.passed[i, s])
         pm = np.where(spec, self.pga_margins[i, s], np.inf)
-        pga_ok = bool(np.all(pm >= 1.0))
+        mm, combined = self._pga_min_margin(i, s)
+        pga_ok = mm >= 1.0
         if paper_ok == pga_ok:
             return False, None
+        if paper_ok and combined:
+            return True, (f"passes the {self.mode} bounds (min margin {self.min_margin[i, s]:.3g}) but its VRW and "
+                          f"ARW together leave {self.fast_phase(i, s):.3g}° rms beyond PGA's window (limit "
+                          f"{self.fast_phase_limit_deg[s]:g}°; each alone passes its bound): margin {mm:.3g}")
         j = int(np.argmin(pm))
         si = PARAMETERS[j].bound
         rule = (self.pga_rules[s] if s < len(self.pga_rules) else {}).get(si, "fast phase / lever arm")
@@ -109,16 +117,29 @@ class CheckResult:
                           f"{self.params[j]} by {rule}: margin {pm[j]:.3g}")
         b = int(self.binding_index[i, s])
         return True, (f"fails the {self.mode} bounds ({self.params[b]}: margin {self.min_margin[i, s]:.3g}) but "
-                      f"passes seed 004's bounds tightened by fast phase and lever arm (min margin {pm[j]:.3g})")
+                      f"passes seed 004's bounds tightened by fast phase and lever arm (min margin {mm:.3g})")
+
+    def _pga_min_margin(self, i: int, s: int) -> tuple[float, bool]:
+        """(min margin against the PGA-limited bounds and the combined fast-phase limit, True when
+        the combined limit is the one that binds)."""
+        mm = float(np.min(np.where(self.specified[i, s], self.pga_margins[i, s], np.inf)))
+        fp = self.fast_phase(i, s)
+        if s < len(self.fast_phase_limit_deg) and np.isfinite(fp) and fp > 0:
+            combined = self.fast_phase_limit_deg[s] / fp
+            if combined < mm:
+                return combined, True
+        return mm, False
 
     def pga_limited(self, i: int, s: int) -> tuple[str, float]:
         """(verdict, min margin) against seed 004's bounds tightened by what PGA cannot remove
-        (:func:`budget.bounds.lever_arm.pga_limited_bounds`); ("unknown", nan) when not computed
-        or nothing is specified."""
+        (:func:`budget.bounds.lever_arm.pga_limited_bounds`) and against the limit on VRW and ARW
+        together (their combined rms beyond PGA's window, :attr:`fast_phase_deg`, at most
+        :attr:`fast_phase_limit_deg`: each term's tightened bound spends the whole limit on that
+        term alone); ("unknown", nan) when not computed or nothing is specified."""
         spec = self.specified[i, s]
         if self.pga_margins is None or not spec.any():
             return "unknown", float("nan")
-        mm = float(np.min(np.where(spec, self.pga_margins[i, s], np.inf)))
+        mm, _ = self._pga_min_margin(i, s)
         return ("pass" if mm >= 1.0 else "fail"), mm
 
     @property
@@ -271,7 +292,8 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
                        pga_margins=margins(specs, pmat), pga_rules=tuple(r for _, r in limited), mode=mode,
                        assumptions=_assumptions_dict(assumptions),
-                       fast_phase_deg=_fast_phase_matrix(parts, scen, assumed))
+                       fast_phase_deg=_fast_phase_matrix(parts, scen, assumed),
+                       fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed))
 
 
 def _assumptions_dict(assumptions) -> dict | None:

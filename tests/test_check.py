@@ -152,3 +152,35 @@ def test_grade_recommendation_on_the_pga_limited_bounds():
         assert paper.grade[0] == paper_grade and limited.grade[0] == "tactical" and limited.mode == "pga-limited"
     with pytest.raises(ValueError):
         recommend_grade([1.0, 2.0], 0.5, grades, bounds=pga_limited_bounds(get_preset("airborne_xband"))[0])
+
+
+def test_pga_limited_verdict_fails_vrw_and_arw_that_pass_alone_but_not_together():
+    """A part whose VRW and ARW each sit just inside their PGA-limited bound leaves, together,
+    more than the 1° limit beyond PGA's window: the PGA-limited verdict fails it, with the
+    combined margin limit / rms and a line saying why."""
+    from budget.bounds import fast_phase_residual
+    from budget.bounds.lever_arm import LeverArmAssumptions
+    from budget.catalog.io import get_part
+    from budget.presets import get_preset
+    sc = get_preset("airborne_xband").model_copy(update={"lever_arm_m": (0.0, 0.0, 0.0)})
+    a = LeverArmAssumptions.from_scenario(sc)
+    base = get_part("STIM300")
+    res0 = check_parts([base], sc)
+    scale = {}
+    for key in ("accel_vrw_m_s_rt_h", "gyro_arw_deg_rt_h"):
+        # the factor that puts this term alone at 0.8 of its own tightened limit
+        alone = base.model_copy(update={k: (getattr(base, k) if k == key else 1e-9)
+                                        for k in ("accel_vrw_m_s_rt_h", "gyro_arw_deg_rt_h")})
+        fp = fast_phase_residual(sc, alone.to_si(), pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                                 aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg).total_deg
+        scale[key] = 0.8 * a.fast_residual_limit_deg / fp
+    part = base.model_copy(update={k: getattr(base, k) * f for k, f in scale.items()})
+    res = check_parts([part], sc)
+    fp = res.fast_phase(0, 0)
+    assert fp == pytest.approx(0.8 * np.sqrt(2) * a.fast_residual_limit_deg, rel=0.02)
+    per_term = res.pga_margins[0, 0][res.specified[0, 0]]
+    assert np.all(per_term >= 1.0)  # every term alone passes its tightened bound
+    verdict, margin = res.pga_limited(0, 0)
+    assert verdict == "fail" and margin == pytest.approx(a.fast_residual_limit_deg / fp, rel=1e-9)
+    flagged, why = res.flag(0, 0)
+    assert flagged and "together leave" in why and res0.pga_limited(0, 0)[0] == "pass"
