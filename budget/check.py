@@ -274,9 +274,10 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                          expected=f"at least one {what}")
     tc = np.array([s.tc_s for s in scen])
     dr = np.array([s.range_resolution_m for s in scen])
-    if mode in ("no-autofocus", "no_autofocus"):
+    if mode in ("no-autofocus", "no_autofocus", "derived"):  # per scenario: λ, the acceleration level
+        from .bounds import scenario_assumptions
         rows = [bound_matrix(compute_bounds(t, d, mode, wavelength_m=s.wavelength_m,
-                                            assumptions=assumptions))[0]
+                                            assumptions=scenario_assumptions(mode, s, assumptions)))[0]
                 for t, d, s in zip(tc, dr, scen)]
         bmat = np.array(rows)
     else:

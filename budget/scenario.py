@@ -134,7 +134,8 @@ class Scenario(BaseModel):
                                      description="a_w: main-lobe broadening of the azimuth window")
     lever_arm_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     platform_accel_m_s2: float = Field(G0, ge=0, allow_inf_nan=False,
-                                       description="acceleration level seen by scale factor/misalignment")
+                                       description="specific force seen by scale factor/misalignment "
+                                                   "(derived and no-autofocus bounds; g in level flight)")
     platform_rate_deg_s: float = Field(0.0, ge=0, allow_inf_nan=False,
                                        description="angular-rate level seen by gyro scale factor")
     imu_rate_hz: float = Field(200.0, gt=0, le=100_000, allow_inf_nan=False)

@@ -20,10 +20,26 @@ __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", 
            "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
            "fast_phase_residual", "FastPhaseResidual",
            "random_walk_constants", "compute_bounds", "LeverArmAssumptions", "lever_arm_bounds",
-           "lever_arm_terms", "MODES"]
+           "lever_arm_terms", "MODES", "scenario_assumptions"]
 
 #: Bound modes of :func:`compute_bounds` (and ``sar-budget bounds --mode``).
 MODES = ("paper", "derived", "no-autofocus", "lever-arm")
+
+
+def scenario_assumptions(mode: str, scenario, assumptions=None):
+    """The assumptions ``mode`` is computed with for ``scenario``: ``assumptions`` when given;
+    otherwise, for ``derived`` and ``no-autofocus``, the defaults with the acceleration level the
+    scale factor and misalignment see taken from the scenario (``platform_accel_m_s2``; g, seed
+    004's value, in the presets); None for the other modes (their defaults)."""
+    if assumptions is not None or mode not in ("derived", "no-autofocus", "no_autofocus"):
+        return assumptions
+    a = float(scenario.platform_accel_m_s2)
+    if not a > 0:
+        raise InputError("the derived and no-autofocus bounds need the specific force the scale factor and "
+                         "misalignment see", field="platform_accel_m_s2", value=a,
+                         expected="> 0 m/s² (g = 9.80665 in level flight)")
+    cls = DerivedAssumptions if mode == "derived" else NoAutofocusAssumptions
+    return cls(accel_level_m_s2=a)
 
 
 def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_m=None,

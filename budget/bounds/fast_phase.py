@@ -60,11 +60,17 @@ class FastPhaseLimits:
                 "rows": self.to_frame().to_dict(orient="records")}
 
     def summary(self) -> str:
-        return (f"fast phase (λ = {self.wavelength_m:.4g} m): random ≤ {self.noise_rms_deg}° rms "
+        """The phase limits and, per Tc, the VRW and ARW limits in datasheet units (each alone)."""
+        from ..units import m_s2_rt_hz_to_m_s_rt_h, rad_s_rt_hz_to_deg_rt_h
+        head = (f"fast phase (λ = {self.wavelength_m:.4g} m): random ≤ {self.noise_rms_deg}° rms "
                 f"→ {self.noise_range_rms_m:.3g} m rms, harmonic ≤ {self.harmonic_peak_deg}° peak → "
                 f"{self.harmonic_range_peak_m:.3g} m peak; paired echoes {self.paired_echo_db:.1f} dB, "
                 f"noise ISLR {self.noise_islr_db:.1f} dB; VRW/ARW limits from the residual beyond "
                 f"{self.pga_bandwidth_cycles:g} cycles, {self.aperture_window}-weighted")
+        rows = [f"  Tc = {t:.4g} s: VRW ≤ {float(m_s2_rt_hz_to_m_s_rt_h(v)):.3g} m/s/√h, ARW ≤ "
+                f"{float(rad_s_rt_hz_to_deg_rt_h(a)):.3g} deg/√h (through gravity; each alone, whole error "
+                "along the line of sight)" for t, v, a in zip(self.tc_s, self.vrw_m_s2_rt_hz, self.arw_rad_s_rt_hz)]
+        return "\n".join([head] + rows)
 
 
 def fast_phase_limits(wavelength_m: float, tc_s=(), *, noise_rms_deg: float = 1.0,

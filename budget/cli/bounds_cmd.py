@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bounds import LeverArmAssumptions, compute_bounds, fast_phase_limits, lever_arm_terms
+from ..bounds import LeverArmAssumptions, compute_bounds, fast_phase_limits, lever_arm_terms, scenario_assumptions
 from ..errors import InputError
 from .common import add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
@@ -42,6 +42,10 @@ def run(args) -> int:
         dr = args.range_resolution if args.range_resolution is not None else 1.0
         lam = args.wavelength
     else:
+        for option, value in (("--range-resolution", args.range_resolution), ("--wavelength", args.wavelength)):
+            if value is not None:
+                raise InputError("is used only with --tc (a scenario gives its own; edit the scenario "
+                                 "to change it)", field=option, value=value, expected=f"--tc … {option}, or no {option}")
         s = scenario_from_args(args)
         tc, dr, lam = np.array([s.tc_s]), s.range_resolution_m, s.wavelength_m
     if not np.all(np.isfinite(tc)) or np.any(tc <= 0):
@@ -82,15 +86,28 @@ def run(args) -> int:
             lever = LeverArmAssumptions(lever_arm_m=arm, platform_rate_deg_s=rate)
         else:
             lever = LeverArmAssumptions.from_scenario(s)
-    table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=lever)
+    assumed = lever if args.tc or lever is not None else scenario_assumptions(args.mode, s)
+    table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=assumed)
+    # fast-phase limits at these Tc, weighted by the window the verdict images with (a scenario's:
+    # Taylor on radar) or unweighted, the conservative side, for bare --tc
+    window = LeverArmAssumptions.from_scenario(s).aperture_window if not args.tc else "rect"
+    fast = fast_phase_limits(lam, tc, aperture_window=window) if lam is not None else None
     if args.json:
-        write_json(table.to_dict()["rows"], args.json)
+        out = {"mode": args.mode, "scenario": None if args.tc else s.model_dump(mode="json"),
+               "tc_s": np.atleast_1d(tc).tolist(), "range_resolution_m": float(dr),
+               "wavelength_m": None if lam is None else float(lam), "bounds": table.to_dict(),
+               "fast_phase": None if fast is None else fast.to_dict()}
+        if lever is not None:
+            out["lever_arm"] = {"assumptions": lever.model_dump(mode="json"),
+                                "terms": {f"{t:.6g}": lever_arm_terms(float(t), dr, lam, lever).to_dict(orient="records")
+                                          for t in np.atleast_1d(tc)}}
+        write_json(out, args.json)
         return 0
     print(table.summary())
     if lever is not None:
         for t in np.atleast_1d(tc):
             print(f"lever arm at Tc = {t:.4g} s (|d| = {lever.lever_m:.3g} m):")
             print(lever_arm_terms(float(t), dr, lam, lever).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-    if lam is not None:
-        print(fast_phase_limits(lam).summary())
+    if fast is not None:
+        print(fast.summary())
     return 0
