@@ -144,7 +144,10 @@ def test_check_flags_paper_vs_fast_phase_disagreement():
                                   {"acceptance": {"max_islr_db": float("nan")}},
                                   {"max_residual_phase_rms_deg": -1.0},
                                   {"max_range_migration_cells": float("nan")},
-                                  {"clutter_to_target_db": 5.0}])
+                                  {"clutter_to_target_db": 5.0},
+                                  {"acceptance": {"axes": []}},
+                                  {"acceptance": {"axes": ["azimuth", "azimuth"]}},
+                                  {"acceptance": {"axes": ["doppler"]}}])
 def test_bad_acceptance_specs_are_input_errors(spec):
     with pytest.raises(InputError) as e:
         McOptions.build(**spec)
@@ -344,4 +347,14 @@ def test_cli_bad_acceptance_spec_is_a_clear_error(tmp_path, capsys):
     spec = tmp_path / "acc.json"
     spec.write_text('{"max_pslr_db": 3}')
     assert main(["mc", "--preset", "automotive_24ghz", "--part", "ADIS16405", "--acceptance", str(spec)]) == 2
-    assert "max_pslr_db" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "max_pslr_db" in err and "acc.json" in err  # the line names the spec's file
+    spec.write_text('{"axes": []}')  # would turn every cut check off
+    assert main(["mc", "--preset", "automotive_24ghz", "--part", "ADIS16405", "--acceptance", str(spec)]) == 2
+    assert "acc.json, field acceptance.axes" in capsys.readouterr().err
+
+
+def test_cli_clutter_level_on_the_points_scene_is_refused(capsys):
+    from budget.cli.main import main
+    assert main(["mc", "--preset", "automotive_24ghz", "--part", "ADIS16405", "--clutter-db", "-3"]) == 2
+    assert "--clutter-db" in capsys.readouterr().err

@@ -32,6 +32,9 @@ def _options(args) -> McOptions:
     for name in ("scene", "clutter_to_target_db", "snr_db", "window"):
         if getattr(args, name, None) is not None:
             upd[name] = getattr(args, name)
+    if upd.get("clutter_to_target_db") is not None and upd.get("scene", "points") == "points":
+        raise InputError("the points scene has no clutter", field="--clutter-db", value=upd["clutter_to_target_db"],
+                         expected="--scene realistic (or auto) with --clutter-db, or no --clutter-db")
     if getattr(args, "acceptance", None):
         from ..fileio import read_structured
         spec = read_structured(args.acceptance, "an acceptance spec")  # size, depth and duplicate-key limits
@@ -41,6 +44,12 @@ def _options(args) -> McOptions:
                    if k in spec}
         upd.update(verdict)
         upd["acceptance"] = {**VERDICT_ACCEPTANCE.model_dump(), **spec}
+        try:
+            return McOptions.build(**upd)
+        except InputError as err:  # a field of the spec: name its file
+            if err.field and (err.field.startswith("acceptance") or err.field in verdict):
+                raise err.rename_file(args.acceptance) from None
+            raise
     return McOptions.build(**upd)
 
 

@@ -39,7 +39,15 @@ class Acceptance(BaseModel):
                                       description="absolute PSLR limit (dB, < 0); replaces ideal + margin")
     max_islr_db: float | None = Field(None, lt=0, ge=-80, allow_inf_nan=False,
                                       description="absolute ISLR limit (dB, < 0); replaces ideal + margin")
-    axes: tuple[str, ...] = ("azimuth", "range")
+    axes: tuple[str, ...] = Field(("azimuth", "range"), description="image axes whose cuts are judged")
+
+    @field_validator("axes")
+    @classmethod
+    def _axes(cls, v: tuple[str, ...]) -> tuple[str, ...]:
+        # an empty list would turn every image check but the peak loss off without a word
+        if not v or len(set(v)) != len(v) or not set(v) <= {"azimuth", "range"}:
+            raise ValueError("axes must name 'azimuth' and/or 'range', each once, at least one")
+        return v
 
 
 @dataclass(frozen=True)
