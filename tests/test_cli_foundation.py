@@ -81,8 +81,12 @@ def test_check_json(tmp_path, capsys):
     path = tmp_path / "s.json"
     get_preset("automotive_24ghz").save(path)
     out = run_json(capsys, ["check", "--scenario", str(path), "--json", "-"])
-    assert out and {"part_id", "grade", "verdict", "binding", "margins"} <= set(out[0])
-    assert all(r["verdict"] in ("pass", "fail", "unknown") for r in out)
+    # what the verdicts were computed with, beside the records
+    assert out["mode"] == "paper" and out["scenario"]["name"] == "automotive_24ghz" and out["catalog"] == "shipped"
+    assert set(out["lowest_sufficient_grade"]) == {"paper", "pga_limited"}
+    parts = out["parts"]
+    assert parts and {"part_id", "grade", "verdict", "binding", "margins"} <= set(parts[0])
+    assert all(r["verdict"] in ("pass", "fail", "unknown") for r in parts)
 
 
 def test_catalog_commands(capsys):

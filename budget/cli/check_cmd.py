@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..api import load_parts
+from ..bounds import scenario_assumptions
 from ..bounds.lever_arm import pga_limited_bounds
 from ..catalog.io import load_catalog, load_grades
 from ..check import check_parts, recommend_grade
@@ -26,16 +27,22 @@ def run(args) -> int:
     catalog = load_catalog(args.catalog)
     parts = load_parts(args.part, catalog) if args.part else list(catalog.values())
     res = check_parts(parts, scen, mode=args.mode)
+    grades = list(load_grades().values())
+    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, mode=args.mode,
+                          wavelength_m=scen.wavelength_m, assumptions=scenario_assumptions(args.mode, scen))
+    limited, _ = pga_limited_bounds(scen)
+    rec_limited = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, bounds=limited)
     if args.json:
-        write_json(res.to_dict()["scenarios"][0]["parts"], args.json)
+        # what the verdicts were computed with, beside the records
+        write_json({"mode": args.mode, "scenario": scen.model_dump(mode="json"), "tc_s": float(scen.tc_s),
+                    "catalog": str(args.catalog) if args.catalog else "shipped",
+                    "assumptions": res.assumptions, "parts": res.to_dict()["scenarios"][0]["parts"],
+                    "lowest_sufficient_grade": {args.mode: rec.grade[0], "pga_limited": rec_limited.grade[0]}},
+                   args.json)
         return 0
     print(f"scenario {scen.name}: Tc = {scen.tc_s:.3g} s, δr = {scen.range_resolution_m:g} m, "
           f"λ = {scen.wavelength_m:.4g} m ({args.mode} bounds)")
     print(res.summary())
-    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, list(load_grades().values()), mode=args.mode,
-                          wavelength_m=scen.wavelength_m)
     print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {rec.grade[0] or 'none'}")
-    limited, _ = pga_limited_bounds(scen)
-    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, list(load_grades().values()), bounds=limited)
-    print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {rec.grade[0] or 'none'}")
+    print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {rec_limited.grade[0] or 'none'}")
     return 0
