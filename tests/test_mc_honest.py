@@ -358,3 +358,16 @@ def test_cli_clutter_level_on_the_points_scene_is_refused(capsys):
     from budget.cli.main import main
     assert main(["mc", "--preset", "automotive_24ghz", "--part", "ADIS16405", "--clutter-db", "-3"]) == 2
     assert "--clutter-db" in capsys.readouterr().err
+
+
+def test_result_states_the_imu_rate_it_was_simulated_at():
+    """A part whose datasheet rate differs from the scenario's imu_rate_hz: the result says which
+    rate was simulated and that the part's own was not used."""
+    scen = get_preset("automotive_24ghz")
+    part = get_part("ADIS16405").model_copy(update={"rate_hz": 100.0})
+    r = run_mc(scen, part, 2, 1)
+    note = r.judged_on["imu_rate"]
+    assert f"imu_rate_hz = {scen.imu_rate_hz:g} Hz" in note and "100 Hz, is not used" in note
+    assert note in r.summary()
+    same = run_mc(scen, part.model_copy(update={"rate_hz": scen.imu_rate_hz}), 2, 1)
+    assert "not used" not in same.judged_on["imu_rate"]

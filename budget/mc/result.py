@@ -111,6 +111,8 @@ class McResult:
         line = f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
         if j.get("navigation"):
             line += f"navigation: {j['navigation']}\n"
+        if j.get("imu_rate"):
+            line += j["imu_rate"] + "\n"
         if j.get("wideband_note"):
             line += j["wideband_note"] + "\n"
         if j.get("reference_summary"):

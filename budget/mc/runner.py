@@ -181,8 +181,21 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
                 pool.shutdown(wait=True, cancel_futures=True)
     extra = {"prefilter": options.prefilter} if options.prefilter != "none" else {}
     extra["unspecified_terms"] = resolution.to_dict()
+    judged = _cached_setup(scen_json, opt_json).describe()
+    judged["imu_rate"] = imu_rate_note(scenario, getattr(model, "rate_hz", None))
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
                     tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
-                    options=options, scenario=scenario,
-                    judged_on=_cached_setup(scen_json, opt_json).describe())
+                    options=options, scenario=scenario, judged_on=judged)
+
+
+def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
+    """The rate the IMU is simulated at (the scenario's ``imu_rate_hz``) and, when the part states
+    another output rate, that it is not used and why that is harmless for the catalog's terms."""
+    text = f"IMU simulated at the scenario's imu_rate_hz = {scenario.imu_rate_hz:g} Hz"
+    if part_rate_hz is not None and abs(part_rate_hz - scenario.imu_rate_hz) > 1e-9 * scenario.imu_rate_hz:
+        text += (f" (the part's own output rate, {part_rate_hz:g} Hz, is not used: noise densities and "
+                 "bias terms are per √Hz and per second, so the motion error they make over Tc does not "
+                 "depend on the sampling rate; quantization, tones and a pre-filter do — set imu_rate_hz "
+                 "to the part's rate to simulate it at that rate)")
+    return text
 
