@@ -100,3 +100,14 @@ def test_describe_error_classes():
     assert describe_error(KeyboardInterrupt()).exit_code == 130
     msg = describe_error(RuntimeError("x" * 10_000))
     assert msg.exit_code == 1 and len(msg.text) < 400
+
+
+def test_bad_option_is_one_line_with_where_to_look(capsys):
+    """argparse's own errors (wrong type, unknown option) are one line, exit 2, like every other
+    input error, not the usage block."""
+    for argv in (["mc", "--preset", "airborne_xband", "--part", "STIM300", "--trials", "2.5"],
+                 ["bounds", "--preset", "airborne_xband", "--bogus"]):
+        with pytest.raises(SystemExit) as e:
+            main(argv)
+        err = capsys.readouterr().err
+        assert e.value.code == 2 and len(err.strip().splitlines()) == 1 and "--help" in err, err

@@ -29,3 +29,8 @@ class DefaultsParser(argparse.ArgumentParser):
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", DefaultsFormatter)
         super().__init__(*args, **kwargs)
+
+    def error(self, message: str):
+        """A bad option is one line, like every other input error (argparse prints the whole
+        usage first), with where to look; exit code 2."""
+        self.exit(2, f"{self.prog}: error: {message} (options: {self.prog} --help)\n")

@@ -43,12 +43,13 @@ DEBUG_ENV = "SAR_BUDGET_DEBUG"
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    from .help_format import DefaultsParser  # every sub-command's --help shows its defaults
+
+    parser = DefaultsParser(
         prog="sar-budget",
         description="IMU grade selection and error budgets for synthetic-aperture radar and sonar.")
     parser.add_argument("--debug", action="store_true",
                         help=f"show the traceback of unexpected errors (or set {DEBUG_ENV}=1)")
-    from .help_format import DefaultsParser  # every sub-command's --help shows its defaults
 
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=DefaultsParser)
     for name in COMMAND_MODULES:
