@@ -155,7 +155,7 @@ def _number_fields(model_cls) -> frozenset[str]:
 
 
 def _bool_for_number(model_cls, name, value) -> bool:
-    """True if ``value`` is (or, one level deep, holds) a bool while field ``name`` of
+    """True if ``value`` is (or, one level deep, holds) a bool (Python or numpy) while field ``name`` of
     ``model_cls`` holds numbers only (a field that may be ``bool`` is left alone)."""
     if isinstance(value, (str, int, float)) and not isinstance(value, bool):
         return False  # the common case, decided without looking at the field
@@ -163,7 +163,12 @@ def _bool_for_number(model_cls, name, value) -> bool:
         return False
     items = (value.values() if isinstance(value, dict)
              else value if isinstance(value, (list, tuple)) else (value,))
-    return any(isinstance(v, bool) for v in items)
+    return any(_is_bool(v) for v in items)
+
+
+def _is_bool(v) -> bool:
+    """A Python or numpy bool (numpy's is not a subclass of ``bool``)."""
+    return isinstance(v, bool) or getattr(getattr(v, "dtype", None), "kind", "") == "b"
 
 
 def bool_number_field(model_cls, data) -> str | None:

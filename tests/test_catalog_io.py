@@ -2,11 +2,13 @@
 
 import hashlib
 
+import numpy as np
 import pytest
+from pydantic import ValidationError
 
-from budget.catalog.io import (ALT_UNIT_COLUMNS, append_part, load_catalog, read_parts,
-                               shipped_catalog_dir, write_parts)
-from budget.catalog.schema import PART_COLUMNS, PartSpec
+from budget.catalog.io import (ALT_UNIT_COLUMNS, append_part, load_catalog, parts_to_csv_text,
+                               read_grades, read_parts, shipped_catalog_dir, write_parts)
+from budget.catalog.schema import PART_COLUMNS, GradeSpec, PartSpec
 from budget.errors import InputError
 
 HEADER = "part_id,vendor,model,grade,gyro_arw_deg_rt_h,accel_vrw_m_s_rt_h,source"
@@ -148,3 +150,138 @@ def test_shipped_rows_state_convention_and_verification():
     assert all(p.verified is not None for p in parts.values())
     assert parts["HG1700AG58"].bias_instability_convention == "total_1sigma"
     assert parts["STIM300"].bias_instability_convention == "adev_min"
+
+
+# --- writers re-validate; booleans; InputError at the API; ids differing only in case --------
+
+def _stim300():
+    return read_parts(shipped_catalog_dir() / "parts.csv")["STIM300"]
+
+
+def test_append_of_an_unvalidated_model_copy_is_refused_and_the_file_kept(tmp_path):
+    """The tester's case: model_copy(update=…) skips validation; the row must not be written."""
+    p = tmp_path / "g2.csv"
+    good = _stim300()
+    append_part(p, good)
+    before = p.read_bytes()
+    bad = good.model_copy(update={"gyro_arw_deg_rt_h": -5.0})
+    with pytest.raises(InputError) as e:
+        append_part(p, bad, replace=True)
+    msg = str(e.value)
+    assert "g2.csv" in msg and "STIM300" in msg and "field gyro_arw_deg_rt_h" in msg and "-5.0" in msg
+    assert "\n" not in msg
+    assert p.read_bytes() == before  # byte-identical
+    assert not list(tmp_path.glob(".*.tmp"))
+    assert read_parts(p)["STIM300"].gyro_arw_deg_rt_h == good.gyro_arw_deg_rt_h
+    # a file that does not exist yet is not created
+    fresh = tmp_path / "fresh.csv"
+    with pytest.raises(InputError, match="gyro_arw_deg_rt_h"):
+        append_part(fresh, bad)
+    assert not fresh.exists()
+
+
+@pytest.mark.parametrize("update,field,words", [
+    ({"notes": "red \x1b[31m text"}, "notes", "control characters"),  # the schema allows it, the reader not
+    ({"vendor": "x" * 20_000}, "vendor", "characters"),
+    ({"grade": "superb"}, "grade", "strategic"),
+    ({"colour": "red"}, "colour", "Extra inputs"),
+])
+def test_append_refuses_rows_a_later_read_would_refuse(tmp_path, update, field, words):
+    p = write(tmp_path, f"{HEADER}\n{GOOD}\n")
+    before = p.read_bytes()
+    part = PartSpec(part_id="P7", grade="tactical", source="ds").model_copy(update=update)
+    with pytest.raises(InputError) as e:
+        append_part(p, part)
+    msg = str(e.value)
+    assert "P7" in msg and f"field {field}" in msg and words in msg
+    assert p.read_bytes() == before
+    assert list(read_parts(p)) == ["P1"]
+
+
+def test_write_parts_refuses_what_read_parts_would_refuse(tmp_path):
+    p = tmp_path / "w.csv"
+    a = PartSpec(part_id="A1", grade="tactical", source="ds")
+    with pytest.raises(InputError, match="duplicate part_id"):
+        write_parts(p, [a, a])
+    with pytest.raises(InputError, match="field mass_g"):
+        write_parts(p, [a.model_copy(update={"mass_g": float("nan")})])
+    assert not p.exists()
+
+
+@pytest.mark.parametrize("value", [True, False, np.True_, np.False_])
+def test_number_fields_refuse_booleans(value):
+    with pytest.raises(ValidationError, match="true/false"):
+        PartSpec(part_id="B1", grade="tactical", source="ds", gyro_arw_deg_rt_h=value)
+    with pytest.raises(ValidationError, match="true/false"):
+        PartSpec(part_id="B1", grade="tactical", source="ds", rate_hz=value)
+    grade = next(iter(read_grades(shipped_catalog_dir() / "grades.csv").values()))
+    with pytest.raises(ValidationError, match="true/false"):
+        GradeSpec.model_validate({**grade.model_dump(), "rank": value})
+
+
+def test_booleans_refused_alike_by_the_model_and_the_csv_reader(tmp_path):
+    with pytest.raises(InputError, match="not a number"):
+        read_parts(write(tmp_path, f"{HEADER}\nP2,Acme,X2,tactical,true,0.07,ds\n"))
+    with pytest.raises(InputError, match="true/false"):
+        append_part(tmp_path / "b.csv", {"part_id": "P2", "grade": "tactical", "source": "ds",
+                                         "gyro_arw_deg_rt_h": True})
+    assert not (tmp_path / "b.csv").exists()
+    # numbers (numpy ones included) are still taken
+    p = PartSpec(part_id="P3", grade="tactical", source="ds", gyro_arw_deg_rt_h=np.float64(0.2),
+                 rate_hz=np.int64(200))
+    assert p.gyro_arw_deg_rt_h == 0.2 and p.rate_hz == 200.0
+
+
+@pytest.mark.parametrize("call", [
+    lambda p: append_part(p, {"part_id": "D1", "source": "ds"}),                     # no grade
+    lambda p: append_part(p, {"part_id": "D1", "grade": "tactical", "source": "ds",
+                              "gyro_arw_deg_rt_h": -1}),
+    lambda p: append_part(p, {"part_id": "bad id", "grade": "tactical", "source": "ds"}),
+    lambda p: append_part(p, "STIM300"),                                              # not a part
+    lambda p: write_parts(p, [{"part_id": "D1", "grade": "tactical", "source": ""}]),
+    lambda p: write_parts(p, [PartSpec.model_construct(part_id="D1", grade="tactical",
+                                                       source="ds", mass_g=-3.0)]),
+    lambda p: p.write_text(parts_to_csv_text([{"part_id": "D1", "grade": "tactical",
+                                               "source": "ds", "mass_g": True}])),
+])
+def test_bad_parts_through_the_api_are_input_errors_of_one_line(tmp_path, call):
+    p = tmp_path / "api.csv"
+    with pytest.raises(InputError) as e:  # not a raw pydantic ValidationError
+        call(p)
+    assert not isinstance(e.value, ValidationError)
+    assert "\n" not in str(e.value) and "errors.pydantic.dev" not in str(e.value)
+    assert not p.exists()
+
+
+def test_append_of_an_id_differing_only_in_case_from_a_shipped_one_is_refused(tmp_path):
+    p = write(tmp_path, f"{HEADER}\n{GOOD}\n")
+    before = p.read_bytes()
+    twin = _stim300().model_copy(update={"part_id": "stim300"})
+    for replace in (False, True):
+        with pytest.raises(InputError) as e:
+            append_part(p, twin, replace=replace)
+        msg = str(e.value)
+        assert "'stim300'" in msg and "'STIM300'" in msg and "field part_id" in msg
+        assert p.read_bytes() == before
+    append_part(p, _stim300())  # the exact shipped id overrides it, as before
+    assert load_catalog(p)["STIM300"].source == _stim300().source
+
+
+def test_append_of_an_id_differing_only_in_case_from_one_in_the_file(tmp_path):
+    p = write(tmp_path, f"{HEADER}\n{GOOD}\n")
+    before = p.read_bytes()
+    new = PartSpec(part_id="p1", grade="industrial", gyro_arw_deg_rt_h=2.0, source="ds")
+    with pytest.raises(InputError) as e:
+        append_part(p, new)
+    assert "'P1'" in str(e.value) and "--replace" in str(e.value)
+    assert p.read_bytes() == before
+    append_part(p, new, replace=True)  # replaces that row where it stands
+    parts = read_parts(p)
+    assert list(parts) == ["p1"] and parts["p1"].gyro_arw_deg_rt_h == 2.0
+
+
+def test_loading_a_user_id_differing_only_in_case_from_a_shipped_one_warns(tmp_path):
+    p = write(tmp_path, "part_id,grade,source\nstim300,tactical,mine\n")
+    with pytest.warns(UserWarning, match=r"my\.csv.*'stim300'.*'STIM300'"):
+        merged = load_catalog(p)
+    assert merged["stim300"].source == "mine" and merged["STIM300"].source == _stim300().source

@@ -19,6 +19,13 @@
 * Writes are atomic (temporary file + rename): a failed update never leaves a half-written file.
   :func:`append_part` adds one row in the user's own column order and units, follows a
   symbolic link to its target and refuses a missing folder.
+* What is written is what a later read accepts: the writers re-validate every part (a
+  ``model_copy(update=…)`` skips pydantic's checks) and check the CSV text they produce with the
+  reader's own validation before the file is touched; a bad part is an :class:`InputError`
+  naming the part, the field and what was expected, and the file is left as it was.
+* Part ids are compared case-insensitively where a mix-up is likely: :func:`append_part` refuses
+  an id differing only in case from one already in the file (unless ``replace``) or from a
+  shipped id, and :func:`load_catalog` warns about user ids differing only in case from a shipped id.
 """
 
 from __future__ import annotations
@@ -26,12 +33,13 @@ from __future__ import annotations
 import csv
 import io
 import os
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
 from pydantic import ValidationError
 
-from ..errors import InputError, OutputError
+from ..errors import InputError, OutputError, from_validation_error
 from ..fileio import atomic_write_text, csv_text
 from .schema import PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED, GradeSpec, PartSpec
 from .validate import (ALT_UNIT_COLUMNS, MAX_BYTES, MAX_CELL_CHARS, _expected_text,  # noqa: F401
@@ -54,8 +62,12 @@ def shipped_catalog_dir() -> Path:
 
 def read_parts(path: str | Path) -> dict[str, PartSpec]:
     """Validate a parts CSV; returns part_id → :class:`PartSpec` in file order."""
-    path = Path(path)
-    table, rows = validate_parts_table(path)
+    return _parts_of(Path(path))
+
+
+def _parts_of(path: Path, text: str | None = None) -> dict[str, PartSpec]:
+    """:func:`read_parts` of the file, or of ``text`` (``path`` then only names it in messages)."""
+    table, rows = validate_parts_table(path, text)
     names = list(table)
     cols = [table[c].tolist() if c in PART_NUMERIC_COLUMNS else table[c] for c in names]
     parts: dict[str, PartSpec] = {}
@@ -108,12 +120,29 @@ def user_catalog_path(explicit: str | Path | None = None) -> Path | None:
 
 
 def load_catalog(user_csv: str | Path | None = None) -> dict[str, PartSpec]:
-    """Shipped parts merged with the user's (user rows replace shipped rows with the same id)."""
+    """Shipped parts merged with the user's (user rows replace shipped rows with the same id).
+
+    A user id that differs from a shipped id only in letter case (``stim300`` vs ``STIM300``)
+    stays a separate part (ids are case-sensitive, as in the CSV) but gives a ``UserWarning``
+    naming the file and both ids: it is most likely meant to override the shipped row.
+    """
     parts = dict(read_parts(shipped_catalog_dir() / "parts.csv"))
     user = user_catalog_path(user_csv)
     if user is not None:
-        parts.update(read_parts(user))
+        mine = read_parts(user)
+        for pid, shipped_id in _case_twins(mine, parts):
+            warnings.warn(f"{user}: part_id {pid!r} differs only in case from the shipped part "
+                          f"{shipped_id!r}; it is a separate part and does not replace the shipped "
+                          f"row (name it {shipped_id!r} to do so)", UserWarning, stacklevel=2)
+        parts.update(mine)
     return parts
+
+
+def _case_twins(ids, others) -> list[tuple[str, str]]:
+    """(id, other id) for each id of ``ids`` equal to an id of ``others`` up to letter case only."""
+    lower = {o.lower(): o for o in others}
+    return [(i, lower[i.lower()]) for i in ids if i.lower() in lower and lower[i.lower()] != i
+            and i not in others]
 
 
 def load_grades() -> dict[str, GradeSpec]:
@@ -158,28 +187,84 @@ def _cell(part: PartSpec, column: str):
     return d[column]
 
 
+def _as_part(part: PartSpec | Mapping[str, object], file: str | Path | None = None) -> PartSpec:
+    """``part`` (a :class:`PartSpec` or a mapping of its fields) validated again by the schema:
+    ``model_copy(update=…)`` and ``model_construct`` skip pydantic's checks, so a model is not
+    trusted as it stands. A bad value is an :class:`InputError` naming the part and the field."""
+    if isinstance(part, PartSpec):
+        data = dict(vars(part))  # what the model holds, unknown keys set by model_copy included
+    elif isinstance(part, Mapping):
+        data = dict(part)
+    else:
+        raise InputError(f"not a catalog part: a {type(part).__name__}", file=file,
+                         expected="a PartSpec or a mapping of its fields")
+    try:
+        return PartSpec.model_validate(data)
+    except ValidationError as err:
+        e = from_validation_error(err)
+        pid = data.get("part_id")
+        canon = e.field if e.field in PartSpec.model_fields else None
+        unit = PART_NUMERIC_COLUMNS.get(canon, ("",))[0]
+        raise InputError((f"part {pid!r}: " if isinstance(pid, str) else "") + e.reason, file=file,
+                         field=e.field, value=e.value, expected=_expected_text(canon, unit)) from None
+
+
+def _checked(path: str | Path, text: str, part_id: str | None = None) -> str:
+    """``text`` (a whole parts CSV, or a header and the rows to be added) if the reader accepts
+    it (:func:`read_parts`'s checks, models included); otherwise the reader's
+    :class:`InputError`, saying nothing was written (and naming ``part_id`` if given)."""
+    try:
+        _parts_of(Path(path), text)
+    except InputError as err:
+        what = f"part {part_id!r} not written" if part_id else "not written"
+        raise InputError(f"{what}: {err.reason}", file=path, row=None if part_id else err.row,
+                         field=err.field, value=err.value, expected=err.expected) from None
+    return text
+
+
 def parts_to_csv_text(parts: Mapping[str, PartSpec] | list[PartSpec]) -> str:
     """Canonical CSV text (header + rows in canonical column order and units); text cells
-    spreadsheet-safe (:func:`budget.fileio.safe_csv_text`)."""
+    spreadsheet-safe (:func:`budget.fileio.safe_csv_text`). A part may be a mapping of its
+    fields (validated; a bad one is an :class:`InputError`); a :class:`PartSpec` is written as
+    it stands (the text only: :func:`write_parts` and :func:`append_part` validate again)."""
     items = list(parts.values()) if isinstance(parts, Mapping) else list(parts)
+    items = [p if isinstance(p, PartSpec) else _as_part(p) for p in items]
     return csv_text(([p.model_dump()[c] for c in PART_COLUMNS] for p in items), PART_COLUMNS)
 
 
 def write_parts(path: str | Path, parts: Mapping[str, PartSpec] | list[PartSpec]) -> None:
-    """Write a parts CSV atomically (validated models only, so the file is always valid)."""
-    atomic_write_text(path, parts_to_csv_text(parts))
+    """Write a parts CSV atomically. Every part is validated again and the text is checked by
+    the reader before writing (duplicate ids included), so the file is always one
+    :func:`read_parts` accepts; otherwise :class:`InputError` and the file is left as it was."""
+    items = list(parts.values()) if isinstance(parts, Mapping) else list(parts)
+    items = [_as_part(p, file=path) for p in items]
+    pid = items[0].part_id if len(items) == 1 else None
+    atomic_write_text(path, _checked(path, parts_to_csv_text(items), pid))
 
 
-def append_part(path: str | Path, part: PartSpec, *, replace: bool = False) -> None:
+def append_part(path: str | Path, part: PartSpec | Mapping[str, object], *,
+                replace: bool = False) -> None:
     """Add ``part`` to the user catalog at ``path`` (created if absent), atomically.
 
-    The existing file is validated first; a duplicate id is an error unless ``replace`` (the
-    row is then replaced where it stands). The user's columns, their order, units and other
-    rows are kept as they are: the new row is written in the file's own header (columns the
-    header lacks but the part fills are added at the end). A symbolic link is followed (the
-    target is updated); the folder must exist. The shipped catalog cannot be the target.
+    ``part`` is a :class:`PartSpec` or a mapping of its fields; it is validated again (a
+    ``model_copy(update=…)`` skips validation) and its row, as it will be written, is checked by
+    the reader's own validation, before anything is written: a bad value is an
+    :class:`InputError` naming the file, the part id, the field and what was expected, and the
+    file stays byte-identical. The existing file is validated first; a duplicate id is an error
+    unless ``replace`` (the row is then replaced where it stands). The user's columns, their
+    order, units and other rows are kept as they are: the new row is written in the file's own
+    header (columns the header lacks but the part fills are added at the end). A symbolic link
+    is followed (the target is updated); the folder must exist. The shipped catalog cannot be
+    the target.
+
+    Letter case: an id differing only in case from one in the file (``stim300`` vs ``STIM300``)
+    is handled like the same id — refused unless ``replace``, which replaces that row. An id new
+    to the file that differs only in case from a *shipped* id is refused (``replace`` does not
+    help): it would be a separate part that does not override the shipped row, which is never
+    what a user typing ``stim300`` means; the message names the shipped id to use instead.
     """
     given = Path(path)
+    part = _as_part(part, file=given)
     target = Path(os.path.realpath(given))
     try:
         shipped = shipped_catalog_dir().resolve()
@@ -192,13 +277,29 @@ def append_part(path: str | Path, part: PartSpec, *, replace: bool = False) -> N
         raise OutputError(f"folder {target.parent} does not exist", file=given, option="--append")
     if target.exists() and not target.is_file():
         raise OutputError("is not a regular file", file=given, option="--append")
-    if not target.exists() or target.stat().st_size == 0:
-        atomic_write_text(target, parts_to_csv_text([part]), create_dirs=False)
+    fresh = not target.exists() or target.stat().st_size == 0
+    parts = {} if fresh else read_parts(target)
+    twin = next((other for _, other in _case_twins([part.part_id], parts)), None)
+    if part.part_id in parts or twin is not None:
+        if not replace:
+            same = "part_id already in the catalog" if twin is None else (
+                f"part_id differs only in case from {twin!r}, already in the catalog")
+            raise InputError(same, file=given, field="part_id", value=part.part_id,
+                             expected="a new id (or replace=True, --replace, to replace that row)")
+    elif shipped is not None:
+        twin_shipped = next((o for _, o in _case_twins([part.part_id],
+                                                       read_parts(shipped / "parts.csv"))), None)
+        if twin_shipped is not None:
+            raise InputError(f"part_id differs only in case from the shipped part {twin_shipped!r}: "
+                             "it would be a separate part, not an override", file=given,
+                             field="part_id", value=part.part_id,
+                             expected=f"{twin_shipped!r} exactly (to override the shipped row) "
+                                      "or an id that differs by more than letter case")
+    if fresh:
+        atomic_write_text(target, _checked(given, parts_to_csv_text([part]), part.part_id),
+                          create_dirs=False)
         return
-    parts = read_parts(target)
-    if part.part_id in parts and not replace:
-        raise InputError("part_id already in the catalog", file=given, field="part_id",
-                         value=part.part_id, expected="a new id (or replace=True)")
+    old_id = part.part_id if part.part_id in parts else twin
     text = _read_text(target)
     newline = "\r\n" if "\r\n" in text[:65536] else "\n"
     records = list(csv.reader(io.StringIO(text, newline="")))
@@ -207,7 +308,9 @@ def append_part(path: str | Path, part: PartSpec, *, replace: bool = False) -> N
     extra = [c for c in PART_COLUMNS if c not in canon_in_header     # a default needs no column
              and _cell(part, c) not in (None, "", PartSpec.model_fields[c].default)]
     new_row = [_cell(part, c) for c in header + extra]
-    if part.part_id not in parts and not extra:
+    # the row exactly as it will be written, read back as a one-row file of the same header
+    _checked(given, csv_text([new_row], header + extra, lineterminator=newline), part.part_id)
+    if old_id is None and not extra:
         # plain append: the user's bytes stay as they are, one line is added
         sep = "" if text.endswith(("\n", "\r")) else newline
         atomic_write_text(target, text + sep + csv_text([new_row], lineterminator=newline),
@@ -219,7 +322,7 @@ def append_part(path: str | Path, part: PartSpec, *, replace: bool = False) -> N
     for r in records[1:]:
         if not any(c.strip() for c in r):
             continue  # blank lines are not rows (read_parts skips them too)
-        if r[pid].strip() == part.part_id:
+        if r[pid].strip() == old_id:
             body.append(new_row)
             replaced = True
         else:

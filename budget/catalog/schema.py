@@ -35,6 +35,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from .. import units as u
+from ..errors import refuse_bool_numbers
 
 GRADES = ("strategic", "navigation", "stabilization", "tactical", "industrial", "consumer")
 #: Rank 1 = best. Used for "cheapest/lowest grade that passes" and sorting.
@@ -78,7 +79,11 @@ PART_REQUIRED = ("part_id", "grade", "source")
 
 
 class PartSpec(BaseModel):
-    """One IMU part in datasheet units (a row of ``catalog/parts.csv``)."""
+    """One IMU part in datasheet units (a row of ``catalog/parts.csv``).
+
+    Number fields refuse ``True``/``False`` (Python or numpy), as the CSV reader refuses
+    ``true`` in a number column; pydantic's lax mode would otherwise take them as 1.0 and 0.0.
+    """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -104,6 +109,8 @@ class PartSpec(BaseModel):
     bias_instability_convention: Literal["adev_min", "ieee_b", "total_1sigma", "turn_on_1sigma"] = "adev_min"
     verified: Literal["datasheet", "second_hand", "partial", "unverified"] | None = None
     notes: str = ""
+
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
 
     @field_validator("bias_instability_convention")
     @classmethod
@@ -241,3 +248,5 @@ class GradeSpec(BaseModel):
     gyro_arw_deg_rt_h_max: float = Field(..., **_num)
     source: str = Field(..., min_length=1)
     notes: str = ""
+
+    _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)

@@ -225,8 +225,11 @@ _CHOICES = {
 }
 
 
-def validate_parts_table(path: str | Path) -> tuple[dict[str, object], list[int]]:
+def validate_parts_table(path: str | Path, text: str | None = None) -> tuple[dict[str, object], list[int]]:
     """Validate a parts CSV column by column (vectorised; no model per row).
+
+    ``text``, if given, is checked instead of the file's content (``path`` then only names the
+    file in messages): :mod:`budget.catalog.io` checks what it is about to write this way.
 
     Returns (canonical column → values, spreadsheet row numbers): numeric columns as float
     arrays in the canonical unit (NaN = empty cell), text columns as tuples of str. The first
@@ -236,7 +239,8 @@ def validate_parts_table(path: str | Path) -> tuple[dict[str, object], list[int]
     the same result: tests/test_fuzz_readers.py).
     """
     path = Path(path)
-    text = _read_text(path)
+    if text is None:
+        text = _read_text(path)
     fast = _table_fast(path, text) if len(text) >= FAST_PATH_CHARS else None
     return fast if fast is not None else _table_row_by_row(path, text)
 
