@@ -106,6 +106,9 @@ def test_gaussian_interval_with_negative_lower_bound():
     ("channel,tau_s,adev\ngyro_x_dps,0.01,1\ngyro_x_rps,0.02,1\n", {}, "two unit tags"),
     ("channel,tau_s,adev\ngyro_x_dps,0.01,1\n", {"rate_hz": None}, "rate"),
     ("channel,tau_s,adev\ngyro_x_dps,0.01,1\n", {"samples": 0}, "record length"),
+    # every short τ 8 % long: a curve taken at another rate (≈ 92.6 Hz), not time-stamp scatter
+    ("channel,tau_s,adev\n" + "".join(f"gyro_x_dps,{1.08 * m / RATE!r},{1 / m}\n" for m in (1, 2, 4, 8, 16)),
+     {}, r"every short-τ row alike.*about 92\.59"),
 ])
 def test_table_errors(tmp_path, text, kw, match):
     p = tmp_path / "bad.csv"

@@ -206,6 +206,17 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
                          row=int(rows[i]) + 2, field="tau_s", value=tau[i],
                          expected=f"τ within {TAU_TOLERANCE:.0%} of a multiple of 1/rate = "
                                   f"{1 / rate_hz:.6g} s (check --rate-hz)")
+    # τ from a clock of another rate: every short-τ row off by the same fraction (measured time
+    # stamps scatter row by row instead); at long τ the same error rounds to another whole m
+    short = np.flatnonzero(m <= 8)
+    signed = (m_raw - m) / m
+    if short.size >= 3:
+        r = signed[short]
+        if np.all(np.abs(r) > 0.02) and np.all(np.sign(r) == np.sign(r[0])) and np.ptp(r) < 0.2 * np.abs(r).mean():
+            raise InputError(f"τ·rate is {100 * r.mean():+.1f} % off a whole number of samples on every short-τ row "
+                             "alike: the curve's rate is not the one given", file=path, row=int(rows[short[0]]) + 2,
+                             field="tau_s", value=tau[short[0]],
+                             expected=f"--rate-hz of the record the curve came from (about {rate_hz / (1 + r.mean()):.6g} Hz?)")
     same = np.flatnonzero(np.diff(m) <= 0)
     if same.size:
         i = int(same[0]) + 1
