@@ -49,9 +49,11 @@ def test_burst_of_adjacent_spikes_is_found_sample_by_sample():
     rng = np.random.default_rng(6)
     x = _white(20_000, rng)
     x[500:503] = [2.0, -1.5, 3.0]
+    x[0], x[-1] = 4.0, -4.0  # at the ends too (a window padded with the end value would hide them)
     y, sp = find_spikes(x, "gyro_x")
-    assert sorted(sp.index.tolist()) == [500, 501, 502] and sp.replaced
-    assert np.max(np.abs(y[495:508])) < 10 * np.std(x[1000:])
+    assert sorted(sp.index.tolist()) == [0, 500, 501, 502, x.size - 1] and sp.replaced
+    assert np.max(np.abs(y[495:508])) < 10 * np.std(x[1000:-1])
+    assert abs(y[0]) < 10 * np.std(x[1000:-1]) and abs(y[-1]) < 10 * np.std(x[1000:-1])
 
 
 @pytest.mark.parametrize("kind", ["gaussian", "student_t4", "quantized", "random_walk"])
