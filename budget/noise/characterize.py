@@ -31,7 +31,7 @@ from ..errors import InputError, from_validation_error
 from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
 from .spikes import find_spikes
-from .stationarity import check_stationarity
+from .stationarity import check_stationarity, record_rows
 from .terms import TERMS, NoiseTerms, fit_noise_terms
 
 COMBINE_RULE = ("worst axis: each catalog column is the largest value over the axes where the "
@@ -179,7 +179,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
             if spikes is not None:
                 if spikes.replaced:
                     replaced.append(ch)
-                spike_warnings.append(f"{ch}: " + spikes.message(*((1, "sample") if repaired else (2, "row")), unit))
+                spike_warnings.append(f"{ch}: " + spikes.message(record_rows(repaired), unit))
             allan[ch] = allan_deviation(x, data.rate_hz, taus, channel=ch, unit=unit)
         rate, origin = data.rate_hz, f"log {Path(data.source).name}"
         notes += [f"log repaired: {r}" for r in data.issues.repairs]

@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .stationarity import record_rows
+
 #: A spike's local residual exceeds this many robust standard deviations of the residuals.
 SPIKE_SIGMAS = 50.0
 #: Spikes carrying at least this share of the squared first differences are replaced.
@@ -58,10 +60,11 @@ class Spikes:
     share: float
     replaced: bool
 
-    def message(self, first_row: int = 2, label: str = "row", unit: str = "") -> str:
-        """One line naming the rows (``first_row`` = the row of sample 0), the values and what was
-        done."""
-        shown = ", ".join(f"{label} {int(k) + first_row:,}: {v:.4g} {unit}".rstrip() + f", {s:,.0f} σ"
+    def message(self, rows=None, unit: str = "") -> str:
+        """One line naming the rows (``rows``: :func:`budget.noise.stationarity.record_rows`, by
+        default those of an unrepaired file), the values and what was done."""
+        rows = rows or record_rows(False)
+        shown = ", ".join(f"{rows.at(int(k))}: {v:.4g} {unit}".rstrip() + f", {s:,.0f} σ"
                           for k, v, s in zip(self.index[:LISTED], self.values[:LISTED], self.sigmas[:LISTED]))
         more = f"; +{self.index.size - LISTED} more" if self.index.size > LISTED else ""
         what = (f"{self.index.size} isolated spike(s) ({shown}{more}; σ: the robust σ of the residual "

@@ -119,6 +119,12 @@ class _Rows:
         return f"{self.label[:-1]} {k + self.first:,}"
 
 
+def record_rows(repaired: bool) -> _Rows:
+    """How findings name a sample: its spreadsheet row (first sample = row 2), or its sample number
+    in a repaired record (rows dropped)."""
+    return _Rows(1, "samples") if repaired else _Rows(2, "rows")
+
+
 def _robust_sigma(x: np.ndarray) -> float:
     """1.4826·MAD, or the standard deviation when more than half the values are equal
     (a quantized channel whose MAD is 0)."""
@@ -282,7 +288,7 @@ def check_stationarity(channels: dict[str, np.ndarray], units: dict[str, str] | 
     the log was ``repaired`` (rows dropped), sample numbers of the repaired record."""
     from ..units import channel_si_unit
 
-    rows = _Rows(1, "samples") if repaired else _Rows(2, "rows")
+    rows = record_rows(repaired)
     out: list[LogIssue] = []
     for ch, x in channels.items():
         x = np.asarray(x, float)
