@@ -88,8 +88,9 @@ def run_characterize(args) -> int:
         result = characterize(data, part_id=args.as_part or "measured", grade=args.grade,
                               vendor=args.vendor, model=args.model, taus=args.taus,
                               keep_spikes=args.keep_spikes)
-    for warning in result.warnings:  # e.g. a log that is not one stationary regime
-        print(f"warning: {path.name}: {warning}", file=sys.stderr)
+    if args.json:  # the summary printed below lists them itself
+        for warning in result.warnings:  # e.g. a log that is not one stationary regime
+            print(f"warning: {path.name}: {warning}", file=sys.stderr)
     if args.append:
         from ..catalog.io import append_part
         append_part(args.append, result.part, replace=args.replace)
