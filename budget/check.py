@@ -154,7 +154,10 @@ class CheckResult:
 
     @property
     def min_margin(self) -> np.ndarray:
-        return np.nanmin(np.where(self.specified, self.margins, np.inf), axis=-1)
+        """(P, S) smallest margin over the specified parameters; NaN where none is specified (the
+        verdict is "unknown" then, as :meth:`pga_limited`'s margin is, not an infinite margin)."""
+        m = np.min(np.where(self.specified, self.margins, np.inf), axis=-1)
+        return np.where(self.specified.any(axis=-1), m, np.nan)
 
     @property
     def binding_index(self) -> np.ndarray:
@@ -228,8 +231,8 @@ class CheckResult:
         notes = []
         for i, (r, mm) in enumerate(zip(self._part_records(scenario_index), self.min_margin[:, scenario_index])):
             v, pmm = self.pga_limited(i, scenario_index)
-            lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{mm:>11.3g}  "
-                         f"{r['binding'] or '-':<{wb}}{v:<12}{pmm:>8.3g}"
+            lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{_number(mm):>11}  "
+                         f"{r['binding'] or '-':<{wb}}{v:<12}{_number(pmm):>8}"
                          f"{_degrees(r['fast_phase_residual_deg']):>12}")
             if r["flag"]:
                 notes.append(f"  {r['part_id']}: {r['flag_reason']}")
@@ -239,6 +242,11 @@ class CheckResult:
             lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
                       "its window, attitude error × lever arm); where the verdicts differ:"] + notes
         return "\n".join(lines)
+
+
+def _number(value: float) -> str:
+    """A margin for the table: '-' where there is none (nothing specified)."""
+    return "-" if np.isnan(value) else f"{value:.3g}"
 
 
 def _degrees(value: float) -> str:

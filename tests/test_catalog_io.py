@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from budget.catalog.io import (ALT_UNIT_COLUMNS, append_part, load_catalog, parts_to_csv_text,
+from budget.catalog.io import (ALT_UNIT_COLUMNS, append_part, load_catalog, part_origins, parts_to_csv_text,
                                read_grades, read_parts, shipped_catalog_dir, write_parts)
 from budget.catalog.schema import PART_COLUMNS, GradeSpec, PartSpec
 from budget.errors import InputError
@@ -118,6 +118,27 @@ def test_user_rows_override_shipped(tmp_path):
     merged = load_catalog(user)
     assert merged[pid].source == "mine" and "MINE-1" in merged
     assert len(merged) == len(shipped) + 1
+    origin = part_origins(user)
+    assert list(origin) == list(merged)
+    assert origin[pid] == "user, replaces shipped" and origin["MINE-1"] == "user"
+    assert {origin[k] for k in shipped if k != pid} == {"shipped"}
+
+
+def test_catalog_list_and_show_mark_a_replaced_shipped_row(tmp_path, capsys, monkeypatch):
+    import json
+    monkeypatch.delenv("SAR_BUDGET_CATALOG", raising=False)
+
+    from budget.cli.main import main
+    pid = next(iter(read_parts(shipped_catalog_dir() / "parts.csv")))
+    user = tmp_path / "u.csv"
+    write_parts(user, [PartSpec(part_id=pid, grade="consumer", gyro_arw_deg_rt_h=9.0, source="mine")])
+    assert main(["catalog", "list", "--catalog", str(user)]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith(pid + " "))
+    assert line.rstrip().endswith("user, replaces shipped")
+    assert main(["catalog", "show", pid, "--catalog", str(user), "--json", "-"]) == 0
+    assert json.loads(capsys.readouterr().out)["origin"] == "user, replaces shipped"
+    assert main(["catalog", "list", "--json", "-"]) == 0
+    assert {r["origin"] for r in json.loads(capsys.readouterr().out)} == {"shipped"}
 
 
 def test_atomic_write_gives_ordinary_permissions(tmp_path):

@@ -39,6 +39,17 @@ def test_unspecified_never_pass_or_fail_silently():
     assert r["verdict"] == "unknown"
 
 
+def test_a_part_with_nothing_specified_has_no_margin_in_either_verdict():
+    """No specified parameter: both minimum margins are NaN (not +inf, which reads as 'passes by
+    any factor'), in the result, its frame and its JSON."""
+    res = check_parts([PartSpec(part_id="E", grade="consumer", source="x")], scen(1.0))
+    assert np.isnan(res.min_margin[0, 0])
+    verdict, margin = res.pga_limited(0, 0)
+    assert verdict == "unknown" and np.isnan(margin)
+    row = res.to_frame().iloc[0]
+    assert row["verdict"] == "unknown" and np.isnan(row["min_margin"])
+
+
 def test_vectorised_matches_per_part():
     rng = np.random.default_rng(1)
     parts = [PartSpec(part_id=f"P{i}", grade="tactical", source="x",

@@ -158,6 +158,7 @@ def test_cli_sweep_warns_about_a_scenario_it_cannot_simulate(tmp_path, capsys):
     cap = capsys.readouterr()
     assert "warning: scenario 'airborne_xband_long_range' not simulated" in cap.err and "pulses" in cap.err
     assert pd.read_csv(out)["status"].str.startswith("not simulated").all()
+    assert "None" not in cap.out and "not simulated" in cap.out  # no part: '-', and the basis says why
     assert main(["sweep", "--preset", "automotive_24ghz", "--part", "STIM300", "--target", "5",
                  "--out", str(out)]) == 2
     assert "target" in capsys.readouterr().err

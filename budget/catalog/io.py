@@ -138,6 +138,23 @@ def load_catalog(user_csv: str | Path | None = None) -> dict[str, PartSpec]:
     return parts
 
 
+#: Where a merged catalog row comes from (:func:`part_origins`).
+ORIGIN_SHIPPED, ORIGIN_USER, ORIGIN_REPLACED = "shipped", "user", "user, replaces shipped"
+
+
+def part_origins(user_csv: str | Path | None = None) -> dict[str, str]:
+    """For every part of :func:`load_catalog` (same order), where its row comes from: "shipped",
+    "user" (a part only the user catalog has) or "user, replaces shipped" (a user row that
+    overrides the shipped row with the same id: its numbers are not the shipped datasheet's)."""
+    shipped = read_parts(shipped_catalog_dir() / "parts.csv")
+    user = user_catalog_path(user_csv)
+    mine = read_parts(user) if user is not None else {}
+    origins = {pid: ORIGIN_SHIPPED for pid in shipped}
+    for pid in mine:
+        origins[pid] = ORIGIN_REPLACED if pid in shipped else ORIGIN_USER
+    return origins
+
+
 def _case_twins(ids, others) -> list[tuple[str, str]]:
     """(id, other id) for each id of ``ids`` equal to an id of ``others`` up to letter case only."""
     lower = {o.lower(): o for o in others}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..catalog.io import count_valid_parts, get_part, load_catalog, shipped_catalog_dir
+from ..catalog.io import count_valid_parts, get_part, load_catalog, part_origins, shipped_catalog_dir
 from ..catalog.validate import collect_errors
 from ..errors import InputError
 from .common import add_catalog_option
@@ -47,20 +47,26 @@ def run_validate(args) -> int:
 
 
 def run_list(args) -> int:
+    """One line per part; the last column says where its row comes from (a user row that
+    replaces a shipped one is marked, so edited numbers are never mistaken for the datasheet's)."""
     cat = load_catalog(args.catalog)
+    origin = part_origins(args.catalog)
     if args.json:
-        write_json([p.model_dump() for p in cat.values()], args.json)
+        write_json([{**p.model_dump(), "origin": origin[pid]} for pid, p in cat.items()], args.json)
         return 0
-    for p in cat.values():
-        print(f"{p.part_id:<22}{p.grade:<14}{printable(p.vendor, 60)} {printable(p.model, 60)}")
+    for pid, p in cat.items():
+        print(f"{p.part_id:<22}{p.grade:<14}{printable(p.vendor, 40):<40} {printable(p.model, 40):<40} "
+              f"{origin[pid]}")
     return 0
 
 
 def run_show(args) -> int:
     p = get_part(args.part_id, load_catalog(args.catalog))
+    origin = part_origins(args.catalog)[p.part_id]
     if args.json:
-        write_json(p.model_dump(), args.json)
+        write_json({**p.model_dump(), "origin": origin}, args.json)
         return 0
     for k, v in p.model_dump().items():
         print(f"{k:<32}{'' if v is None else printable(v)}")
+    print(f"{'origin':<32}{origin}")
     return 0

@@ -181,5 +181,7 @@ def run_sweep(args) -> int:
     write_frame_csv(table, args.out)
     for scen, status in not_simulated(table).items():
         print(f"sar-budget sweep: warning: scenario {scen!r} {status}", file=sys.stderr)
-    print(cheapest_passing(table, args.target).to_string(index=False))
+    # '-' where no part passes (the basis column says why), not Python's None
+    best = cheapest_passing(table, args.target)
+    print(best.astype(object).where(best.notna(), "-").to_string(index=False))
     return 0
