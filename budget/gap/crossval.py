@@ -27,7 +27,7 @@ from .inputs import check_compatible, load_measured, load_model
 from .metric import NullModel
 from .report import GapReport
 from .signatures import SignatureGrid, series_signature
-from .workflow import DEFAULT_REALIZATIONS, _state, _whitened, _with_rate, run_gap
+from .workflow import DEFAULT_REALIZATIONS, _spectrum, _state, _whitened, _with_rate, run_gap
 
 
 @dataclass
@@ -109,13 +109,13 @@ def cross_validate(fit_measured, test_measured, model, *, seed: int = 0,
     chans, _ = check_compatible(meas, base, from_catalog, channels, False)
     base = _with_rate(base, meas.rate_hz)
     fitted = _with_rate(fit.updated_model, meas.rate_hz)
-    grid = SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c,
-                                 bool(gap_kw.get("low_frequency", False)))
-    sig = {ch: series_signature(meas.series[ch], grid, lattice=True) for ch in chans}
+    # the fit's grids: the temperature statistic weighted by each channel's base spectrum
+    grids = {ch: SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c,
+                                       bool(gap_kw.get("low_frequency", False)),
+                                       noise_psd=_spectrum(base, ch, meas)) for ch in chans}
+    sig = {ch: series_signature(meas.series[ch], grids[ch], lattice=True) for ch in chans}
     mean = {ch: float(np.mean(meas.series[ch])) for ch in chans}
     test_seed = seed + 1  # other random streams than the fit's
-
-    grids = {ch: grid for ch in chans}
 
     def evaluate(m: NoiseModel, only=None) -> dict:
         return {ch: _state(m, ch, grids[ch], sig[ch], mean[ch], realizations, test_seed)

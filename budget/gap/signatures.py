@@ -22,9 +22,11 @@ x_k (rad/s or m/s²) at ``rate_hz``:
 * ``lattice``: the step δ (unit of the channel) when every first difference is a whole multiple
   of one step (raw counts, or an integrated output quantized to √12·Q = δ·dt), else ``None``;
   tested on the first ``LATTICE_SAMPLES`` differences, |d/δ − round(d/δ)| < 0.02 for 99.9 %;
-* ``temp_coef``: least-squares coefficient of x on the temperature channel in a regression
-  with intercept and linear time trend (unit/°C), when the log has one (a temperature that
-  only rises linearly cannot be told from a rate ramp, and is not used);
+* ``temp_coef``: coefficient of x on the temperature channel in a regression with intercept
+  and linear time trend (unit/°C), when the log has one (a temperature that only rises
+  linearly cannot be told from a rate ramp, and is not used): generalised least squares under
+  the channel model's noise spectrum when the grid has one (:mod:`budget.gap.gls`, what the
+  workflow uses), else ordinary least squares;
 * ``low`` (grids built with ``low_frequency``): c_k² of the detrended record's DCT-II
   coefficients below the first Welch band (unit², :mod:`budget.gap.lowfreq`): periods from
   ≈ 40 s to the record.
@@ -45,6 +47,7 @@ from ..errors import InputError
 from ..noise import welch_psd
 from ..noise.allan import AllanResult, overlapping_avar
 from . import lowfreq
+from .gls import regression_weights
 from .whitening import Whitening
 
 #: Fewest samples the workflow accepts (≥ 10 octave τ and a 256-point Welch segment).
@@ -133,9 +136,12 @@ class SignatureGrid:
 
     @classmethod
     def for_log(cls, n_samples: int, rate_hz: float, temp_c: np.ndarray | None = None,
-                low_frequency: bool = False) -> "SignatureGrid":
+                low_frequency: bool = False, noise_psd=None) -> "SignatureGrid":
         """The grid of a log; ``low_frequency``: also the low-frequency bands
-        (:mod:`budget.gap.lowfreq`)."""
+        (:mod:`budget.gap.lowfreq`); ``noise_psd``: the channel model's two-sided PSD
+        S(f) (:func:`budget.gap.gls.model_spectrum`), which makes the temperature statistic a
+        GLS coefficient weighted by 1/S (:mod:`budget.gap.gls`; ``None``: ordinary least
+        squares given intercept and trend)."""
         if n_samples < MIN_SAMPLES:
             raise InputError(f"log too short: {n_samples} samples", field="samples",
                              expected=f"at least {MIN_SAMPLES} samples (≥ 10 octave τ and a Welch "
@@ -158,10 +164,13 @@ class SignatureGrid:
             # partial regression on T given a linear trend: a rate ramp is left to the slope
             # statistic and a slow warm-up does not mask faster temperature changes
             temp = np.asarray(temp_c, float)
-            dT = temp - temp.mean()
-            dT = dT - _dot(time_w, dT) * tc
-            ss = _dot(dT, dT)
-            temp_w = dT / ss if ss > 1e-12 * temp.size else None
+            if noise_psd is not None:
+                temp_w = regression_weights(temp, rate_hz, noise_psd)
+            else:
+                dT = temp - temp.mean()
+                dT = dT - _dot(time_w, dT) * tc
+                ss = _dot(dT, dT)
+                temp_w = dT / ss if ss > 1e-12 * temp.size else None
         k_max = (lowfreq.low_k_max(n_samples, FIRST_BIN * rate_hz / nperseg, 1.0 / rate_hz)
                  if low_frequency else 0)
         return cls(float(rate_hz), int(n_samples), m.astype(np.int64), nperseg, n_seg,

@@ -52,6 +52,7 @@ from . import whitening
 from .candidates import LIBRARY
 from .detectors import direct_proposals
 from .fitting import CandidateFit, FitContext
+from .gls import model_spectrum
 from .inputs import check_compatible, load_measured, load_model
 from .effect_size import (DEFAULT_TOLERANCE_DB, EffectSizeBand, LooSizes, Sizes, db_terms,
                           kurtosis_size, loo_sizes)
@@ -116,6 +117,14 @@ def _whitened(states: dict[str, _State]) -> dict[str, _State]:
             out[ch] = replace(st, grid=grid, terms=gap_terms(st.meas, st.summary, grid),
                               loo=loo_z(st.sims, grid))
     return out
+
+
+def _spectrum(model: NoiseModel, ch: str, meas):
+    """The channel model's noise spectrum, which weights the temperature statistic
+    (:mod:`budget.gap.gls`); None without a temperature channel."""
+    if meas.temp_c is None:
+        return None
+    return model_spectrum(model.to_si().channel_effects(ch), 1.0 / meas.rate_hz)
 
 
 def _with_rate(model: NoiseModel, rate_hz: float) -> NoiseModel:
@@ -340,7 +349,8 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     states: dict[str, _State] = {}
     for ch in chans:
         if meas.kind == "log":
-            grid = SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c, low_frequency)
+            grid = SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c, low_frequency,
+                                         noise_psd=_spectrum(current, ch, meas))
             x = meas.series[ch]
             sig, mean = series_signature(x, grid, lattice=True), float(np.mean(x))
         else:
