@@ -41,6 +41,11 @@ def test_model_gap_page_runs_the_example():
     ref = run_gap(log, get_part("ADIS16405"), seed=0, realizations=4)
     assert shown["gap before (mean z²)"] == f"{ref.gap_before:.3g}"
     assert shown["gap after (mean z²)"] == f"{ref.gap_after:.3g}"
+    # the page's verdict is the report's channel states: a warning names every channel not ok
+    open_channels = [ch for ch in ref.channels if ref.channel_state(ch) != "ok"]
+    warned = " ".join(w.value for w in at.warning)
+    assert all(f"{ch} (" in warned for ch in open_channels)
+    assert ("Not explained" in warned) == bool(open_channels)
     # a later input change does not re-run the workflow: the last run stays, with a note
     at.number_input(key="gap_seed").set_value(1).run()
     assert not at.exception

@@ -109,3 +109,21 @@ def test_size_gain_lets_a_peak_cross_its_band_by_scatter():
     by 0.1 dB (peak 0.40 → 0.99 dB beyond the spread): progress, not worse."""
     gain, worse = _size_gain(Sizes(0.64, 0.40, 2.27), Sizes(0.63, 0.99, 0.003), _band(), "gyro_x")
     assert gain == pytest.approx(1.0) and not worse
+
+
+def test_a_channel_within_its_null_threshold_but_beyond_tolerance_is_not_labelled_ok():
+    """One 5000 deg/s spike in a ten-minute log: after the outliers step the spike-laden model's
+    null threshold is so wide that the gap is 'within noise', yet a 7 dB misfit remains at short
+    τ. The channel is labelled MISFIT (summary and JSON), and 'ok' only where both hold."""
+    x, _, _ = gt.make(None, 60_000, 4100)
+    x["gyro_x"][1000] += 5000.0 * gt.DEG
+    rep = run_gap(log_from_arrays(x, gt.RATE), BASE, seed=0, check_tau_range=False)
+    d = rep.to_dict()["channels"]
+    for ch, c in rep.channels.items():
+        within = c.gap_after <= rep.null_after.channel_threshold(ch)
+        beyond = rep.band_after.beyond(ch, c.sizes_after)
+        want = "GAP" if not within else "MISFIT" if beyond else "ok"
+        assert rep.channel_state(ch) == want == d[ch]["state_after"]
+    assert rep.channel_state("gyro_x") == "MISFIT", rep.summary()
+    line = next(x for x in rep.summary().splitlines() if x.strip().startswith("gyro_x"))
+    assert "MISFIT" in line and " ok " not in line

@@ -109,8 +109,15 @@ def _show(report) -> None:
     if report.steps:
         st.subheader("Effects named, in order")
         st.dataframe(tidy(_steps_frame(report)), hide_index=True, key="gap_steps")
-    else:
+    open_channels = {ch: report.channel_state(ch) for ch in report.channels if report.channel_state(ch) != "ok"}
+    if open_channels:
+        st.warning("Not explained: " + ", ".join(f"{ch} ({state})" for ch, state in open_channels.items())
+                   + f". GAP: beyond the channel's null threshold; MISFIT: within it, but a misfit beyond "
+                     f"the tolerance remains. Stop: {report.stop_reason}")
+    elif not report.steps:
         st.success("No effect is missing: the log follows its model within the statistical noise.")
+    else:
+        st.caption(f"Stop: {report.stop_reason}")
     st.plotly_chart(gap_figure(report), key="gap_fig")
     ch = st.selectbox("channel", list(report.channels), key="gap_channel")
     st.plotly_chart(adev_figure(report, ch), key="gap_adev")

@@ -196,6 +196,17 @@ class GapReport:
         return all(not self.band_after.beyond(ch, c.sizes_after) for ch, c in self.channels.items()
                    if c.sizes_after is not None)
 
+    def channel_state(self, ch: str) -> str:
+        """"GAP" beyond the channel's null threshold; "MISFIT" within it but with a misfit beyond
+        the tolerance (peak P or kurtosis: a heavy-tailed null, e.g. after a few huge spikes,
+        makes the threshold too wide to say so); "ok" within both."""
+        c = self.channels[ch]
+        if not c.gap_after <= self.null_after.channel_threshold(ch):
+            return "GAP"
+        if self.band_after is not None and c.sizes_after is not None and self.band_after.beyond(ch, c.sizes_after):
+            return "MISFIT"
+        return "ok"
+
     def to_dict(self) -> dict:
         chans = {}
         for ch, c in self.channels.items():
@@ -203,6 +214,7 @@ class GapReport:
                          "threshold_before": self.null_before.channel_threshold(ch),
                          "threshold_after": self.null_after.channel_threshold(ch),
                          "within_noise_after": c.gap_after <= self.null_after.channel_threshold(ch),
+                         "state_after": self.channel_state(ch),
                          "n_terms": c.terms_after.n_terms,
                          "effect_size_before": vars(c.sizes_before) if c.sizes_before else None,
                          "effect_size_after": vars(c.sizes_after) if c.sizes_after else None,
@@ -275,13 +287,19 @@ class GapReport:
         for ch, c in self.channels.items():
             loc = localize(c.terms_after)["top"][:2]
             where = "; ".join(f"{t['statistic']} {t['where']} z={t['z']:+.1f}" for t in loc)
-            flag = "ok" if c.gap_after <= thr[ch] else "GAP"
+            flag = self.channel_state(ch)
             size = ""
             if c.sizes_before and c.sizes_after:
                 size = (f"  E {c.sizes_before.rms_db:.2f} → {c.sizes_after.rms_db:.2f} dB, peak "
                         f"{c.sizes_before.peak_db:.2f} → {c.sizes_after.peak_db:.2f} dB")
             lines.append(f"  {ch:8s} {c.gap_before:9.3g} → {c.gap_after:9.3g}  {flag}{size}"
                          + (f"  [{where}]" if where else ""))
+        states = {self.channel_state(ch) for ch in self.channels}
+        if states - {"ok"}:
+            lines.append("  (ok: within noise and tolerance; GAP: beyond the channel's null threshold; MISFIT: "
+                         "within it, but a misfit beyond the tolerance remains — peak P "
+                         f"> {self.band_after.tolerance_db:g} dB or the kurtosis band)" if self.band_after else
+                         "  (ok: within noise; GAP: beyond the channel's null threshold)")
         lines.append(f"stop: {self.stop_reason}")
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
