@@ -151,6 +151,31 @@ def infer_grade(row: Mapping[str, float | None]) -> str:
     return GRADES[-1]
 
 
+#: blocks whose means give the drift span named in a rate-ramp warning (~56 s on an hour)
+DRIFT_BLOCKS = 64
+
+
+def _drift_warning(ch: str, t: NoiseTerms, x: np.ndarray | None, rate_hz: float | None) -> str:
+    """The warning for a channel whose Allan fit resolves a rate ramp R (IEEE-952 σ² = R²τ²/2).
+
+    A resolved ramp is a deterministic drift over the record — a warm-up, a temperature change,
+    a record that was not static — not a sensor noise term: R has no catalog column and it
+    takes the long-τ Allan points that would otherwise fix K and B, so those are doubtful on this
+    channel. The warning gives R in datasheet units per hour and, for a log, the span of the
+    means of :data:`DRIFT_BLOCKS` blocks (what the drift did over the record, whatever its shape).
+    """
+    gyro = ch.startswith("gyro")
+    conv, unit = (u.rad_s_to_deg_h, "deg/h") if gyro else (u.m_s2_to_ug, "µg")
+    text = (f"rate ramp resolved: R = {conv(t.values['R'] * u.HOUR):.3g} {unit} per hour "
+            f"(± {conv(t.sigmas['R'] * u.HOUR):.2g})")
+    if x is not None and rate_hz and x.size >= 2 * DRIFT_BLOCKS:
+        m = x[: x.size // DRIFT_BLOCKS * DRIFT_BLOCKS].reshape(DRIFT_BLOCKS, -1).mean(axis=1)
+        text += (f"; the {x.size / rate_hz / DRIFT_BLOCKS:.3g}-s block means span "
+                 f"{conv(np.ptp(m)):.3g} {unit} over the record")
+    return (f"{ch}: {text} — a drift (warm-up, temperature, motion), not a noise term; no catalog "
+            "column holds it, and this channel's long-τ terms (K, B) are doubtful")
+
+
 def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "measured",
                  grade: str | None = None, vendor: str = "", model: str = "",
                  source: str | None = None, taus="octave", terms=TERMS,
@@ -166,6 +191,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     regimes = []  # findings of the stationarity check (a log only)
     spike_warnings: list[str] = []
     replaced: list[str] = []  # channels whose spikes were replaced
+    series: dict[str, np.ndarray] = {}  # the (spike-repaired) record of each channel fitted
     if isinstance(data, ImuLog):
         allan = {}
         repaired = bool(data.issues.repairs)
@@ -181,6 +207,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                     replaced.append(ch)
                 spike_warnings.append(f"{ch}: " + spikes.message(record_rows(repaired), unit))
             allan[ch] = allan_deviation(x, data.rate_hz, taus, channel=ch, unit=unit)
+            series[ch] = x
         rate, origin = data.rate_hz, f"log {Path(data.source).name}"
         notes += [f"log repaired: {r}" for r in data.issues.repairs]
         notes += [f"log: {i.text()}" for i in data.issues.issues if i.severity == "info"]  # e.g. columns not read
@@ -210,6 +237,8 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                  (("Q", t.unit + "·s"), ("R", t.unit + "/s")) if t.values[k] is not None]
         if extra:
             notes.append(f"{ch}: {', '.join(extra)} (no catalog column)")
+    drifting = [ch for ch, t in fits.items() if t.values["R"] is not None and t.resolved["R"]]
+    drift_warnings = [_drift_warning(ch, fits[ch], series.get(ch), rate) for ch in drifting]
     values = _row_values(fits)
     given_grade = grade
     if grade is None:
@@ -230,6 +259,9 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     if regimes:
         row_notes += ("; measured on a log that may not be one stationary regime: "
                       + ", ".join(f"{i.column} {i.kind.replace('_', ' ')}" for i in regimes))
+    if drifting:
+        row_notes += ("; a rate ramp (drift, not noise) resolved on " + ", ".join(drifting)
+                      + ": its long-τ terms are doubtful")
     if replaced:
         row_notes += "; isolated spikes replaced before the fit on " + ", ".join(replaced)
     try:
@@ -244,4 +276,5 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                "terms": list(terms), "model_error": float(model_error), "grade": given_grade,
                "keep_spikes": bool(keep_spikes)}
     return Characterization(part, fits, allan, COMBINE_RULE, notes, options,
-                            spike_warnings + [f"{i.column}: {i.message}" for i in regimes])
+                            spike_warnings + [f"{i.column}: {i.message}" for i in regimes]
+                            + drift_warnings)
