@@ -127,3 +127,20 @@ def test_a_channel_within_its_null_threshold_but_beyond_tolerance_is_not_labelle
     assert rep.channel_state("gyro_x") == "MISFIT", rep.summary()
     line = next(x for x in rep.summary().splitlines() if x.strip().startswith("gyro_x"))
     assert "MISFIT" in line and " ok " not in line
+
+
+def test_one_spike_names_outliers_at_the_rate_floor_and_says_so():
+    """One 30-σ spike in 10 min of gyro_z (written here, not by the detector): outliers are
+    named at the candidate's floor of 2 per record, and the report says the rate is not
+    measured; the magnitude is the spike's within 25 %."""
+    n = 60_000
+    logs, _, _ = gt.make(None, n, 1)
+    dens, _ = gt.base_levels("gyro_z")
+    spike = 30.0 * dens * np.sqrt(gt.RATE)
+    logs["gyro_z"][n // 3] += spike
+    rep = run_gap(log_from_arrays(logs, gt.RATE), BASE, seed=0, max_steps=3)
+    assert [(s.name, s.channel) for s in rep.steps][:1] == [("outliers", "gyro_z")]
+    assert rep.steps[0].params["rate"] == pytest.approx(2.0 / n)
+    assert rep.steps[0].params["magnitude"] == pytest.approx(spike, rel=0.25)
+    said = [t for t in rep.notes if t.startswith("gyro_z: outliers rate at its floor")]
+    assert len(said) == 1 and "(1 spike seen)" in said[0] and said[0] in rep.summary()

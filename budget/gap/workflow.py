@@ -456,6 +456,11 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                              new.terms.gap, before_all, _overall(states),
                              best.sum_sq / old.terms.n_terms, float(gain), penalty, best.n_params,
                              old.sizes(band_step, ch), new.sizes(band, ch)))
+        if effect.name == "outliers" and effect.params["rate"] * old.grid.n_samples <= 2.0 + 1e-9:
+            seen = old.meas.spike_count or 0
+            notes.append(f"{ch}: outliers rate at its floor of 2 per record ({seen} spike"
+                         f"{'' if seen == 1 else 's'} seen): fewer spikes do not measure a rate — read it "
+                         "as 'a few per record at most'; the magnitude is what the record shows")
     if len(steps) < max_steps and stop.startswith("stopped after max_steps"):
         stop = "every candidate that could be fitted was tried and rejected"
     channels_out = {ch: ChannelResult(ch, st.grid, st.meas, start[ch][0], st.terms, start[ch][1],
