@@ -17,7 +17,7 @@ import pytest
 import gap_truth as gt
 from budget.gap import log_from_arrays, run_gap
 from budget.gap.effect_size import EffectSizeBand, Sizes
-from budget.gap.workflow import _size_gain
+from budget.gap.workflow import ALTERNATIVE_MARGIN, _alternatives, _size_gain
 from budget.imu import NoiseModel
 
 BASE = NoiseModel.model_validate(gt.base_model_dict())
@@ -95,6 +95,40 @@ def test_rate_random_walk_on_an_independent_one_hour_log_is_named_first():
             rep.summary()
         k = rep.steps[0].params["K"]
         assert abs(k / truth["params"]["K"] - 1.0) < 0.3
+        # over one hour a Gauss–Markov term with τ_c of a few hundred seconds is the same
+        # process below τ_c (its PSD 2σ²τ_c/(1 + (2πfτ_c)²) → K²/(2πf)² with K² = 2σ²/τ_c):
+        # the step must say that the record does not tell them apart, at a consistent K
+        gm = [a for a in rep.steps[0].alternatives if a["name"] == "gauss_markov"]
+        assert len(gm) == 1, rep.summary()
+        p = gm[0]["params"]
+        assert 0.0 <= gm[0]["margin"] <= ALTERNATIVE_MARGIN
+        assert p["sigma"] * np.sqrt(2.0 / p["tau_s"]) == pytest.approx(k, rel=0.4)
+        assert "not told apart from: gauss_markov" in rep.summary()
+        assert rep.to_dict()["effects"][0]["alternatives"][0]["name"] == "gauss_markov"
+
+
+def test_alternatives_are_same_channel_effects_within_the_margin_best_first():
+    """:func:`_alternatives` on made-up scores: other effects of the named effect's channel
+    that pass (score > 0) within ALTERNATIVE_MARGIN, one entry per effect (its best fit)."""
+    from budget.gap.fitting import CandidateFit
+    from budget.imu import Effect
+
+    def fit(name, x):
+        e = Effect.model_construct(name=name, channel="gyro_x", params={"x": x})  # fit values only
+        return CandidateFit(e, 0.0, 1, np.zeros(1))
+
+    best = fit("rate_random_walk", 0)
+    scores = {id(best): 30.0}
+    items = [("gyro_x", best)]
+    for ch, name, x, sc in [("gyro_x", "gauss_markov", 1, 27.0), ("gyro_x", "gauss_markov", 2, 25.0),
+                            ("gyro_x", "rate_ramp", 3, 29.0), ("gyro_x", "bias_instability", 4, 20.0),
+                            ("gyro_y", "rate_ramp", 5, 29.5), ("gyro_x", "sinusoid", 6, -np.inf)]:
+        f = fit(name, x)
+        scores[id(f)] = sc
+        items.append((ch, f))
+    alts = _alternatives("gyro_x", best, items, lambda item: scores[id(item[1])])
+    assert [(a["name"], a["params"]["x"], a["margin"]) for a in alts] == [
+        ("rate_ramp", 3, pytest.approx(1.0)), ("gauss_markov", 1, pytest.approx(3.0))]
 
 
 def test_size_gain_flags_a_size_pushed_beyond_its_limit():

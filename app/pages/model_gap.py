@@ -140,7 +140,9 @@ def _steps_frame(report):
     return pd.DataFrame([{"effect": s.name, "channel": s.channel,
                           "parameters (SI)": ", ".join(f"{k} = {fmt_value(v)}" for k, v in s.params.items()),
                           "channel gap before (mean z²)": s.gap_before,
-                          "channel gap after (mean z²)": s.gap_after} for s in report.steps])
+                          "channel gap after (mean z²)": s.gap_after,
+                          "not told apart from": ", ".join(a["name"] for a in s.alternatives) or "-"}
+                         for s in report.steps])
 
 
 def render() -> None:

@@ -10,7 +10,8 @@ JSON contract (REPORT.json, scripts rely on it)::
 ``gap_before``/``gap_after`` are the gap *of its channel* before and after the step; the top
 level ``gap_before``/``gap_after`` are the overall gaps (mean over channels) of the base and of
 the updated model. Parameters in SI channel units. Further keys (thresholds, localisation,
-null distribution, notes) are additions; ``options`` records the opt-in statistics the run used
+null distribution, notes, an effect's ``alternatives``: the effects on its channel that the record
+does not tell apart from it) are additions; ``options`` records the opt-in statistics the run used
 (``{"low_frequency": bool, "decorrelate": bool}``, both false by default).
 """
 
@@ -77,9 +78,13 @@ class GapStep(_EffectSizes):
     n_params: int
     sizes_before: Sizes | None = None  # the channel's effect sizes before/after the step
     sizes_after: Sizes | None = None
+    #: other effects the record does not tell apart from this one on its channel (name, params,
+    #: margin below this effect's penalised improvement: :data:`budget.gap.workflow.ALTERNATIVE_MARGIN`)
+    alternatives: tuple[dict, ...] = ()
 
     def to_dict(self) -> dict:
         return {"name": self.name, "channel": self.channel, "params": dict(self.params),
+                "alternatives": [dict(a) for a in self.alternatives],
                 "gap_before": self.gap_before, "gap_after": self.gap_after,
                 "overall_gap_before": self.overall_before, "overall_gap_after": self.overall_after,
                 "predicted_gap": self.predicted_gap, "improvement": self.improvement,
@@ -284,6 +289,12 @@ class GapReport:
             lines.append(f"  {i}. {s.name} on {s.channel} ({par}): channel gap {s.gap_before:.3g} → "
                          f"{s.gap_after:.3g}, peak misfit {s.sizes_before.peak_db:.2f} → "
                          f"{s.sizes_after.peak_db:.2f} dB" if s.sizes_before and s.sizes_after else "")
+            if s.alternatives:
+                lines.append("     not told apart from: " + "; ".join(
+                    f"{a['name']} (" + ", ".join(f"{k}={v:.4g}" for k, v in a["params"].items())
+                    + (f"; {a['margin']:.1f} below)" if a["margin"] >= 0 else
+                       f"; {-a['margin']:.1f} above, with more parameters)") for a in s.alternatives)
+                    + " — the record explains the gap about as well with either")
         for ch, c in self.channels.items():
             loc = localize(c.terms_after)["top"][:2]
             where = "; ".join(f"{t['statistic']} {t['where']} z={t['z']:+.1f}" for t in loc)

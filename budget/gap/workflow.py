@@ -211,6 +211,34 @@ def _fits(model: NoiseModel, ch: str, st: _State) -> list[CandidateFit]:
     return out
 
 
+#: An alternative whose penalised improvement is within this of the named effect's is said in
+#: the step: 2 ln B < 6, i.e. a likelihood ratio below 20 — at most "positive" evidence for the
+#: named effect on Kass & Raftery's scale (JASA 90(430), 1995), not "strong".
+ALTERNATIVE_MARGIN = 6.0
+
+
+def _alternatives(ch: str, best: CandidateFit, scored, score) -> tuple[dict, ...]:
+    """Other effects on the named effect's channel that pass the same test and whose score
+    (penalised Σz² improvement, the ranking's own) is within :data:`ALTERNATIVE_MARGIN` of
+    ``best``'s: the record does not tell them apart (e.g. a rate random walk and a ramp or a
+    flicker term over one hour). Best first; ``margin`` is how far below ``best`` each lies."""
+    top = score((ch, best))
+    out = []
+    for c, f in scored:
+        if c != ch or f.effect.name == best.effect.name:
+            continue
+        s = score((c, f))
+        if np.isfinite(s) and s > 0 and top - s <= ALTERNATIVE_MARGIN:
+            out.append((s, f))
+    seen, alts = set(), []
+    for s, f in sorted(out, key=lambda t: -t[0]):
+        if f.effect.name not in seen:  # one entry per effect (its best fit)
+            seen.add(f.effect.name)
+            alts.append({"name": f.effect.name, "params": dict(f.effect.params),
+                         "margin": float(top - s)})
+    return tuple(alts)
+
+
 def _parsimonious(ch: str, best: CandidateFit, scored, score, st: _State, null: NullModel,
                   alpha: float) -> CandidateFit:
     """Occam's step on the channel of the best-scoring candidate. If a significant candidate
@@ -392,6 +420,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
             old = states[ch]
             n_cand = len(chans)
             best = CandidateFit(effect, old.terms.sum_sq, 1, np.zeros(1))
+            alts = ()
             trial = current.with_effect(effect)
             new = _state(trial, ch, old.grid, old.meas, old.true_value, n_real, seed)
         else:
@@ -430,6 +459,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                         "without making the effect size worse")
                 break
             old = states[ch]
+            alts = _alternatives(ch, best, scored, score)
             trial, new, effect = _simulate_candidate(current, ch, old, best, n_real, seed, null)
         gain = (old.terms.sum_sq - new.terms.sum_sq) / null.inflation(ch)
         penalty = float(stats.chi2.isf(alpha / n_cand, best.n_params))
@@ -455,7 +485,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         steps.append(GapStep(effect.name, ch, dict(effect.params), old.terms.gap,
                              new.terms.gap, before_all, _overall(states),
                              best.sum_sq / old.terms.n_terms, float(gain), penalty, best.n_params,
-                             old.sizes(band_step, ch), new.sizes(band, ch)))
+                             old.sizes(band_step, ch), new.sizes(band, ch), alts))
         if effect.name == "outliers" and effect.params["rate"] * old.grid.n_samples <= 2.0 + 1e-9:
             seen = old.meas.spike_count or 0
             notes.append(f"{ch}: outliers rate at its floor of 2 per record ({seen} spike"
