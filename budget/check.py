@@ -15,7 +15,8 @@ The bias columns are compared with the bias bounds as seed 004's Tables 3–4 do
 bias convention (:class:`~budget.catalog.schema.PartSpec`): an in-run Allan minimum as given,
 an IEEE-952 B as its Allan minimum 0.664·B, a total or turn-on 1σ bias as given (the bounds
 are for a constant bias, so that figure is the natural one). A separately given turn-on bias
-(repeatability) is removed by alignment/calibration before imaging and is reported, not checked.
+(repeatability) is constant over the aperture too and is added in quadrature
+(:meth:`PartSpec.bias_figure`): the Monte Carlo simulates it, so the check counts it.
 """
 
 from __future__ import annotations

@@ -195,3 +195,24 @@ def test_pga_limited_verdict_fails_vrw_and_arw_that_pass_alone_but_not_together(
     assert verdict == "fail" and margin == pytest.approx(a.fast_residual_limit_deg / fp, rel=1e-9)
     flagged, why = res.flag(0, 0)
     assert flagged and "together leave" in why and res0.pga_limited(0, 0)[0] == "pass"
+
+
+def test_one_constant_bias_gives_one_margin_whichever_column_holds_it():
+    """A constant accelerometer bias of 3× the bound stored as a turn-on repeatability (beside a
+    1 µg in-run figure) or as a total 1σ: the bias bound of seed 004 (8) is for the bias constant
+    over Tc, which both are (and the Monte Carlo simulates both) — the same failing margin 1/3,
+    up to the 1 µg in quadrature."""
+    s = get_preset("airborne_xband")
+    b = paper_bounds(s.tc_s, s.range_resolution_m).datasheet()["accel_bias_ug"][0]
+    rep = PartSpec(part_id="REP", grade="tactical", source="x", bias_instability_convention="adev_min",
+                   accel_bias_instability_ug=1.0, accel_bias_repeatability_ug=3.0 * b)
+    tot = PartSpec(part_id="TOT", grade="tactical", source="x", bias_instability_convention="total_1sigma",
+                   accel_bias_instability_ug=3.0 * b)
+    rows = {r["part_id"]: r for r in check_parts([rep, tot], s).to_dict()["scenarios"][0]["parts"]}
+    m_rep = rows["REP"]["margins"]["accel_bias_instability_ug"]
+    m_tot = rows["TOT"]["margins"]["accel_bias_instability_ug"]
+    assert m_rep == pytest.approx(m_tot, rel=1e-6) and m_tot == pytest.approx(1.0 / 3.0)
+    assert rows["REP"]["verdict"] == rows["TOT"]["verdict"] == "fail"
+    # without a repeatability column the in-run figure is checked as given
+    only = rep.model_copy(update={"accel_bias_repeatability_ug": None})
+    assert only.bias_figure("accel_bias_instability_ug") == 1.0

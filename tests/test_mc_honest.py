@@ -371,3 +371,28 @@ def test_result_states_the_imu_rate_it_was_simulated_at():
     assert note in r.summary()
     same = run_mc(scen, part.model_copy(update={"rate_hz": scen.imu_rate_hz}), 2, 1)
     assert "not used" not in same.judged_on["imu_rate"]
+
+
+# --- a shifted target is not a defocused one ---------------------------------------------------
+
+def test_a_target_shifted_30_cells_by_a_linear_phase_is_focused_and_only_a_shift_limit_fails_it():
+    """A linear phase of 30 cycles over the aperture (a constant line-of-sight velocity error)
+    moves every target 30 azimuth cells and defocuses none (a Fourier shift). The metrics must
+    find the targets where they went (their search box is the whole image, up to halfway to a
+    target in the same range extent), so the trial passes after PGA with a peak shift of 30 ± 1
+    cells; an acceptance with a geolocation limit (max_peak_shift_cells = 5) fails it for that
+    reason alone."""
+    from budget.sar.acceptance import Acceptance
+
+    scen = _zero_lever("airborne_xband")
+    setup = ChainSetup.build(scen, POINTS)
+    u = 2.0 * setup.geom.pulse_times_s / setup.geom.aperture_time_s
+    err = los_offset_for_phase(setup.geom, 30.0 * np.pi * u)
+    o = run_trial_errors(setup, err, 0, 0, 0.1)
+    assert o.passed_after, o.reasons
+    assert o.after["peak_loss_db"] < 0.5 and o.after["pslr_db"] < -30.0  # Taylor −35 dB: ideal
+    outcome = {}
+    for limit in (5.0, 29.0, 31.0):  # the shift lies between 29 and 31 cells
+        opt = POINTS.model_copy(update={"acceptance": Acceptance(max_peak_shift_cells=limit)})
+        outcome[limit] = run_trial_errors(ChainSetup.build(scen, opt), err, 0, 0, 0.1).reasons
+    assert outcome == {5.0: ["peak_shift"], 29.0: ["peak_shift"], 31.0: []}

@@ -18,7 +18,8 @@ says what the figures in the two ``*_bias_instability_*`` columns are:
 With ``total_1sigma`` / ``turn_on_1sigma`` the repeatability columns must stay empty (the figure
 already is the turn-on bias). :meth:`PartSpec.to_si` gives the flicker coefficient B, the Allan
 floor and the turn-on 1σ accordingly; :meth:`PartSpec.bias_figure` gives the figure the bias
-bounds of seed 004 (8)–(9) are checked against (the Allan-minimum equivalent for ``ieee_b``).
+bounds of seed 004 (8)–(9) are checked against (the Allan-minimum equivalent for ``ieee_b``,
+with a separately given turn-on bias added in quadrature).
 
 ``verified`` (:data:`VERIFIED_STATES`) says how the row's numbers were checked: ``datasheet``
 (read in the vendor's document), ``second_hand`` (a third-party transcription of it),
@@ -138,12 +139,20 @@ class PartSpec(BaseModel):
         return self.bias_instability_convention in CONSTANT_BIAS_CONVENTIONS
 
     def bias_figure(self, column: str) -> float | None:
-        """The bias column in its datasheet unit as compared with seed 004 (8)–(9): the figure as
-        given, except ``ieee_b`` → Allan minimum 0.664·B (the convention of in-run figures)."""
+        """The bias column in its datasheet unit as compared with seed 004 (8)–(9): the bias that
+        stays constant over Tc. The in-run figure as given (``ieee_b`` → Allan minimum 0.664·B),
+        combined with a separately given turn-on bias (the row's ``*_bias_repeatability`` column,
+        same unit) as √(in-run² + turn-on²): both are constant over an aperture, and the Monte
+        Carlo simulates both, so one constant bias stored as repeatability or as a total 1σ gives
+        one margin. With ``total_1sigma`` / ``turn_on_1sigma`` the column already is that bias.
+        ``None`` when neither is given."""
         v = getattr(self, column)
-        if v is None:
+        rep_col = column.replace("_instability_", "_repeatability_")
+        rep = getattr(self, rep_col, None) if rep_col != column else None
+        if v is None and rep is None:
             return None
-        return float(v) * (FLICKER_FLOOR if self.bias_instability_convention == "ieee_b" else 1.0)
+        fig = 0.0 if v is None else float(v) * (FLICKER_FLOOR if self.bias_instability_convention == "ieee_b" else 1.0)
+        return math.hypot(fig, 0.0 if rep is None else float(rep))
 
     def to_si(self) -> "ImuErrorsSI":
         """SI error parameters (``None`` datasheet values become 0.0 and are listed in ``missing``).

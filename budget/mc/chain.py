@@ -69,8 +69,11 @@ SAR_STREAM = STREAMS["sar_receiver_noise"]
 SCENE_STREAM = STREAMS["sar_scene"]
 #: Receiver noise of the perfect-IMU reference trials (budget.mc.reference).
 REFERENCE_STREAM = STREAMS["sar_reference"]
-#: Azimuth search half-width (cells) for the metrics: linear phase only shifts a target.
-AZ_SEARCH_CELLS = 20.0
+#: Azimuth search half-width (cells) for the metrics: the whole image, up to halfway to another
+#: target sharing its range box (budget.sar.metrics.TargetMeter). A linear phase error — a
+#: free-inertial velocity error — only shifts a target; at long range or with fine cells the shift
+#: is tens of cells, and a box that missed the target would score empty sidelobe as defocus.
+AZ_SEARCH_CELLS = math.inf
 #: PGA's smallest window (samples): the settled window when a PGA result does not report one.
 PGA_MIN_WINDOW = 8
 #: Trials whose images are formed and measured together (a divisor of the 64-trial chunk). Batches
@@ -83,7 +86,7 @@ TRIAL_METRICS = ("azimuth_broadening", "range_broadening", "pslr_db", "islr_db",
                  "residual_phase_rms_deg", "pga_error_rms_deg", "fast_phase_rms_deg")
 #: Failure reasons in the order they are reported.
 REASONS = ("range_migration", "residual_phase_noise", "broadening", "pslr", "islr", "peak_loss",
-           "pga_failed", "pga_not_converged")
+           "peak_shift", "pga_failed", "pga_not_converged")
 
 
 def realistic_scene_available() -> bool:
@@ -246,11 +249,15 @@ class TrialOutcome:
 
 #: Image checks (:func:`budget.sar.acceptance.failed_checks`) that are verdict reasons after PGA
 #: (a peak shift is geolocation: it only enters the acceptance's own pass before PGA).
-_IMAGE_REASONS = ("broadening", "pslr", "islr", "peak_loss")
+_FOCUS_REASONS = ("broadening", "pslr", "islr", "peak_loss")
+#: Image checks of the acceptance the verdict applies after PGA: focus, and the peak shift — a
+#: geolocation limit, off by default (:data:`~budget.mc.options.VERDICT_ACCEPTANCE`: 1000 cells),
+#: applied when the user's acceptance sets one.
+_IMAGE_REASONS = _FOCUS_REASONS + ("peak_shift",)
 
 #: Failure reasons a perfect IMU can meet on a cluttered or noisy scene (PGA's own estimation
 #: error): the ones the perfect-IMU twin of a trial may clear (:func:`run_trials`).
-_SCENE_REASONS = frozenset(_IMAGE_REASONS + ("residual_phase_noise",))
+_SCENE_REASONS = frozenset(_FOCUS_REASONS + ("residual_phase_noise",))
 
 
 def _to_pulses(time_s: np.ndarray, series: np.ndarray, pulse_times_s: np.ndarray) -> np.ndarray:
@@ -463,7 +470,7 @@ def _judge_against_twins(setup: ChainSetup, out: list[TrialOutcome], m_after, tr
     for b, twin in zip(idx, twins):
         limits = reference_from_outcomes([twin], opt.acceptance, opt.max_residual_phase_rms_deg)
         image_fails = failed_checks(m_after, limits.acceptance)
-        if any(image_fails[name][b] for name in _IMAGE_REASONS):
+        if any(image_fails[name][b] for name in _FOCUS_REASONS):
             continue
         lim = limits.max_residual_phase_rms_deg
         if lim is not None and not out[b].after["residual_phase_rms_deg"] <= lim:

@@ -232,17 +232,25 @@ class TargetMeter:
         self.r_m = geom.ref_range_m + r_off
         self.cell_a = np.array([geom.azimuth_cell_m(rk) for rk in self.r_m])
         self.cell_r = geom.range_cell_m
-        boxes = []
+        centres, half = [], []
         for k, (xk, rk_off, rk, cell_a) in enumerate(zip(x, r_off, self.r_m, self.cell_a)):
             ie, je = (xk - self.az0) / self.dx, (rk - self.rg0) / self.dr
             if not (0 <= ie <= self.n_a - 1 and 0 <= je <= self.n_r - 1):
                 raise InputError(f"target {k} at azimuth {xk:g} m, range {rk_off:g} m is outside the image",
                                  row=k, field="targets", expected="targets inside the image grid")
-            ha = max(1, int(np.ceil((azimuth_search_cells or search_cells) * cell_a / self.dx)))
+            cells = search_cells if azimuth_search_cells is None else azimuth_search_cells
+            ha = max(1, int(min(self.n_a, np.ceil(cells * cell_a / self.dx))))
             hr = max(1, int(np.ceil(search_cells * self.cell_r / self.dr)))
-            boxes.append((max(0, int(round(ie)) - ha), min(self.n_a, int(round(ie)) + ha + 1),
-                          max(0, int(round(je)) - hr), min(self.n_r, int(round(je)) + hr + 1)))
-        self.boxes = boxes
+            centres.append((int(round(ie)), int(round(je))))
+            half.append([ha, hr])
+        # a box never reaches halfway to another target that lies within its range extent, so
+        # that each box holds its own target's main lobe, however wide the azimuth search
+        for k, (ik, jk) in enumerate(centres):
+            for m, (im, jm) in enumerate(centres):
+                if m != k and abs(jk - jm) <= half[k][1]:
+                    half[k][0] = max(1, min(half[k][0], (abs(ik - im) - 1) // 2))
+        self.boxes = [(max(0, i - ha), min(self.n_a, i + ha + 1), max(0, j - hr), min(self.n_r, j + hr + 1))
+                      for (i, j), (ha, hr) in zip(centres, half)]
         self.null_az_m = self.ideal_az.first_null_cells * self.cell_a
         self.null_rg_m = self.ideal_rg.first_null_cells * self.cell_r
         self.ext_az_m = None if islr_extent_cells is None else islr_extent_cells * self.cell_a
@@ -320,9 +328,10 @@ def measure_targets(image: SarImage, geom: SarGeometry, scene: Scene, window: Wi
 
     ``window``: the window the image was formed with (default: the geometry's); ``search_cells``:
     half-size of the peak search box around the true position, in resolution cells;
-    ``azimuth_search_cells`` widens it in azimuth only (default: ``search_cells``) — a linear phase
-    error shifts a target along azimuth without defocusing it, and the default scene puts one
-    target per range line, so a wide azimuth search still finds the right target.
+    ``azimuth_search_cells`` widens it in azimuth only (default: ``search_cells``; ``math.inf``:
+    the whole image) — a linear phase error shifts a target along azimuth without defocusing it.
+    A box never reaches halfway to another target within its range extent, so a wide azimuth
+    search still finds the right target.
     """
     if not isinstance(scene, Scene) or not scene.targets:
         raise InputError("no point targets to measure", field="targets", expected="a scene with ≥ 1 target")
