@@ -113,6 +113,8 @@ class McResult:
             line += f"navigation: {j['navigation']}\n"
         if j.get("imu_rate"):
             line += j["imu_rate"] + "\n"
+        if j.get("platform_motion"):
+            line += j["platform_motion"] + "\n"
         if j.get("wideband_note"):
             line += j["wideband_note"] + "\n"
         if j.get("reference_summary"):

@@ -32,6 +32,7 @@ from threadpoolctl import threadpool_limits
 from ..catalog.fill import resolve_unspecified
 from ..errors import InputError, whole_number
 from ..scenario import Scenario
+from ..units import G0
 from .aggregate import Aggregate
 from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
 from .options import McOptions
@@ -183,6 +184,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     extra["unspecified_terms"] = resolution.to_dict()
     judged = _cached_setup(scen_json, opt_json).describe()
     judged["imu_rate"] = imu_rate_note(scenario, getattr(model, "rate_hz", None))
+    judged["platform_motion"] = platform_motion_note(scenario)
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
                     tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
                     options=options, scenario=scenario, judged_on=judged)
@@ -197,5 +199,23 @@ def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
                  "bias terms are per √Hz and per second, so the motion error they make over Tc does not "
                  "depend on the sampling rate; quantization, tones and a pre-filter do — set imu_rate_hz "
                  "to the part's rate to simulate it at that rate)")
+    return text
+
+
+def platform_motion_note(scenario: Scenario) -> str:
+    """What the simulated platform does: straight, level, unrotated flight at the scenario's speed
+    (``budget.nav.platform.true_motion`` without a disturbance), so the IMU's scale factor and
+    misalignment act on a zero rate and on gravity only — the scenario's manoeuvre levels
+    (``platform_rate_deg_s``, ``platform_accel_m_s2``), which the analytic bounds use, are not
+    simulated, and a gyro scale factor or misalignment has no effect on the verdict."""
+    text = ("platform simulated in straight, level, unrotated flight: the gyros see no rotation and the "
+            "accelerometers gravity only, so gyro scale factor and misalignment have no effect here")
+    extra = []
+    if scenario.platform_rate_deg_s > 0:
+        extra.append(f"platform_rate_deg_s = {scenario.platform_rate_deg_s:g}")
+    if abs(scenario.platform_accel_m_s2 - G0) > 1e-6 * G0:
+        extra.append(f"platform_accel_m_s2 = {scenario.platform_accel_m_s2:g}")
+    if extra:
+        text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) is not simulated")
     return text
 
