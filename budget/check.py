@@ -107,9 +107,12 @@ class CheckResult:
         if paper_ok == pga_ok:
             return False, None
         if paper_ok and combined:
+            alone = "; ".join(f"{label} alone: margin {pm[PARAM_NAMES.index(col)]:.3g}"
+                              for label, col in (("VRW", "accel_vrw_m_s_rt_h"), ("ARW", "gyro_arw_deg_rt_h"))
+                              if col in PARAM_NAMES and np.isfinite(pm[PARAM_NAMES.index(col)]))
             return True, (f"passes the {self.mode} bounds (min margin {self.min_margin[i, s]:.3g}) but its VRW and "
                           f"ARW together leave {self.fast_phase(i, s):.3g}° rms beyond PGA's window (limit "
-                          f"{self.fast_phase_limit_deg[s]:g}°; each alone passes its bound): margin {mm:.3g}")
+                          f"{self.fast_phase_limit_deg[s]:g}°{'; ' + alone if alone else ''}): margin {mm:.3g}")
         j = int(np.argmin(pm))
         si = PARAMETERS[j].bound
         rule = (self.pga_rules[s] if s < len(self.pga_rules) else {}).get(si, "fast phase / lever arm")

@@ -1,5 +1,7 @@
 """Part × scenario check and grade recommendation."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -195,6 +197,10 @@ def test_pga_limited_verdict_fails_vrw_and_arw_that_pass_alone_but_not_together(
     assert verdict == "fail" and margin == pytest.approx(a.fast_residual_limit_deg / fp, rel=1e-9)
     flagged, why = res.flag(0, 0)
     assert flagged and "together leave" in why and res0.pga_limited(0, 0)[0] == "pass"
+    # the flag states each term's own margin: both pass alone (VRW at 1/0.8; ARW's bound is also
+    # tightened by the lever arm, so its margin is lower), which is why only the sum fails
+    alone = dict(re.findall(r"(VRW|ARW) alone: margin ([\d.]+)", why))
+    assert float(alone["VRW"]) == pytest.approx(1.25, rel=0.01) and 1.0 <= float(alone["ARW"]) <= 1.25, why
 
 
 def test_one_constant_bias_gives_one_margin_whichever_column_holds_it():
