@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -178,3 +179,23 @@ def test_one_spike_names_outliers_at_the_rate_floor_and_says_so():
     assert rep.steps[0].params["magnitude"] == pytest.approx(spike, rel=0.25)
     said = [t for t in rep.notes if t.startswith("gyro_z: outliers rate at its floor")]
     assert len(said) == 1 and "(1 spike seen)" in said[0] and said[0] in rep.summary()
+
+
+def test_a_bias_step_is_warned_in_the_gap_report_naming_channel_and_meaning():
+    """A bias step of 160 deg/h (16× the record's own 10 deg/h block-to-block wander) half-way through
+    one hour of gyro_z, written here: the gap workflow — which assumes one stationary regime,
+    and would read the step as a rate random walk — warns, naming the channel and the row within
+    1 % of the record, as the noise characterisation does; a model-following log gets no such
+    warning (seed 3)."""
+    n = gt.ONE_HOUR
+    logs, _, _ = gt.make(None, n, 4)
+    logs["gyro_z"][n // 2:] += np.deg2rad(160.0) / 3600.0
+    rep = run_gap(log_from_arrays(logs, gt.RATE), BASE, seed=0, max_steps=2)
+    warned = [t for t in rep.notes if t.startswith("WARNING, not one stationary regime: gyro_z")]
+    assert len(warned) == 1 and "rate random walk" in warned[0], rep.notes
+    row = int(re.search(r"near (?:row|sample) ([\d,]+)", warned[0]).group(1).replace(",", ""))
+    assert abs(row - n // 2) < 0.01 * n
+    assert warned[0] in rep.summary()
+    clean, _, _ = gt.make(None, n, 3)
+    rep0 = run_gap(log_from_arrays(clean, gt.RATE), BASE, seed=0, max_steps=1)
+    assert not [t for t in rep0.notes if "stationary regime" in t]

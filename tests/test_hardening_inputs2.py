@@ -228,7 +228,10 @@ def test_real_adis16405_log_characterizes_without_a_stationarity_warning(shared_
     path = shared_data / "logs" / "adis16405_static_1.csv.gz"
     assert main(["noise", "characterize", str(path), "-q"]) == 0
     out = capsys.readouterr()
-    assert "warning:" not in out.err and "warning:" not in out.out
+    warnings = [ln for ln in (out.err + out.out).splitlines() if ln.startswith("warning:")]
+    # the only warnings are the misfits the IEEE-952 set cannot describe (decimation filter,
+    # 20 Hz line, 0.56 Hz lines: README "Model gap"), none of non-stationarity
+    assert warnings and all("do not describe its Allan curve" in w for w in warnings), warnings
 
 
 # --- 2. trials / seed / workers and McOptions numbers -----------------------------------------

@@ -50,3 +50,24 @@ def test_logs_that_follow_a_noise_model_get_no_drift_warning(seed):
     res = characterize(_log(_tactical(seed)))
     assert not [w for w in res.warnings if "rate ramp" in w], res.warnings
     assert "rate ramp" not in res.part.notes
+
+
+def test_a_tone_the_ieee952_terms_cannot_describe_is_warned_at_its_tau():
+    """A 1 mg (0.0098 m/s²) 2 Hz vibration tone on accel_x of a tactical log (written here): the
+    Allan curve has a bump near τ ≈ 0.37/f the IEEE-952 set cannot follow; the fit's χ² rejects
+    it and the warning names the channel and a τ within a factor 2 of 0.18 s — and no other
+    channel."""
+    ch = _tactical(32)
+    t = np.arange(HOUR) / RATE
+    ch["accel_x"] = ch["accel_x"] + 0.0098 * np.sin(2 * np.pi * 2.0 * t)
+    res = characterize(_log(ch))
+    mis = [w for w in res.warnings if "do not describe its Allan curve" in w]
+    assert len(mis) == 1 and mis[0].startswith("accel_x: "), res.warnings
+    tau = float(re.search(r"at τ = ([\d.e+-]+) s", mis[0]).group(1))
+    assert 0.09 <= tau <= 0.37, mis[0]
+
+
+@pytest.mark.parametrize("seed", [41, 42, 43])
+def test_logs_that_follow_a_noise_model_get_no_misfit_warning(seed):
+    res = characterize(_log(_tactical(seed)))
+    assert not [w for w in res.warnings if "Allan curve" in w], res.warnings

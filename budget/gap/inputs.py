@@ -37,6 +37,7 @@ from ..noise import ImuLog
 from ..noise.allan import AllanResult
 from ..noise.log_checks import LogReport
 from ..noise.measurement import read_measurement
+from ..noise.stationarity import check_stationarity
 from ..units import CHANNELS
 from .signatures import MIN_SAMPLES
 
@@ -123,6 +124,12 @@ def _from_log(log: ImuLog) -> Measured:
              "Earth rate are not noise statistics)"]
     notes += [f"log: {i.text()}" for i in log.issues.issues]
     notes += [f"log repair: {r}" for r in log.issues.repairs]
+    # the comparison assumes one stationary regime, as the Allan fit does: say where it is not
+    for issue in check_stationarity(series, repaired=bool(log.issues.repairs)):
+        meaning = ("a bias step reads as a rate random walk" if issue.kind == "bias_step"
+                   else "a noise-level change reads as heavy tails or a level misfit")
+        notes.append(f"WARNING, not one stationary regime: {issue.column}: {issue.message} — {meaning}; "
+                     f"what is named on {issue.column} is doubtful")
     temp = None
     if log.temp_c is not None:
         temp = np.asarray(log.temp_c, float)

@@ -17,6 +17,7 @@ otherwise the accelerometer bias and noise limits).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from pydantic import ValidationError
+from scipy import stats
 
 from .. import units as u
 from ..catalog.schema import GRADES, PartSpec
@@ -176,6 +178,30 @@ def _drift_warning(ch: str, t: NoiseTerms, x: np.ndarray | None, rate_hz: float 
             "column holds it, and this channel's long-τ terms (K, B) are doubtful")
 
 
+#: A fit whose χ² has a p-value below this does not describe its Allan curve (a warning).
+MISFIT_P = 1e-6
+
+
+def _misfit_warning(ch: str, t: NoiseTerms, a: AllanResult, model_error: float) -> str | None:
+    """The warning for a channel whose IEEE-952 fit the Allan curve rejects: χ² (the fit's own,
+    weights 1/var(σ̂²) = 1/(σ⁴(2/edf + ε²))) beyond its χ²_dof quantile at p = :data:`MISFIT_P`.
+    Names the τ of the largest standardised residual and the measured/fitted Allan deviation
+    there: a tone, vibration, output filter or other effect outside Q, N, B, K, R that the
+    fitted terms absorb (a 1.7× VRW from a tone, a bias instability from a slow cycle)."""
+    if t.dof <= 0 or not stats.chi2.sf(t.chi2, t.dof) < MISFIT_P:
+        return None
+    tau, lo, hi = np.asarray(a.tau_s), t.tau_range_s[0] * (1 - 1e-9), t.tau_range_s[1] * (1 + 1e-9)
+    sel = (tau >= lo) & (tau <= hi) & np.isfinite(a.adev) & (a.adev > 0) & (a.edf > 0)
+    m2 = t.model_adev(tau[sel]) ** 2
+    z = (a.adev[sel] ** 2 - m2) / (m2 * np.sqrt(2.0 / a.edf[sel] + model_error ** 2))
+    k = int(np.argmax(np.abs(z)))
+    ratio = a.adev[sel][k] / math.sqrt(m2[k])
+    return (f"{ch}: the IEEE-952 terms do not describe its Allan curve (χ²/dof = {t.chi2:.3g}/{t.dof}): "
+            f"measured {ratio:.3g}× the fit at τ = {tau[sel][k]:.3g} s (z = {z[k]:+.1f}) — a tone, "
+            "vibration, output filter or other effect outside Q, N, B, K, R, which the fitted terms "
+            "absorb; the model-gap workflow (sar-budget gap) can name it")
+
+
 def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "measured",
                  grade: str | None = None, vendor: str = "", model: str = "",
                  source: str | None = None, taus="octave", terms=TERMS,
@@ -232,13 +258,15 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     for ch, t in fits.items():
         weak = [k for k in TERMS if t.values[k] is not None and not t.resolved[k]]
         if weak:
-            notes.append(f"{ch}: {', '.join(weak)} fitted but not resolved (< 2σ)")
+            notes.append(f"{ch}: {', '.join(weak)} fitted but not resolved (its variance "
+                         "coefficient, the value squared, within 2σ of 0)")
         extra = [f"{k}={t.values[k]:.3g} {ch_unit}" for k, ch_unit in
                  (("Q", t.unit + "·s"), ("R", t.unit + "/s")) if t.values[k] is not None]
         if extra:
             notes.append(f"{ch}: {', '.join(extra)} (no catalog column)")
     drifting = [ch for ch, t in fits.items() if t.values["R"] is not None and t.resolved["R"]]
     drift_warnings = [_drift_warning(ch, fits[ch], series.get(ch), rate) for ch in drifting]
+    misfit_warnings = [w for ch, t in fits.items() if (w := _misfit_warning(ch, t, allan[ch], model_error))]
     values = _row_values(fits)
     given_grade = grade
     if grade is None:
@@ -252,7 +280,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     row_notes = f"axes combined by {COMBINE_RULE}"
     weak_cols = _unresolved_columns(fits)
     if weak_cols:
-        weak_text = (f"{', '.join(weak_cols)}: fitted but not resolved (< 2σ) on the worst axis — "
+        weak_text = (f"{', '.join(weak_cols)}: fitted but not resolved (variance coefficient within 2σ of 0) on the worst axis — "
                      "the record cannot pin this value down")
         notes.append(weak_text)
         row_notes += f"; {weak_text}"
@@ -277,4 +305,4 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                "keep_spikes": bool(keep_spikes)}
     return Characterization(part, fits, allan, COMBINE_RULE, notes, options,
                             spike_warnings + [f"{i.column}: {i.message}" for i in regimes]
-                            + drift_warnings)
+                            + drift_warnings + misfit_warnings)

@@ -108,7 +108,9 @@ class NoiseTerms:
             if v is None:
                 lines.append(f"  {t} {TERM_NAMES[t]:<24} absent")
             else:
-                flag = "" if self.resolved[t] else "  (not resolved)"
+                # resolved = the fitted variance coefficient (value²) ≥ 2σ from 0; the ± is the
+                # value's own 1σ, so a value within ~4 of its ± can be unresolved
+                flag = "" if self.resolved[t] else "  (not resolved: value² within 2σ of 0)"
                 err = f" ± {s:.3g}" if s is not None else ""
                 lines.append(f"  {t} {TERM_NAMES[t]:<24} {v:.4g}{err} {units[t]}{flag}")
         return "\n".join(lines)
