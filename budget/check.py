@@ -230,18 +230,26 @@ class CheckResult:
         """The verdict against the ``mode`` bounds, beside the PGA-limited one (fast phase and
         lever arm); every disagreement is explained below the table."""
         wb = max(len(p) for p in self.params) + 2  # the binding column holds any parameter name
-        lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'min margin':>11}  {'binding':<{wb}}"
+        n_par = len(self.params)
+        lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'terms':>6}{'min margin':>11}  {'binding':<{wb}}"
                  f"{'PGA-limited':<12}{'margin':>8}{'beyond PGA':>12}"]
         notes = []
+        partial = False
         for i, (r, mm) in enumerate(zip(self._part_records(scenario_index), self.min_margin[:, scenario_index])):
             v, pmm = self.pga_limited(i, scenario_index)
-            lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{_number(mm):>11}  "
+            given = n_par - len(r["unspecified"])
+            partial |= given < n_par
+            lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{f'{given}/{n_par}':>6}{_number(mm):>11}  "
                          f"{r['binding'] or '-':<{wb}}{v:<12}{_number(pmm):>8}"
                          f"{_degrees(r['fast_phase_residual_deg']):>12}")
             if r["flag"]:
                 notes.append(f"  {r['part_id']}: {r['flag_reason']}")
         lines.append("beyond PGA: predicted rms of the phase PGA's window cannot see, from the part's VRW and "
                      "ARW (free inertial over Tc; seed 004's limit 1°; '-' where either is unspecified)")
+        if partial:
+            lines.append(f"terms: datasheet terms the verdict rests on, of {n_par}; an unspecified term is not "
+                         "checked (it neither passes nor fails: the JSON lists them under 'unspecified'), so a "
+                         "'pass' on few terms says little — the Monte Carlo fills them from the grade by default")
         if notes:
             lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
                       "its window, attitude error × lever arm); where the verdicts differ:"] + notes

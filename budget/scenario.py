@@ -204,6 +204,18 @@ class Scenario(BaseModel):
             if v is not None and not lo <= v <= hi:
                 raise InputError(f"{v:.4g} is not physically plausible", field=name,
                                  expected=f"{lo:g} … {hi:g} ({why})")
+        # resolutions no aperture or bandwidth can give: δr = c/(2B) with B < 2 f0 (the band's
+        # lower edge above 0 Hz), δℓ ≥ λ/4 (a 180° synthetic aperture)
+        lam = self.c_m_s / self.carrier_frequency_hz
+        if self.range_resolution_m <= 0.25 * lam:
+            raise InputError(f"range resolution {self.range_resolution_m:.4g} m needs a bandwidth "
+                             f"c/(2δr) = {self.c_m_s / (2 * self.range_resolution_m):.4g} Hz, more than "
+                             f"twice the carrier {self.carrier_frequency_hz:.4g} Hz", field="range_resolution_m",
+                             expected=f"> λ/4 = {0.25 * lam:.4g} m (bandwidth < 2 × carrier)")
+        if self.azimuth_resolution_m < 0.25 * lam:
+            raise InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m is finer than any "
+                             "synthetic aperture gives", field="azimuth_resolution_m",
+                             expected=f"≥ λ/4 = {0.25 * lam:.4g} m (a 180° aperture)")
         if any(abs(v) > 1e3 for v in self.lever_arm_m):
             raise InputError("lever arm longer than 1 km", field="lever_arm_m",
                              value=list(self.lever_arm_m), expected="|component| ≤ 1000 m")

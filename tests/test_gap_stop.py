@@ -199,3 +199,18 @@ def test_a_bias_step_is_warned_in_the_gap_report_naming_channel_and_meaning():
     clean, _, _ = gt.make(None, n, 3)
     rep0 = run_gap(log_from_arrays(clean, gt.RATE), BASE, seed=0, max_steps=1)
     assert not [t for t in rep0.notes if "stationary regime" in t]
+
+
+def test_summary_says_which_channels_stay_significant_when_the_stop_rule_is_the_effect_size():
+    """The stop rule is the effect size; a channel can still be beyond its null threshold (a
+    small misfit the record resolves). The summary must say so next to "close enough" instead
+    of leaving the two lines to contradict each other (a report's channel made GAP by hand)."""
+    logs, _, _ = gt.make(None, 60_000, 5)
+    rep = run_gap(log_from_arrays(logs, gt.RATE), BASE, seed=0, max_steps=1)
+    rep.channel_state = lambda ch: "GAP" if ch == "gyro_x" else "ok"  # the case at hand
+    rep.stop_reason = "every channel is close enough: (as the workflow words it)"
+    text = rep.summary()
+    assert rep.channel_state("gyro_x") == "GAP"
+    assert "(gyro_x: still beyond the null threshold (GAP)" in text
+    rep.stop_reason = "no candidate effect can be fitted where the gap is"
+    assert "still beyond the null threshold" not in rep.summary()

@@ -334,7 +334,7 @@ def test_bad_scenario_file_values_name_file_field_and_expectation(tmp_path, caps
 @pytest.mark.parametrize("name, changes, field", [
     ("tiny.yaml", {"slant_range_m": 0.05}, "slant_range_m"),        # scene larger than the range
     ("slowimu.yaml", {"imu_rate_hz": 0.5}, "imu_rate_hz"),          # 3 IMU samples per aperture
-    ("fine.json", {"range_resolution_m": 2e-5}, "range_resolution_m"),  # bandwidth > carrier / 2
+    ("fine.json", {"range_resolution_m": 0.02}, "range_resolution_m"),  # 7.5 GHz > carrier / 2
 ])
 def test_errors_after_the_scenario_was_loaded_name_its_file(tmp_path, capsys, name, changes, field):
     """Values that load (each is plausible on its own) but that the simulator or the motion
@@ -373,7 +373,7 @@ def test_a_sweep_over_several_scenario_files_names_the_one_in_error(tmp_path, ca
 
 
 def test_a_sweep_names_the_file_of_a_scenario_it_cannot_simulate(tmp_path):
-    fine = _write_scenario(tmp_path, "fine.json", range_resolution_m=2e-5)
+    fine = _write_scenario(tmp_path, "fine.json", range_resolution_m=0.02)  # 7.5 GHz: beyond the simulator
     table = budget.sweep(["HG9900"], [str(fine), "automotive_77ghz"], trials=1)
     status = dict(zip(table["scenario"], table["status"]))
     assert status["automotive_77ghz"] == "simulated"

@@ -33,8 +33,8 @@ def test_presets_are_plausible():
     (dict(azimuth_resolution_m=1e-30), "azimuth_resolution_m", "µm"),
     (dict(propagation_speed_m_s=1e12), "propagation_speed_m_s", "light"),
     # each input plausible on its own, together Tc = 5e19 s
-    (dict(medium="sonar", carrier_frequency_hz=100.0, slant_range_m=1e9, azimuth_resolution_m=1e-4,
-          platform_speed_m_s=1e-3), "tc_s", "Tc"),
+    (dict(medium="sonar", carrier_frequency_hz=100.0, slant_range_m=1e9, azimuth_resolution_m=5.0,
+          range_resolution_m=5.0, platform_speed_m_s=1e-3), "tc_s", "Tc"),
 ])
 def test_implausible_scenarios_are_refused_with_reason(update, field, words):
     with pytest.raises(InputError) as e:

@@ -256,3 +256,36 @@ def test_columns_not_read_are_named(tmp_path):
     named = [n for n in c.notes if "column not read" in n]
     assert len(named) == 2 and "[GyrX]" in named[0] and "[status]" in named[1]
     assert "gyro_x" not in c.channels and rng is not None
+
+
+def test_one_accelerometer_in_m_s2_read_as_g_is_refused_and_the_reverse_is_said_unchecked(tmp_path):
+    """With fewer than three accelerometers only part of gravity is seen: a mean above 1.25 g is
+    impossible at rest (m/s² values labelled g: refused, naming the field), while a value in g
+    labelled m/s² (1.0) cannot be told from a tilted axis and gets an info note saying so."""
+    rng = np.random.default_rng(1)
+    t = np.arange(5000) / 100.0
+    p = _write(tmp_path / "z_g.csv", t, (G0 + 0.01 * rng.standard_normal(t.size))[:, None],
+               header="time_s,accel_z_g")
+    with pytest.raises(InputError) as err:
+        read_log(p)
+    assert err.value.field == "accel_z_g" and "more than gravity" in str(err.value)
+    q = _write(tmp_path / "z_mps2.csv", t, (1.0 + 0.001 * rng.standard_normal(t.size))[:, None],
+               header="time_s,accel_z_mps2")
+    log = read_log(q)
+    assert [i.kind for i in log.issues.issues] == ["unit_unchecked"]
+    assert "9.81×" in log.issues.issues[0].message
+    full = read_log(_write(tmp_path / "six.csv", *_rows(5000)))  # three axes: no such note
+    assert "unit_unchecked" not in [i.kind for i in full.issues.issues]
+
+
+def test_a_semicolon_log_or_a_preamble_gets_a_hint_naming_the_mapping_key(tmp_path):
+    semi = tmp_path / "semi.csv"
+    semi.write_text("time_s;gyro_x_dps;gyro_y_dps\n0;1;2\n0.01;1;2\n")
+    with pytest.raises(InputError) as err:
+        read_log(semi)
+    assert "'time_s;gyro_x_dps;gyro_y_dps'" in str(err.value) and '"delimiter": \';\'' in str(err.value)
+    pre = tmp_path / "pre.csv"
+    pre.write_text("Device: XYZ IMU\nDate 2026\ntime_s,gyro_x_dps\n0,1\n")
+    with pytest.raises(InputError) as err:
+        read_log(pre)
+    assert "'Device: XYZ IMU'" in str(err.value) and '"skip_rows"' in str(err.value)

@@ -75,3 +75,16 @@ def test_bad_files(tmp_path):
         Scenario.load(lst)
     with pytest.raises(InputError, match="unknown preset"):
         get_preset("nope")
+
+
+@pytest.mark.parametrize("field, value", [("range_resolution_m", 0.005), ("azimuth_resolution_m", 0.005)])
+def test_resolutions_no_radar_can_have_are_refused_naming_the_field(field, value):
+    """9.6 GHz (λ/4 = 7.8 mm): δr = 5 mm needs a 30 GHz bandwidth (the band's lower edge below
+    0 Hz), δℓ = 5 mm is finer than a 180° aperture gives — refused by the scenario itself, not
+    only by the simulator, so the analytic check never gives such a case a verdict."""
+    base = dict(name="x", carrier_frequency_hz=9.6e9, slant_range_m=1000.0, azimuth_resolution_m=0.5,
+                range_resolution_m=0.5, platform_speed_m_s=50.0)
+    with pytest.raises(InputError) as err:
+        Scenario.from_dict({**base, field: value})
+    assert err.value.field == field and "λ/4" in err.value.expected
+    Scenario.from_dict({**base, field: 0.01})  # just above λ/4: accepted

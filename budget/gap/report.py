@@ -312,5 +312,10 @@ class GapReport:
                          f"> {self.band_after.tolerance_db:g} dB or the kurtosis band)" if self.band_after else
                          "  (ok: within noise; GAP: beyond the channel's null threshold)")
         lines.append(f"stop: {self.stop_reason}")
+        still = [ch for ch in self.channels if self.channel_state(ch) == "GAP"]
+        if still and self.stop_reason.startswith("every channel is close enough"):
+            lines.append(f"  ({', '.join(still)}: still beyond the null threshold (GAP) — a misfit the record "
+                         "resolves, but within the effect-size tolerance and bands the stop rule uses; its "
+                         "top terms are listed above)")
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)

@@ -144,12 +144,21 @@ def gravity_unit_slip(data: np.ndarray, channel_index: dict[str, int], source_un
     """A static log's three accelerometers read gravity: a mean magnitude off by the factor of
     a unit slip (g ↔ m/s², mg ↔ g, within 25 %) means the columns carry another unit than their
     names say — every noise figure would be off by that factor. The error, or None."""
-    axes = ("accel_x", "accel_y", "accel_z")
-    if not all(a in channel_index for a in axes):
+    axes = tuple(a for a in ("accel_x", "accel_y", "accel_z") if a in channel_index)
+    if not axes:
         return None
     with np.errstate(invalid="ignore"):
         mean = np.array([np.nanmean(data[:, channel_index[a]]) for a in axes])
     ratio = float(np.linalg.norm(mean)) / G0
+    if len(axes) < 3:  # part of gravity only: a magnitude above it is impossible at rest
+        if math.isfinite(ratio) and ratio > 1.25:
+            unit = source_units.get(axes[0], "?")
+            return InputError(f"at rest {', '.join(axes)} read |mean| = {ratio:.3g} g, more than gravity: "
+                              f"the values are not in {unit}", file=path,
+                              field=", ".join(f"{a}_{unit}" for a in axes),
+                              expected="at most ≈ 9.81 m/s² (1 g) at rest; name the columns after their "
+                              "unit (accel_x_mps2 | accel_x_g | accel_x_mg) or fix the mapping's scale")
+        return None
     for factor, slip in _GRAVITY_UNIT_SLIPS:
         if math.isfinite(ratio) and 0.8 < ratio / factor < 1.25:
             unit = source_units.get("accel_x", "?")
@@ -159,6 +168,21 @@ def gravity_unit_slip(data: np.ndarray, channel_index: dict[str, int], source_un
                               expected="≈ 9.81 m/s² of gravity; name the columns after their unit "
                               "(accel_x_mps2 | accel_x_g | accel_x_mg) or fix the mapping's scale")
     return None
+
+
+def gravity_unchecked(channel_index: dict[str, int], source_units: dict[str, str]) -> LogIssue | None:
+    """An info note when a log has one or two accelerometers: their unit can be refused only
+    when they read more than gravity (:func:`gravity_unit_slip`); values in g labelled m/s²
+    (1 g reads 1.0, a tilted axis as much) cannot be told from a tilted axis in m/s²."""
+    axes = [a for a in ("accel_x", "accel_y", "accel_z") if a in channel_index]
+    if not axes or len(axes) == 3:
+        return None
+    unit = source_units.get(axes[0], "?")
+    return LogIssue("unit_unchecked", "info",
+                    f"the accelerometer unit ({unit}) is checked against gravity only with all three "
+                    f"axes; with {', '.join(axes)} alone a log in g labelled m/s² (or the reverse, below "
+                    "1 g) cannot be caught — every accelerometer figure would be off by 9.81×", 0, (),
+                    axes[0])
 
 
 def _limit(channel: str) -> float:

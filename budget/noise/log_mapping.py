@@ -138,7 +138,18 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
         targets.append(name)
         factors.append(factor * (mapping.scale.get(col, 1.0) if mapping else 1.0))
     if not channel_index:
-        raise InputError("no sensor channel column found", file=path, row=1,
+        shown = ", ".join(repr(h) for h in header[:4]) + (", …" if len(header) > 4 else "")
+        hint = ""
+        joined = "".join(header)
+        other = [d for d in (";", "\t", "|") if d in joined]
+        if other:
+            hint = (f"; the header holds {other[0]!r}: a file delimited by it needs a mapping with "
+                    f"\"delimiter\": {other[0]!r}")
+        elif len(header) <= 2 or not any(h.replace("_", "").isalnum() for h in header):
+            hint = ("; if the file starts with preamble lines (device, date, units), a mapping's "
+                    "\"skip_rows\" skips them")
+        raise InputError(f"no sensor channel column found in the header row ({shown}){hint}",
+                         file=path, row=1 + (mapping.skip_rows if mapping else 0),
                          expected="columns like gyro_x_dps … accel_z_mps2, or a --mapping that "
                                   "names them (source column → canonical name)")
     return ColumnPlan(tuple(sources), tuple(targets), tuple(factors), time_index, temp_index,

@@ -252,6 +252,9 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     slip = lc.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
     if slip is not None:
         raise slip
+    unchecked = lc.gravity_unchecked(plan.channel_index, plan.source_units)
+    if unchecked is not None:
+        report.issues.append(unchecked)
     if report.errors:
         if not repair:
             first = "; ".join(i.text() for i in report.errors[:3])
