@@ -104,3 +104,42 @@ def test_allan_table_with_measured_tau_is_accepted_with_a_note(tmp_path):
     with pytest.raises(InputError, match="not a whole number"):
         read_adev_table(_table(tmp_path / "u.csv", tau * np.array([1.3, 1, 1, 1, 1, 1, 1]), adev),
                         100.0, 100_000)
+
+
+def test_rounding_the_rate_adds_a_uniform_white_error_of_variance_step2_over_12():
+    """The generator's rate rounding on Gaussian noise of σ = δ/2: the error is uniform (variance
+    δ²/12 within 2 %, Sheppard; excess kurtosis −1.2 within 0.1) and white (lag-1 correlation
+    below 0.02) — the shape the ``rate_quantization`` candidate assumes."""
+    from budget.imu.effects import rate_quantization_error
+
+    rng = np.random.default_rng(8)
+    step = 1e-3
+    x = 0.5 * step * rng.standard_normal((1, 400_000)) + 3.3e-4
+    e = rate_quantization_error(x, step, rng)[0]
+    assert np.var(e) == pytest.approx(step ** 2 / 12.0, rel=0.02)
+    assert stats.kurtosis(e) == pytest.approx(-1.2, abs=0.1)
+    assert abs(np.corrcoef(e[:-1], e[1:])[0, 1]) < 0.02
+    out = x[0] + e  # on the lattice kδ − U·δ
+    k = (out - out[0]) / step
+    assert np.allclose(k, np.round(k), atol=1e-6)
+
+
+def test_a_rate_rounded_to_two_sigma_lsb_is_named_rate_quantization_not_heavy_tails():
+    """A gyro whose output rate is rounded (np.round here, not the package's generator) to an
+    LSB of 2σ of its white noise, on 10 min of the benchmark's base model: the lattice is found,
+    the integrated-output quantization is rejected by simulation, and ``rate_quantization`` is
+    named first at the LSB — not ``heavy_tailed`` (the uniform error's tails are light)."""
+    from budget.gap import log_from_arrays, run_gap
+    from budget.imu import NoiseModel
+
+    n = 60_000
+    logs, _, _ = gt.make(None, n, 1)
+    dens, _ = gt.base_levels("gyro_x")
+    lsb = 2.0 * dens * math.sqrt(gt.RATE)
+    logs["gyro_x"] = lsb * np.round((logs["gyro_x"] + 7.3e-5 + 3e-4) / lsb)
+    rep = run_gap(log_from_arrays(logs, gt.RATE), NoiseModel.model_validate(gt.base_model_dict()),
+                  seed=0, max_steps=2)
+    assert rep.steps and (rep.steps[0].name, rep.steps[0].channel) == ("rate_quantization", "gyro_x"), \
+        rep.summary()
+    assert rep.steps[0].params["step"] == pytest.approx(lsb, rel=1e-6)
+    assert "heavy_tailed" not in [s.name for s in rep.steps]

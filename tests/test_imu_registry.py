@@ -18,6 +18,7 @@ from budget.imu.registry import REGISTRY, STAGES
 EXAMPLES = {
     "white_noise": {"density": 1e-3},
     "quantization": {"Q": 1e-5},
+    "rate_quantization": {"step": 2e-3},
     "bias_instability": {"B": 1e-4},
     "rate_random_walk": {"K": 1e-4},
     "rate_ramp": {"R": 1e-4},

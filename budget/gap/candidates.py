@@ -62,6 +62,26 @@ class Quantization(LinearVariance):
         return th.Increment(3.0 / g.tau_s ** 2, psd, var, -0.6 * var ** 2, low=low)
 
 
+class RateQuantization(LinearVariance):
+    """The output rate rounded to a lattice of step δ: a white error of variance δ²/12 per sample
+    (density² δ²·dt/12) when the noise spans several steps, with the uniform error's negative
+    excess kurtosis (−1.2, −0.6 in its first differences). Proposed at the measured lattice by
+    the direct detector and judged by simulation, like ``quantization``."""
+
+    name, param = "rate_quantization", "step"
+
+    def applicable(self, ctx):
+        return super().applicable(ctx) and not any(f.name == "rate_quantization" for f in ctx.existing)
+
+    def shapes(self, ctx):
+        g = ctx.grid
+        v = g.dt_s / 12.0  # density² of step 1
+        psd = np.full(g.nperseg // 2 + 1, 2.0 * v) if g.has_psd else None
+        low = ctx.low_from_psd(np.full(ctx.low_freq().size, 2.0 * v))
+        dvar = 1.0 / 6.0
+        return th.Increment(v / g.tau_s, psd, dvar, -0.6 * dvar ** 2, low=low)
+
+
 class BiasInstability(LinearVariance):
     name, param = "bias_instability", "B"
 
@@ -525,5 +545,5 @@ class HeavyTailed(Candidate):
 
 
 LIBRARY: dict[str, Candidate] = {c.name: c for c in (
-    WhiteNoise(), Quantization(), BiasInstability(), RateRandomWalk(), RateRamp(), Sinusoid(),
+    WhiteNoise(), Quantization(), RateQuantization(), BiasInstability(), RateRandomWalk(), RateRamp(), Sinusoid(),
     GaussMarkov(), TemperatureSensitivity(), Outliers(), Lowpass(), Vibration(), HeavyTailed())}

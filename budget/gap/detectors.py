@@ -10,6 +10,11 @@
   proposed at the measured Q and judged by *simulation* (the generator floors the integral the
   same way). A lattice of raw counts far finer than the noise is proposed too; its simulated
   improvement is then negligible and it is rejected, as it should be.
+* **The same lattice → rate quantization.** A lattice of differences is also what a part gives
+  that outputs its *rate* rounded to δ with no accumulator (its LSBs): the values cannot tell the
+  two apart, so ``rate_quantization`` at step δ is proposed after ``quantization`` and judged by
+  simulation the same way — the integrated form has ADEV ∝ 1/τ, the rounded rate a white level
+  δ²/12 and a uniform error's light tails.
 """
 
 from __future__ import annotations
@@ -28,4 +33,6 @@ def direct_proposals(model: NoiseModel, channel: str, meas: Signature,
     if meas.lattice is not None and "quantization" not in have:
         q_coeff = meas.lattice * grid.dt_s / math.sqrt(12.0)
         out.append(Effect(name="quantization", channel=channel, params={"Q": q_coeff}))
+    if meas.lattice is not None and "rate_quantization" not in have:
+        out.append(Effect(name="rate_quantization", channel=channel, params={"step": meas.lattice}))
     return out

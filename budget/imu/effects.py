@@ -80,6 +80,14 @@ def quantization_error(measured: np.ndarray, q_coeff: float, dt_s: float,
     return inc * (quantum / dt_s) - measured
 
 
+def rate_quantization_error(measured: np.ndarray, step: float, rng: np.random.Generator) -> np.ndarray:
+    """Error added by rounding the output *rate* ``measured`` (T, N) to a lattice of step δ
+    (a sensor that outputs its rate in LSBs without an accumulator). The lattice's offset from
+    the true static level is unknown: U·δ, U ~ U[0, 1) per trial. Returns (rounded − measured)."""
+    offset = rng.random((measured.shape[0], 1)) * step
+    return step * np.round((measured + offset) / step) - offset - measured
+
+
 def outlier_spikes(shape: tuple[int, int], rate: float, magnitude: float,
                    rng: np.random.Generator) -> np.ndarray:
     """Spikes of ±magnitude on a random fraction ``rate`` of the samples, shape (T, N)."""

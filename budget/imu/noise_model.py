@@ -11,6 +11,7 @@ effect                      parameters (gyro: rad/s-based; accelerometer: m/s²-
 ==========================  ===========================================================
 white_noise                 ``density`` (channel unit/√Hz)
 quantization                ``Q`` (IEEE-952 coefficient, channel unit × s; ADEV √3·Q/τ)
+rate_quantization           ``step`` (channel unit): the output rate rounded to a lattice
 bias_instability            ``B`` (IEEE-952 flicker coefficient; ADEV floor 0.664·B)
 rate_random_walk            ``K`` (channel unit/√s; ADEV K·√(τ/3))
 rate_ramp                   ``R`` (channel unit/s; ADEV R·τ/√2), signed
@@ -181,10 +182,11 @@ class NoiseModel(PartSpec):
 
     @model_validator(mode="after")
     def _check_model(self) -> "NoiseModel":
-        quant = [f.channel for f in self.effects if f.name == "quantization"]
-        dup = sorted({c for c in quant if quant.count(c) > 1})
-        if dup:
-            raise ValueError(f"more than one quantization effect on {', '.join(dup)}; a channel has one quantizer")
+        for name in ("quantization", "rate_quantization"):
+            quant = [f.channel for f in self.effects if f.name == name]
+            dup = sorted({c for c in quant if quant.count(c) > 1})
+            if dup:
+                raise ValueError(f"more than one {name} effect on {', '.join(dup)}; a channel has one quantizer")
         if self.rate_hz is not None:
             check_rate(self.rate_hz, self.effects)
         return self

@@ -15,7 +15,8 @@ Stages, in the generator's order:
    flicker bank of bias instability, Gauss–Markov terms; then the rate random walk);
 2. ``additive`` — independent additive terms, each drawn by its ``simulate``;
 3. ``filter`` — the sensor's output filter on the sum of the additive terms;
-4. ``output`` — quantization of the integrated output (sees the true signal too);
+4. ``output`` — quantization of the integrated output, then rounding of the output rate to its
+   lattice (both see the true signal too);
 5. ``glitch`` — data glitches (outliers), last.
 """
 
@@ -83,6 +84,9 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
     EffectSpec("white_noise", {"density": ParamSpec("/√Hz")}, "gaussian", "ADEV N/√τ"),
     EffectSpec("quantization", {"Q": ParamSpec("·s")}, "output",
                "ADEV √3·Q/τ (IEEE-952); output values on a lattice of step √12·Q/dt"),
+    EffectSpec("rate_quantization", {"step": ParamSpec("")}, "output",
+               "output rate itself rounded to a lattice of step δ (not its integral): about white, "
+               "variance δ²/12, when the noise spans several steps"),
     EffectSpec("bias_instability", {"B": ParamSpec("")}, "gaussian", "flat ADEV 0.664·B"),
     EffectSpec("rate_random_walk", {"K": ParamSpec("/√s")}, "gaussian", "ADEV K·√(τ/3)"),
     EffectSpec("rate_ramp", {"R": ParamSpec("/s", None)}, "additive", "ADEV R·τ/√2; slope R",
