@@ -9,6 +9,8 @@ all are marked slow (each names several effects on real data).
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from budget.gap import run_gap
@@ -33,9 +35,14 @@ def test_short_real_log_names_the_tones(shared_data):
     with less). The accelerometer output sits on the 3.33 mg lattice of its LSB (0.03265 m/s²):
     the lattice detector proposes quantization at Q = LSB·dt/√12 and the simulated improvement
     keeps it (the registry's quantizer floors the integrated output; the part may round the
-    rate instead, which has the same lattice and a whiter error — see the README)."""
+    rate instead, which has the same lattice and a whiter error — see the README). The gyro
+    output sits on the lattice of its datasheet LSB, 0.05 deg/s: the simulation keeps the
+    rounded-rate form there, at that step."""
     rep = run_gap(_log(shared_data, 1), "ADIS16405", seed=0, max_rows=60_000,
-                  channels=["gyro_z", "accel_x"], max_steps=6)
+                  channels=["gyro_z", "accel_x"], max_steps=7)
+    rq = _named(rep, "rate_quantization", "gyro_z")
+    assert rq and rq[0].params["step"] == pytest.approx(math.radians(0.05), rel=0.01), rep.summary()
+    assert not _named(rep, "rate_quantization", "accel_x")  # one quantizer per channel
     tone = _named(rep, "vibration", "gyro_z") or _named(rep, "sinusoid", "gyro_z")
     assert tone, rep.summary()
     f = tone[0].params.get("center_hz", tone[0].params.get("frequency_hz"))

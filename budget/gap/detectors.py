@@ -30,9 +30,8 @@ def direct_proposals(model: NoiseModel, channel: str, meas: Signature,
     """Effects the values of ``channel`` show directly (see module docstring)."""
     out = []
     have = {f.name for f in model.to_si().channel_effects(channel)}
-    if meas.lattice is not None and "quantization" not in have:
+    if meas.lattice is not None and not have & {"quantization", "rate_quantization"}:  # one quantizer
         q_coeff = meas.lattice * grid.dt_s / math.sqrt(12.0)
         out.append(Effect(name="quantization", channel=channel, params={"Q": q_coeff}))
-    if meas.lattice is not None and "rate_quantization" not in have:
         out.append(Effect(name="rate_quantization", channel=channel, params={"step": meas.lattice}))
     return out
