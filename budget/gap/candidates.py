@@ -71,7 +71,10 @@ class RateQuantization(LinearVariance):
     name, param = "rate_quantization", "step"
 
     def applicable(self, ctx):
-        return super().applicable(ctx) and not any(f.name == "rate_quantization" for f in ctx.existing)
+        # a rounded rate puts the values on a lattice; on continuous data this white shape with
+        # light tails would only compete with white_noise for a misfit it does not explain
+        return (super().applicable(ctx) and ctx.meas.lattice is not None
+                and not any(f.name in ("quantization", "rate_quantization") for f in ctx.existing))
 
     def shapes(self, ctx):
         g = ctx.grid
