@@ -280,7 +280,8 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     row_notes = f"axes combined by {COMBINE_RULE}"
     weak_cols = _unresolved_columns(fits)
     if weak_cols:
-        weak_text = (f"{', '.join(weak_cols)}: fitted but not resolved (variance coefficient within 2σ of 0) on the worst axis — "
+        weak_text = (f"{', '.join(weak_cols)}: fitted but not resolved (variance coefficient within "
+                     "2σ of 0) on the worst axis — "
                      "the record cannot pin this value down")
         notes.append(weak_text)
         row_notes += f"; {weak_text}"
