@@ -113,6 +113,10 @@ def test_invalid_catalog_fields_and_rate():
         NoiseModel.from_dict({"effects": [
             {"name": "quantization", "channel": "gyro_z", "params": {"Q": 1e-6}},
             {"name": "quantization", "channel": "gyro_z", "params": {"Q": 2e-6}}]})
+    with pytest.raises(InputError, match="one quantizer"):  # the integrated and the rounded-rate form
+        NoiseModel.from_dict({"effects": [
+            {"name": "quantization", "channel": "gyro_z", "params": {"Q": 1e-6}},
+            {"name": "rate_quantization", "channel": "gyro_z", "params": {"step": 1e-4}}]})
     with pytest.raises(InputError, match="below twice"):
         NoiseModel(rate_hz=10).with_effect(
             {"name": "sinusoid", "channel": "gyro_z", "params": {"frequency_hz": 5, "amplitude": 1.0}})

@@ -26,7 +26,7 @@ import numpy as np
 from scipy import ndimage, optimize, stats
 
 from ..imu.effects import lowpass_gain2, vibration_acov, vibration_psd
-from ..imu.registry import EFFECT_NAMES
+from ..imu.registry import EFFECT_NAMES, QUANTIZERS
 from ..imu.flicker import flicker_bank
 from . import lowfreq
 from . import regression_var as rv
@@ -52,7 +52,7 @@ class Quantization(LinearVariance):
     name, param = "quantization", "Q"
 
     def applicable(self, ctx):
-        return super().applicable(ctx) and not any(f.name == "quantization" for f in ctx.existing)
+        return super().applicable(ctx) and not any(f.name in QUANTIZERS for f in ctx.existing)
 
     def shapes(self, ctx):
         g = ctx.grid
@@ -74,7 +74,7 @@ class RateQuantization(LinearVariance):
         # a rounded rate puts the values on a lattice; on continuous data this white shape with
         # light tails would only compete with white_noise for a misfit it does not explain
         return (super().applicable(ctx) and ctx.meas.lattice is not None
-                and not any(f.name in ("quantization", "rate_quantization") for f in ctx.existing))
+                and not any(f.name in QUANTIZERS for f in ctx.existing))
 
     def shapes(self, ctx):
         g = ctx.grid

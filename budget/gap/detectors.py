@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 
 from ..imu import Effect, NoiseModel
+from ..imu.registry import QUANTIZERS
 from .signatures import Signature, SignatureGrid
 
 
@@ -30,7 +31,7 @@ def direct_proposals(model: NoiseModel, channel: str, meas: Signature,
     """Effects the values of ``channel`` show directly (see module docstring)."""
     out = []
     have = {f.name for f in model.to_si().channel_effects(channel)}
-    if meas.lattice is not None and not have & {"quantization", "rate_quantization"}:  # one quantizer
+    if meas.lattice is not None and not have & set(QUANTIZERS):  # a channel has one quantizer
         q_coeff = meas.lattice * grid.dt_s / math.sqrt(12.0)
         out.append(Effect(name="quantization", channel=channel, params={"Q": q_coeff}))
         out.append(Effect(name="rate_quantization", channel=channel, params={"step": meas.lattice}))

@@ -178,9 +178,7 @@ def _triad(si: NoiseModelSI, triad: str, n_trials: int, n_samples: int, dt_s: fl
             if f.name == "quantization" and f.param("Q") > 0:
                 sig = out[:, :, axis] if true is None else out[:, :, axis] + true[..., axis]
                 out[:, :, axis] += fx.quantization_error(sig, f.param("Q"), dt_s, rng)
-    for axis, effs in enumerate(per_axis):
-        for f in effs:
-            if f.name == "rate_quantization" and f.param("step") > 0:
+            elif f.name == "rate_quantization" and f.param("step") > 0:
                 sig = out[:, :, axis] if true is None else out[:, :, axis] + true[..., axis]
                 out[:, :, axis] += fx.rate_quantization_error(sig, f.param("step"), rng)
     for axis, effs in enumerate(per_axis):

@@ -50,7 +50,7 @@ from ..catalog.schema import ImuErrorsSI, PartSpec
 from ..errors import InputError, from_validation_error, refuse_bool_numbers
 from ..fileio import atomic_write_text, read_structured
 from ..units import ACCEL_CHANNELS, CHANNELS, GYRO_CHANNELS, channel_si_unit
-from .registry import REGISTRY
+from .registry import QUANTIZERS, REGISTRY
 
 #: Effect name → {parameter: (unit suffix for messages, lower bound, lower bound inclusive?)},
 #: derived from the effect registry. ``None`` as bound means any finite number (signed).
@@ -182,11 +182,11 @@ class NoiseModel(PartSpec):
 
     @model_validator(mode="after")
     def _check_model(self) -> "NoiseModel":
-        for name in ("quantization", "rate_quantization"):
-            quant = [f.channel for f in self.effects if f.name == name]
-            dup = sorted({c for c in quant if quant.count(c) > 1})
-            if dup:
-                raise ValueError(f"more than one {name} effect on {', '.join(dup)}; a channel has one quantizer")
+        quant = [f.channel for f in self.effects if f.name in QUANTIZERS]
+        dup = sorted({c for c in quant if quant.count(c) > 1})
+        if dup:
+            raise ValueError(f"more than one quantizer ({', '.join(QUANTIZERS)}) on {', '.join(dup)}; "
+                             "a channel has one quantizer")
         if self.rate_hz is not None:
             check_rate(self.rate_hz, self.effects)
         return self

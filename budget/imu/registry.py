@@ -112,3 +112,5 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
 )}
 
 EFFECT_NAMES = tuple(REGISTRY)
+#: The output quantizers (stage ``output``): a channel has at most one of them.
+QUANTIZERS = tuple(n for n, s in REGISTRY.items() if s.stage == "output")
