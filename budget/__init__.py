@@ -26,8 +26,10 @@ Frames
     Navigation frame: x along the nominal track (the platform flies along +x at speed V), y to
     the imaged side, z up; the line of sight (LOS) points from the antenna to the scene at the
     depression angle, squint 0 = broadside (:func:`budget.motion.geometry.los_unit_vector`).
-    Body frame = navigation frame in straight, level flight; the IMU sits at the origin of the
-    body frame and the antenna phase centre (APC) at the lever arm ``lever_arm_m``.
+    Body frame = navigation frame in straight, level flight (a platform motion of
+    :mod:`budget.nav.manoeuvre` rotates it, C = Rz(yaw)·Ry(pitch)·Rx(roll),
+    :mod:`budget.nav.platform`); the IMU sits at the origin of the body frame and the antenna
+    phase centre (APC) at the lever arm ``lever_arm_m``.
 Channels
     ``gyro_x``, ``gyro_y``, ``gyro_z`` (rad/s inside, ``_dps`` in logs) and ``accel_x``,
     ``accel_y``, ``accel_z`` (m/s² inside, ``_mps2`` in logs); :data:`budget.units.CHANNELS`.

@@ -101,6 +101,21 @@ def test_mc_page_prefilter_equals_run_mc_with_that_option():
     assert row["P(pass) after PGA"] == ref.p_pass_after
 
 
+def test_mc_page_platform_motion_equals_run_mc_with_that_option():
+    at = _app(MC_PAGE)
+    at.selectbox(key="scn_preset").set_value(MC_PRESET).run()
+    at.multiselect(key="mc_parts").set_value([MC_PART]).run()
+    at.number_input(key="mc_trials").set_value(MC_TRIALS).run()
+    at.selectbox(key="mc_platform_motion").set_value("attitude_change").run()
+    at.button(key="mc_run").click().run()
+    _no_failure(at)
+    ref = run_mc(get_preset(MC_PRESET), load_catalog()[MC_PART], MC_TRIALS, int(at.number_input(key="mc_seed").value),
+                 options=McOptions(platform_motion={"kind": "attitude_change"}))
+    row = _frame_with(at, "P(pass) after PGA").set_index("part_id").loc[MC_PART]
+    assert row["P(pass) after PGA"] == ref.p_pass_after
+    assert any("rolling through" in x.value for x in at.caption)
+
+
 def test_mc_page_scenario_beyond_simulation_limits_is_a_message():
     at = _app(MC_PAGE)
     at.selectbox(key="scn_preset").set_value("airborne_xband_long_range").run()

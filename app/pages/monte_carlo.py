@@ -12,6 +12,7 @@ from budget.mc import REASONS, TRIAL_METRICS, McOptions, McResult, run_mc
 from budget.check import check_parts
 from budget.fileio import frame_csv_text, json_text
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS
+from budget.nav.manoeuvre import KINDS
 from budget.plots.mc import (METRIC_LABELS, has_detail, metric_histogram_figure, pass_probability_figure,
                              trial_images_figure, trial_phase_figure)
 from budget.report import build_report, check_vs_mc, mc_dict
@@ -23,6 +24,8 @@ from formatting import tidy
 from page_frame import run_page
 
 DEFAULT_PART = "ADIS16405"
+#: Platform motions the page offers (a custom disturbance needs a file: CLI or API).
+PLATFORM_MOTIONS = tuple(k for k in KINDS if k != "custom")
 MAX_TRIALS = 100_000
 #: Session-state key of the last run request (scenario JSON, part ids, trials, seed).
 RUN_KEY = "mc_request"
@@ -31,8 +34,9 @@ REPORT_KEY = "mc_report"
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
-def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: str = "none") -> McResult:
-    """One part's verdict, cached on scenario, part, trials and seed (worst trials with images)."""
+def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: str = "none",
+         platform_motion: str = "straight") -> McResult:
+    """One part's verdict, cached on scenario, part, trials, seed and options (worst trials with images)."""
     part = PartSpec.model_validate_json(part_json)
     bar = st.progress(0.0, text=f"{part.part_id}: 0 / {trials} trials")
 
@@ -40,16 +44,17 @@ def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: 
         bar.progress(done / total, text=f"{part.part_id}: {done} / {total} trials")
 
     result = run_mc(Scenario.model_validate_json(scenario_json), part, trials, seed,
-                    options=McOptions(prefilter=prefilter), progress=progress, keep_detail=True)
+                    options=McOptions(prefilter=prefilter, platform_motion={"kind": platform_motion}),
+                    progress=progress, keep_detail=True)
     bar.empty()
     return result
 
 
-def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, bool]:
+def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str, bool]:
     ids = list(catalog)
     default = [DEFAULT_PART] if DEFAULT_PART in catalog else ids[:1]
     parts = st.multiselect("parts", ids, default=default, key="mc_parts")
-    left, mid, right = st.columns([1, 1, 1])
+    left, mid, right, far = st.columns([1, 1, 1, 1])
     trials = left.number_input("trials", min_value=1, max_value=MAX_TRIALS, value=DEFAULT_TRIALS, step=64,
                                key="mc_trials", help="a run of 64 trials takes about 10 s per part")
     seed = mid.number_input("seed", min_value=0, value=DEFAULT_SEED, step=1, key="mc_seed",
@@ -57,8 +62,13 @@ def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, boo
     prefilter = right.selectbox("IMU pre-filter", PREFILTERS, key="mc_prefilter",
                                 help="seed 000's ARMA-Kalman filtering of the IMU output before "
                                      "navigation: does it change the verdict?")
+    motion = far.selectbox("platform motion", PLATFORM_MOTIONS, key="mc_platform_motion",
+                           help="straight: level, unrotated flight (gyro scale factor and misalignment "
+                                "have no effect); oscillation: roll/pitch/yaw at the scenario's platform "
+                                "rate, 10 s period; attitude_change: a roll through 1 rad over the aperture "
+                                "(the gyro-scale-factor bound's manoeuvre)")
     clicked = st.button("Run Monte Carlo", key="mc_run", type="primary", disabled=not parts)
-    return parts, int(trials), int(seed), prefilter, clicked
+    return parts, int(trials), int(seed), prefilter, motion, clicked
 
 
 def summary_frame(results: dict[str, McResult]) -> pd.DataFrame:
@@ -84,6 +94,9 @@ def _summary(results: dict[str, McResult], scenario: Scenario, seed: int) -> Non
                        help=f"95 % CI [{r.ci_after[0]:.3f}, {r.ci_after[1]:.3f}]")
     fmt = {k: "{:.3f}" for k in summary_frame(results).columns if k.startswith(("P(", "CI"))}
     st.dataframe(summary_frame(results).style.format(fmt), hide_index=True, key="mc_summary")
+    first = next(iter(results.values()))
+    if first.judged_on.get("platform_motion"):
+        st.caption(first.judged_on["platform_motion"][:1].upper() + first.judged_on["platform_motion"][1:] + ".")
     fills = [f"**{pid}** — {r.unspecified_summary()}" for pid, r in results.items() if r.unspecified_summary()]
     if fills:  # no silent zeros: say which datasheet terms were filled or taken as 0
         st.caption("  \n".join(fills))
@@ -193,8 +206,8 @@ def render() -> None:
                 "forms the image with the IMU-measured track and runs PGA autofocus. Does autofocus "
                 "absorb what the IMU leaves? The scenario comes from the sidebar.")
     catalog = c.session_catalog()
-    parts, trials, seed, prefilter, clicked = _inputs(catalog)
-    request = (s.model_dump_json(), tuple(parts), trials, seed, prefilter)
+    parts, trials, seed, prefilter, motion, clicked = _inputs(catalog)
+    request = (s.model_dump_json(), tuple(parts), trials, seed, prefilter, motion)
     if clicked:
         st.session_state[RUN_KEY] = request
     last = st.session_state.get(RUN_KEY)
@@ -204,7 +217,7 @@ def render() -> None:
     if last != request:
         st.info("The inputs changed since the last run; press **Run Monte Carlo** to update. "
                 "Showing the last run.")
-    scen_json, run_parts, run_trials, run_seed, run_prefilter = last
+    scen_json, run_parts, run_trials, run_seed, run_prefilter, run_motion = last
     results: dict[str, McResult] = {}
     for pid in run_parts:
         if pid not in catalog:
@@ -212,7 +225,7 @@ def render() -> None:
             continue
         try:
             results[pid] = _run(scen_json, catalog[pid].model_dump_json(), run_trials, run_seed,
-                                run_prefilter)
+                                run_prefilter, run_motion)
         except InputError as err:
             st.error(f"{pid}: {err}", icon=":material/error:")
     if not results:

@@ -52,6 +52,7 @@ import scipy.fft as sfft
 from ..aiding_spec import AidingPlan
 from ..errors import InputError
 from ..motion import simulate_motion
+from ..nav.platform import Disturbance
 from ..noise.prefilter import prefilter_for
 from ..rng import STREAMS, trial_generator
 from ..sar import (SarGeometry, SarImage, Scene, evaluate, form_image, pga, phase_on_bins, residual_phase_rad,
@@ -112,6 +113,8 @@ class ChainSetup:
     clean_echoes: np.ndarray | None = None
     scene_kind: str = "points"
     snr_db: float | None = None
+    #: the platform disturbance flown (``options.platform_motion``; None = straight flight)
+    disturbance: Disturbance | None = None
 
     @classmethod
     def build(cls, scenario: Scenario, options: McOptions | None = None,
@@ -152,7 +155,8 @@ class ChainSetup:
         else:
             raise InputError("the scene has clutter but no point targets to measure",
                              field="scene", expected="at least one point target")
-        return cls(scenario, geom, scene, echoes, options, clean, clean_echoes, kind, snr)
+        return cls(scenario, geom, scene, echoes, options, clean, clean_echoes, kind, snr,
+                   options.platform_motion.disturbance_for(scenario))
 
     def describe(self) -> dict:
         """What the verdict was judged on (for results: the user could not know it otherwise)."""
@@ -509,7 +513,7 @@ def run_chunk(setup: ChainSetup, model, seed: int, start: int, stop: int,
         pre = _prefilter(model, setup.scenario.imu_rate_hz, opts.prefilter,
                          opts.prefilter_calibration_samples, seed)
     motion = simulate_motion(setup.scenario, model, stop - start, seed, first_trial=start,
-                             keep_series=True, prefilter=pre)
+                             keep_series=True, prefilter=pre, disturbance=setup.disturbance)
     time_s, series, cells = motion.time_s, motion.position_error_m, motion.peak_range_cells.max(axis=1)
     out = []
     lo, end = (start, stop) if only is None else (max(start, only[0]), min(stop, only[1]))

@@ -22,6 +22,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from ..catalog.fill import DEFAULT_POLICY as UNSPECIFIED_DEFAULT, POLICIES as UNSPECIFIED_POLICIES
 from ..errors import from_validation_error, refuse_bool_numbers
+from ..nav.manoeuvre import PlatformMotion
 from ..noise.prefilter import KINDS as PREFILTER_KINDS
 from ..sar.acceptance import Acceptance
 from ..sar.windows import Window, verdict_window
@@ -91,6 +92,10 @@ class McOptions(BaseModel):
     window: Literal["auto", "rect", "taylor"] = Field(
         "auto", description="azimuth/range weighting: auto = Taylor −35 dB, n̄ = 4 for radar (what an "
                             "imaging radar uses), the scenario's own choice for sonar")
+    platform_motion: PlatformMotion = Field(
+        PlatformMotion(), description="what the platform does over the aperture (budget.nav.manoeuvre): "
+                                      "straight (default; gyro scale factor and misalignment then have "
+                                      "no effect), oscillation, attitude_change or a custom disturbance")
     pga_kernel: Literal["ml", "lumv"] = "ml"
     pga_max_iter: int = Field(30, ge=1, le=200)
     pga_tol_rad: float | None = Field(None, gt=0, le=0.5, allow_inf_nan=False,

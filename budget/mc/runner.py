@@ -31,6 +31,7 @@ from threadpoolctl import threadpool_limits
 
 from ..catalog.fill import resolve_unspecified
 from ..errors import InputError, whole_number
+from ..nav.manoeuvre import PlatformMotion
 from ..scenario import Scenario
 from ..units import G0
 from .aggregate import Aggregate
@@ -184,7 +185,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     extra["unspecified_terms"] = resolution.to_dict()
     judged = _cached_setup(scen_json, opt_json).describe()
     judged["imu_rate"] = imu_rate_note(scenario, getattr(model, "rate_hz", None))
-    judged["platform_motion"] = platform_motion_note(scenario)
+    judged["platform_motion"] = platform_motion_note(scenario, options.platform_motion)
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
                     tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
                     options=options, scenario=scenario, judged_on=judged)
@@ -202,20 +203,22 @@ def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
     return text
 
 
-def platform_motion_note(scenario: Scenario) -> str:
-    """What the simulated platform does: straight, level, unrotated flight at the scenario's speed
-    (``budget.nav.platform.true_motion`` without a disturbance), so the IMU's scale factor and
-    misalignment act on a zero rate and on gravity only — the scenario's manoeuvre levels
-    (``platform_rate_deg_s``, ``platform_accel_m_s2``), which the analytic bounds use, are not
-    simulated, and a gyro scale factor or misalignment has no effect on the verdict."""
-    text = ("platform simulated in straight, level, unrotated flight: the gyros see no rotation and the "
-            "accelerometers gravity only, so gyro scale factor and misalignment have no effect here")
+def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = None) -> str:
+    """What the simulated platform does (:meth:`PlatformMotion.describe`; default straight, level,
+    unrotated flight, where the IMU's gyro scale factor and misalignment act on a zero rate) and,
+    in straight flight, the scenario's manoeuvre levels (``platform_rate_deg_s``,
+    ``platform_accel_m_s2``) that the analytic bounds use and the simulation does not fly."""
+    motion = motion or PlatformMotion()
+    text = motion.describe(scenario)
+    if motion.kind != "straight":
+        return text
     extra = []
     if scenario.platform_rate_deg_s > 0:
         extra.append(f"platform_rate_deg_s = {scenario.platform_rate_deg_s:g}")
     if abs(scenario.platform_accel_m_s2 - G0) > 1e-6 * G0:
         extra.append(f"platform_accel_m_s2 = {scenario.platform_accel_m_s2:g}")
     if extra:
-        text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) is not simulated")
+        text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) is not simulated "
+                 "(options.platform_motion: oscillation or attitude_change flies a rotation)")
     return text
 

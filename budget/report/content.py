@@ -54,7 +54,7 @@ def check_vs_mc(record: Mapping, mc, target: float = MC_PASS_TARGET) -> dict:
     return out
 
 
-#: Check columns that act only through the platform's rotation (none in the simulated flight).
+#: Check columns that act only through the platform's rotation (none in straight, level flight).
 _ROTATION_TERMS = ("gyro_scale_factor_ppm", "gyro_misalignment_mrad")
 
 
@@ -62,7 +62,8 @@ def _disagreement_causes(record: Mapping, mc, analytic: str) -> list[str]:
     """Sentences naming what is known to differ between the check and the Monte Carlo for this
     part — each from a fact of the two results, none by default: the MC's main failure reason,
     datasheet terms the MC filled (the check leaves them out), the check's own flag, the
-    straight-level flight of the simulation when the check's binding term needs rotation."""
+    straight-level flight of the simulation (its ``platform_motion``) when the check's binding
+    term needs rotation."""
     reasons = mc.agg.failure_reasons() if hasattr(mc, "agg") else {}
     top = max(reasons, key=reasons.get) if reasons and max(reasons.values()) > 0 else None
     out = []
@@ -79,10 +80,12 @@ def _disagreement_causes(record: Mapping, mc, analytic: str) -> list[str]:
                        "remove; the PGA-limited check does.")
     else:
         out.append("the simulated chain passes where a bound fails.")
-        if record.get("binding") in _ROTATION_TERMS:
+        options = getattr(mc, "options", None)
+        rotates = options is not None and options.platform_motion.rotates
+        if record.get("binding") in _ROTATION_TERMS and not rotates:
             out.append(f"The check's binding term, {record['binding']}, acts through the platform's "
                        "rotation, and the Monte Carlo flies straight, level and unrotated: it cannot "
-                       "fail on it.")
+                       "fail on it (McOptions.platform_motion flies a rotation).")
     if record.get("flag"):
         out.append(f"The check flags it too: {record['flag_reason']}.")
     return out
