@@ -82,14 +82,20 @@ def test_mc_page_p_pass_equals_run_mc_with_the_same_seed():
         == ref.p_pass_after
 
 
-def test_mc_page_prefilter_equals_run_mc_with_that_option():
+def _run_mc_page(select_key: str, value: str) -> AppTest:
+    """The MC page run on the test preset and part with one selectbox set."""
     at = _app(MC_PAGE)
     at.selectbox(key="scn_preset").set_value(MC_PRESET).run()
     at.multiselect(key="mc_parts").set_value([MC_PART]).run()
     at.number_input(key="mc_trials").set_value(MC_TRIALS).run()
-    at.selectbox(key="mc_prefilter").set_value("kalman").run()
+    at.selectbox(key=select_key).set_value(value).run()
     at.button(key="mc_run").click().run()
     assert not at.exception, [e.value for e in at.exception]
+    return at
+
+
+def test_mc_page_prefilter_equals_run_mc_with_that_option():
+    at = _run_mc_page("mc_prefilter", "kalman")
     try:
         ref = run_mc(get_preset(MC_PRESET), load_catalog()[MC_PART], MC_TRIALS, int(at.number_input(key="mc_seed").value),
                      options=McOptions(prefilter="kalman"))
@@ -102,12 +108,7 @@ def test_mc_page_prefilter_equals_run_mc_with_that_option():
 
 
 def test_mc_page_platform_motion_equals_run_mc_with_that_option():
-    at = _app(MC_PAGE)
-    at.selectbox(key="scn_preset").set_value(MC_PRESET).run()
-    at.multiselect(key="mc_parts").set_value([MC_PART]).run()
-    at.number_input(key="mc_trials").set_value(MC_TRIALS).run()
-    at.selectbox(key="mc_platform_motion").set_value("attitude_change").run()
-    at.button(key="mc_run").click().run()
+    at = _run_mc_page("mc_platform_motion", "attitude_change")
     _no_failure(at)
     ref = run_mc(get_preset(MC_PRESET), load_catalog()[MC_PART], MC_TRIALS, int(at.number_input(key="mc_seed").value),
                  options=McOptions(platform_motion={"kind": "attitude_change"}))
