@@ -154,3 +154,13 @@ def test_cli_platform_motion_options(tmp_path):
     r = run("--platform-motion", "custom", "--disturbance", str(dist))
     assert r.returncode == 0, r.stderr
     assert "platform disturbance (custom): pitch 0.05 at 0.2 Hz" in r.stdout
+
+
+def test_report_states_the_platform_motion_it_was_judged_with(tmp_path):
+    from budget.cli.main import main
+    out = tmp_path / "r.html"
+    assert main(["report", "--preset", "airborne_xband", "--part", "STIM300", "--mc-part", "STIM300",
+                 "--trials", "64", "--platform-motion", "attitude_change", "--manoeuvre-angle", "30",
+                 "--out", str(out), "--quiet"]) == 0
+    text = out.read_text()
+    assert "data-key='platform_motion'><small>platform rolling through 30°" in text

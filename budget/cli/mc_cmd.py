@@ -36,7 +36,7 @@ def _options(args) -> McOptions:
     if upd.get("clutter_to_target_db") is not None and upd.get("scene", "points") == "points":
         raise InputError("the points scene has no clutter", field="--clutter-db", value=upd["clutter_to_target_db"],
                          expected="--scene realistic (or auto) with --clutter-db, or no --clutter-db")
-    motion = _platform_motion(args)
+    motion = platform_motion_from_args(args)
     if motion is not None:
         upd["platform_motion"] = motion
     if getattr(args, "acceptance", None):
@@ -57,7 +57,7 @@ def _options(args) -> McOptions:
     return McOptions.build(**upd)
 
 
-def _platform_motion(args) -> dict | None:
+def platform_motion_from_args(args) -> dict | None:
     """``--platform-motion`` and its parameters as the ``platform_motion`` option (None: not given);
     a parameter of another kind, or ``--disturbance`` without ``custom``, is refused."""
     kind = getattr(args, "platform_motion", None)
@@ -133,6 +133,14 @@ def _add_verdict_options(p) -> None:
     p.add_argument("--acceptance", metavar="A.json",
                    help="acceptance spec: max_broadening, max_pslr_db, max_islr_db, "
                         "max_peak_loss_db, max_range_migration_cells, max_residual_phase_rms_deg …")
+    add_platform_motion_options(p)
+    p.add_argument("--prefilter", choices=PREFILTERS, default="none",
+                   help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
+                        "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
+
+
+def add_platform_motion_options(p) -> None:
+    """``--platform-motion`` and its parameters (:func:`platform_motion_from_args` reads them)."""
     p.add_argument("--platform-motion", choices=PLATFORM_MOTIONS, default=None,
                    help="what the platform does over the aperture: straight (default; gyro scale factor and "
                         "misalignment then have no effect), oscillation (roll/pitch/yaw at the scenario's "
@@ -146,9 +154,6 @@ def _add_verdict_options(p) -> None:
                    help="attitude_change: roll change Θ in degrees (default 57.3 = 1 rad)")
     p.add_argument("--disturbance", metavar="D.json", default=None,
                    help="custom: platform disturbance JSON (sinusoids / random PSD per axis)")
-    p.add_argument("--prefilter", choices=PREFILTERS, default="none",
-                   help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
-                        "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
 
 
 def _add_unspecified_option(p) -> None:

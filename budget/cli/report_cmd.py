@@ -19,6 +19,7 @@ from ..catalog.io import load_catalog
 from ..mc.options import DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS, McOptions
 from ..report import build_report
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
+from .mc_cmd import add_platform_motion_options, platform_motion_from_args
 from .output import write_json
 from .progress import Progress, add_quiet_option
 
@@ -35,6 +36,7 @@ def add_parser(sub) -> None:
     p.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="Monte Carlo trials per part")
     p.add_argument("--seed", type=int, default=DEFAULT_SEED, help="random seed")
     p.add_argument("--prefilter", choices=PREFILTERS, default="none", help="IMU pre-filter of the MC chain")
+    add_platform_motion_options(p)
     p.add_argument("--mode", choices=("paper", "derived", "no-autofocus"), default="paper",
                    help="bounds of the analytic check")
     p.add_argument("--out", metavar="REPORT.html", required=True, help="HTML file to write")
@@ -51,7 +53,8 @@ def run(args) -> int:
     cat = load_catalog(args.catalog)
     parts = [cat[p] if p in cat else p for p in args.part] if args.part else list(cat.values())
     mc_parts = [cat[p] if p in cat else p for p in args.mc_part]
-    options = McOptions(prefilter=args.prefilter) if args.prefilter != "none" else McOptions()
+    motion = platform_motion_from_args(args)
+    options = McOptions.build(prefilter=args.prefilter, **({"platform_motion": motion} if motion else {}))
     bars: list[Progress] = []
 
     def progress(pid: str):

@@ -94,6 +94,10 @@ def render_html(rep) -> str:
     if rep.mc:
         parts += ["<h2>Monte Carlo verdict (P(pass) with 95 % Wilson intervals)</h2>",
                   table_html(rep.mc_frame(), table_id="mc")]
+        # what every trial was judged on, which the user could not know otherwise
+        judged = next(iter(rep.mc.values())).judged_on or {}
+        parts += [f"<p class='judged' data-key='{k}'><small>{html.escape(str(judged[k]))}</small></p>"
+                  for k in ("navigation", "platform_motion") if judged.get(k)]
     parts += ["<h2>Check vs. Monte Carlo</h2>", _comparisons(rep), "<h2>Figures</h2>"]
     for name, fig in rep.figures.items():
         parts += [f"<h3>{html.escape(name)}</h3>", fig.to_html(include_plotlyjs=False, full_html=False)]
