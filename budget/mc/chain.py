@@ -81,6 +81,14 @@ PGA_MIN_WINDOW = 8
 #: start at multiples of it in the trial index, so which trials share a batch — and so every number —
 #: does not depend on the chunk size or the worker count.
 FORMATION_BATCH = 8
+#: Image data one formation batch may hold (bytes, every copy together): a batch is cut below
+#: :data:`FORMATION_BATCH` trials when one trial's images are large (a long aperture, fine cells),
+#: so memory stays bounded whatever the scenario. The numbers do not change: every trial draws its
+#: own receiver noise and is focused and measured alone.
+FORMATION_BYTES = 1_500_000_000
+#: Copies of one trial's image a batch holds at its peak (clean and PGA images, noise spectrum,
+#: phase history, phase-corrected history, corrected image).
+IMAGE_COPIES = 6
 
 #: Per-trial metrics reported before and after PGA (worst target).
 TRIAL_METRICS = ("azimuth_broadening", "range_broadening", "pslr_db", "islr_db", "peak_loss_db",
@@ -346,6 +354,14 @@ def chain_plan(setup: ChainSetup) -> ChainPlan:
     return plan
 
 
+def formation_batch(setup: ChainSetup) -> int:
+    """Trials imaged together: :data:`FORMATION_BATCH`, fewer when their images would hold more
+    than :data:`FORMATION_BYTES` (at least one)."""
+    n_a, n_r = chain_plan(setup).template.data.shape
+    per_trial = 16 * n_a * n_r * IMAGE_COPIES  # complex128
+    return int(max(1, min(FORMATION_BATCH, FORMATION_BYTES // per_trial)))
+
+
 def scene_reference(setup: ChainSetup) -> SceneReference | None:
     """The perfect-IMU reference of the setup's scene (:mod:`budget.mc.reference`), computed once
     per setup: :data:`~budget.mc.reference.REFERENCE_DRAWS` trials with zero motion error and
@@ -359,8 +375,9 @@ def scene_reference(setup: ChainSetup) -> SceneReference | None:
     if not hasattr(setup, "_reference"):
         zero = np.zeros((REFERENCE_DRAWS, setup.geom.n_pulses, 3))
         outcomes = []
-        for lo in range(0, REFERENCE_DRAWS, FORMATION_BATCH):
-            hi = min(REFERENCE_DRAWS, lo + FORMATION_BATCH)
+        size = formation_batch(setup)
+        for lo in range(0, REFERENCE_DRAWS, size):
+            hi = min(REFERENCE_DRAWS, lo + size)
             outcomes += run_trials(setup, zero[lo:hi], range(lo, hi), setup.options.scene_seed,
                                    np.zeros(hi - lo), relative=False, stream=REFERENCE_STREAM)
         setup._reference = reference_from_outcomes(outcomes, setup.options.acceptance,
@@ -513,12 +530,13 @@ def run_chunk(setup: ChainSetup, model, seed: int, start: int, stop: int,
         pre = _prefilter(model, setup.scenario.imu_rate_hz, opts.prefilter,
                          opts.prefilter_calibration_samples, seed)
     motion = simulate_motion(setup.scenario, model, stop - start, seed, first_trial=start,
-                             keep_series=True, prefilter=pre, disturbance=setup.disturbance)
+                             keep_series="position", prefilter=pre, disturbance=setup.disturbance)
     time_s, series, cells = motion.time_s, motion.position_error_m, motion.peak_range_cells.max(axis=1)
     out = []
     lo, end = (start, stop) if only is None else (max(start, only[0]), min(stop, only[1]))
+    size = formation_batch(setup)
     while lo < end:
-        hi = min(end, (lo // FORMATION_BATCH + 1) * FORMATION_BATCH)
+        hi = min(end, (lo // FORMATION_BATCH + 1) * FORMATION_BATCH, lo + size)
         errs = np.stack([_to_pulses(time_s, series[k - start], setup.geom.pulse_times_s) for k in range(lo, hi)])
         out.extend(run_trials(setup, errs, range(lo, hi), seed, cells[lo - start:hi - start], keep_detail))
         lo = hi

@@ -111,7 +111,9 @@ class _Context:
         self.initial = initial_errors
         if self.plan is not None and initial_errors is None:
             self.initial = AIDED_INITIAL
-        self.keep = keep_series
+        #: keep the APC error series; the range error series too unless only "position" is asked
+        self.keep = bool(keep_series)
+        self.keep_range = keep_series is True
         self.lever = np.asarray(scenario.lever_arm_m, dtype=float)
         self.wavelength = scenario.wavelength_m
         self.motion = None if (disturbance is not None and disturbance.is_random) else \
@@ -199,7 +201,7 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
                 "peak_range_cells": peak / ctx.scenario.range_resolution_m}
         for name in METRICS:
             out[name][start - offset:stop - offset, k] = vals[name][:m]
-        if ctx.keep:
+        if ctx.keep_range:
             out["range_error_m"][start - offset:stop - offset, k] = dr[:m]
     if ctx.keep:
         out["position_error_m"][start - offset:stop - offset] = err[:m]
@@ -208,7 +210,7 @@ def _run_block(ctx: _Context, start: int, stop: int, out: dict, offset: int = 0)
 def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chunk_size: int | None = None,
                     disturbance: Disturbance | dict | None = None, targets=None,
                     initial_errors: InitialErrors | dict | None = None, workers: int = 1,
-                    keep_series: bool = True, first_trial: int = 0, prefilter=None,
+                    keep_series: bool | str = True, first_trial: int = 0, prefilter=None,
                     aiding: AidingPlan | dict | str | None = "scenario") -> MotionResult:
     """Monte Carlo of the motion error of ``n_trials`` apertures of ``scenario`` with IMU ``model``.
 
@@ -218,8 +220,9 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     LOS); ``initial_errors``: 1σ initial position/velocity/attitude errors (free-inertial:
     default none, the IMU aligned at the aperture start t = 0, as in seed 004; aided: at the
     warm-up start, default :data:`AIDED_INITIAL`, also the filter's initial 1σ). The
-    scenario's lever arm (body frame, IMU → APC) applies. ``keep_series`` keeps the APC error (T, N, 3) and range
-    error (T, K, N) series. ``workers`` > 1 runs chunks on threads; results are identical.
+    scenario's lever arm (body frame, IMU → APC) applies. ``keep_series``: True keeps the APC
+    error (T, N, 3) and range error (T, K, N) series, ``"position"`` the APC error only, False
+    neither. ``workers`` > 1 runs chunks on threads; results are identical.
     ``first_trial`` (a multiple of :func:`block_trials`) simulates trials ``first_trial …
     first_trial + n_trials − 1`` of the same seed, so a Monte Carlo can be cut into chunks.
     ``prefilter``: an :class:`~budget.noise.prefilter.ImuPrefilter` applied to the IMU output
@@ -271,7 +274,9 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                          f"above {2 * disturbance.max_frequency_hz():g} Hz", field="imu_rate_hz",
                          value=scenario.imu_rate_hz)
     pts = scene_targets(scenario, targets)
-    if keep_series and 8 * n_trials * n * (3 + pts.shape[0]) > MAX_SERIES_BYTES:
+    if keep_series not in (True, False, "position"):
+        raise InputError("keep_series must be True, False or 'position'", field="keep_series", value=keep_series)
+    if keep_series and 8 * n_trials * n * (3 + (pts.shape[0] if keep_series is True else 0)) > MAX_SERIES_BYTES:
         raise InputError(f"keeping the series of {n_trials} trials × {n} samples needs more than "
                          f"{MAX_SERIES_BYTES / 1e9:g} GB", field="n_trials",
                          expected="fewer trials or keep_series=False")
@@ -291,6 +296,7 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     out = {name: np.empty((n_trials, k)) for name in METRICS}
     if keep_series:
         out["position_error_m"] = np.empty((n_trials, n, 3))
+    if keep_series is True:
         out["range_error_m"] = np.empty((n_trials, k, n))
 
     def run_chunk(c0: int) -> None:

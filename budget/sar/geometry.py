@@ -18,7 +18,9 @@ Sampling:
 * swath = scene extent + range-cell migration + motion margin + pulse tails.
 
 The phase history of every target is exact at every simulated pulse (stop-and-go); nothing is
-decimated. Scenarios that would need more than ``max_pulses`` pulses raise :class:`InputError`.
+decimated. Scenarios that would need more than ``max_pulses`` pulses, or an image of more than
+``max_pixels`` pulses × range bins, raise :class:`InputError` (a Monte Carlo keeps about a dozen
+geometry-only arrays of the image's size: :data:`MAX_PIXELS` bounds that to ≈ 1 GB).
 """
 
 from __future__ import annotations
@@ -35,6 +37,9 @@ from ..scenario import Scenario
 from .windows import Window, scenario_window
 
 MIN_PULSES = 16
+#: Largest image simulated (pulses × range bins): 2²² pixels, 67 MB per complex copy, 60× the
+#: largest preset's (0.066 M); the Monte Carlo's geometry-only arrays then stay below ≈ 1 GB.
+MAX_PIXELS = 1 << 22
 
 
 @dataclass(frozen=True)
@@ -222,7 +227,7 @@ class SarGeometry:
     def from_scenario(cls, scenario: Scenario, *, scene_extent_cells: float = 48.0,
                       oversample: float = 1.25, window: Window | str | None = None,
                       motion_margin_cells: float = 8.0, max_pulses: int = 16384,
-                      max_range_bins: int = 4096) -> "SarGeometry":
+                      max_range_bins: int = 4096, max_pixels: int | None = None) -> "SarGeometry":
         """Sampling for ``scenario``; raises :class:`InputError` naming the field and the limit.
 
         ``scene_extent_cells``: width of the square target area in resolution cells (δℓ × δr).
@@ -302,6 +307,13 @@ class SarGeometry:
                              value=scenario.azimuth_resolution_m,
                              expected=f"at least {MIN_PULSES} pulses (finer azimuth resolution or longer range)")
         n_p = next_fast_len(n_min)
+        max_pixels = MAX_PIXELS if max_pixels is None else max_pixels
+        if n_p * n_r > max_pixels:
+            raise InputError(f"the image would be {n_p} pulses × {n_r} range bins = {n_p * n_r / 1e6:.3g} M "
+                             f"pixels ({16 * n_p * n_r / 1e9:.2g} GB per complex copy; a Monte Carlo holds about "
+                             "a dozen)", field="azimuth_resolution_m", value=scenario.azimuth_resolution_m,
+                             expected=f"at most {max_pixels / 1e6:.3g} M pixels (coarser azimuth or range "
+                             "resolution, or a shorter range)")
         prf = n_p / tc
         times = (np.arange(n_p) - (n_p - 1) / 2.0) / prf
         for arr in (times, range_axis):
