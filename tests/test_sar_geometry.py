@@ -38,7 +38,10 @@ def test_too_many_pulses_names_field_and_limit():
     with pytest.raises(InputError) as err:
         SarGeometry.from_scenario(get_preset("airborne_xband_long_range"))
     assert err.value.field == "azimuth_resolution_m" and "16384" in str(err.value)
-    g = SarGeometry.from_scenario(get_preset("airborne_xband_long_range"), max_pulses=32768, oversample=1.1)
+    with pytest.raises(InputError, match="M pixels"):  # within the pulses, beyond the pixel limit
+        SarGeometry.from_scenario(get_preset("airborne_xband_long_range"), max_pulses=32768, oversample=1.1)
+    g = SarGeometry.from_scenario(get_preset("airborne_xband_long_range"), max_pulses=32768, oversample=1.1,
+                                  max_pixels=1 << 25)
     assert g.n_pulses > 16384
 
 
