@@ -63,6 +63,11 @@ def cis(phase_rad: np.ndarray) -> np.ndarray:
     return out
 
 
+def _weights(pulse_weight: np.ndarray | None) -> np.ndarray:
+    """Per-pulse weights as the compiled loop takes them (empty: none)."""
+    return np.empty(0) if pulse_weight is None else np.ascontiguousarray(pulse_weight, dtype=float).ravel()
+
+
 # NumPy's temporary elision threshold (NPY_MIN_ELIDE_BYTES)
 _ELIDE_BYTES = 256 * 1024
 
@@ -116,10 +121,12 @@ class MotionCompensator:
         coarse = cis(self.carrier_wavenumber_rad_m * dr_c[..., None] + (self.STEP * self._a_values) * theta)
         return coarse, cis(self._b_values * theta)
 
-    def apply(self, range_spectrum: np.ndarray, offset_m: np.ndarray) -> np.ndarray:
+    def apply(self, range_spectrum: np.ndarray, offset_m: np.ndarray,
+              pulse_weight: np.ndarray | None = None) -> np.ndarray:
         """Motion-compensated data (B, n_pulses, n_range) from the range spectrum of the data
         ((n_pulses, n_range), shared, or (B, n_pulses, n_range)) and B measured offsets
-        (B, n_pulses, 3) m."""
+        (B, n_pulses, 3) m; with ``pulse_weight`` (n_pulses,) each pulse is then multiplied by
+        its weight (an azimuth window), in the same pass."""
         off = np.asarray(offset_m, dtype=float)
         dr_c = self.centre_range_change_m(off)  # (B, n_pulses)
         coarse, fine = self._phasors(dr_c)
@@ -134,5 +141,5 @@ class MotionCompensator:
         p = self.nominal_apc_m + off  # reference points lie on x = 0, z = 0 at ground range y_r
         second_order_in_place(out, np.ascontiguousarray(p), np.ascontiguousarray(self.reference_points_m[:, 1]),
                               self.nominal_reference_range_m, np.ascontiguousarray(dr_c), -4.0 * math.pi,
-                              self.wavelength_m, FUSED)
+                              self.wavelength_m, _weights(pulse_weight), FUSED)
         return out

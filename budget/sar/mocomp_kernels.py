@@ -46,14 +46,18 @@ def first_order_product(spectrum: np.ndarray, coarse: np.ndarray, fine: np.ndarr
 @njit(cache=True)
 def second_order_in_place(data: np.ndarray, apc_m: np.ndarray, ground_y_m: np.ndarray,
                           nominal_range_m: np.ndarray, centre_change_m: np.ndarray, phase_per_m: float,
-                          wavelength_m: float, fused: bool) -> None:
+                          wavelength_m: float, pulse_weight: np.ndarray, fused: bool) -> None:
     """data (B, n_pulses, n_range) ·= e^{−jψ}, ψ = phase_per_m · dr / λ, dr = (√((x² + (y − y_r)²) + z²)
     − nominal_range_m[p, r]) − centre_change_m[b, p], (x, y, z) = ``apc_m[b, p]`` and y_r =
     ``ground_y_m[r]`` (the reference points lie on x = 0, z = 0); ``phase_per_m`` = −4π as
-    :func:`budget.units.range_to_phase` multiplies; ``fused`` as in :func:`first_order_product`."""
+    :func:`budget.units.range_to_phase` multiplies; then, when ``pulse_weight`` (n_pulses,) is not
+    empty, times each pulse's real weight, as NumPy multiplies a complex by a real (the real taken
+    as a complex of zero imaginary part); ``fused`` as in :func:`first_order_product`."""
     n_b, n_p, n_r = data.shape
+    weighted = pulse_weight.size > 0
     for b in range(n_b):
         for p in range(n_p):
+            w = complex(pulse_weight[p], 0.0) if weighted else complex(1.0, 0.0)
             x = apc_m[b, p, 0]
             y = apc_m[b, p, 1]
             z = apc_m[b, p, 2]
@@ -64,4 +68,5 @@ def second_order_in_place(data: np.ndarray, apc_m: np.ndarray, ground_y_m: np.nd
                 dy = y - ground_y_m[r]
                 dr = (math.sqrt((xx + dy * dy) + zz) - nominal_range_m[p, r]) - dc
                 phase = -(phase_per_m * dr / wavelength_m)
-                data[b, p, r] = cmul(data[b, p, r], complex(math.cos(phase), math.sin(phase)), fused)
+                v = cmul(data[b, p, r], complex(math.cos(phase), math.sin(phase)), fused)
+                data[b, p, r] = cmul(v, w, fused) if weighted else v
