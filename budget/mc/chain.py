@@ -62,6 +62,7 @@ from ..sar.image import RdaImageFormer, default_bp_grid
 from ..sar.metrics import TargetMeter
 from ..sar.residual import pga_bandwidth_cycles, pga_residual_rms_rad
 from ..scenario import Scenario
+from .noise_kernels import add_band_noise
 from .options import REALISTIC_SNR_DB, McOptions
 from .reference import REFERENCE_DRAWS, SceneReference, reference_from_outcomes
 
@@ -211,16 +212,29 @@ def wideband_note(geom: SarGeometry) -> str:
             "defocus), which the verdict after PGA includes; a wavenumber-domain autofocus would remove it")
 
 
-def receiver_noise_spectrum(geom: SarGeometry, snr_db: float, rng: np.random.Generator) -> np.ndarray:
-    """Range spectrum (DFT along range, (n_pulses, n_range)) of :func:`receiver_noise_echoes`: the
-    same draws, for image formers that take range spectra."""
+def receiver_noise_scale(geom: SarGeometry, snr_db: float) -> np.ndarray:
+    """Scale of the unit normal draws of :func:`receiver_noise_spectrum` on each in-band range
+    bin (``geom.range_band_index``), for the real and the imaginary part alike: the noise level
+    at ``snr_db`` with the range window."""
     w_r = geom.window_range.samples(geom.band_bins)
     w_a = geom.window_azimuth.samples(geom.n_pulses)
     var_rc = (w_a.sum() ** 2 / (w_a ** 2).sum()) / 10.0 ** (snr_db / 10.0)
     s2 = var_rc * w_r.sum() ** 2 / (w_r ** 2).sum()
-    noise = rng.standard_normal((geom.n_pulses, geom.band_bins, 2)).view(complex)[..., 0]  # re, im pairs
+    return np.sqrt(s2 / 2.0) * w_r * (geom.n_range / w_r.sum())
+
+
+def receiver_noise_draws(geom: SarGeometry, rng: np.random.Generator) -> np.ndarray:
+    """The unit normal draws of one trial's receiver noise, (n_pulses, band_bins, 2): real and
+    imaginary part of each in-band range bin of each pulse."""
+    return rng.standard_normal((geom.n_pulses, geom.band_bins, 2))
+
+
+def receiver_noise_spectrum(geom: SarGeometry, snr_db: float, rng: np.random.Generator) -> np.ndarray:
+    """Range spectrum (DFT along range, (n_pulses, n_range)) of :func:`receiver_noise_echoes`: the
+    same draws, for image formers that take range spectra."""
+    noise = receiver_noise_draws(geom, rng).view(complex)[..., 0]  # re, im pairs
     full = np.zeros((geom.n_pulses, geom.n_range), dtype=complex)
-    full[:, geom.range_band_index] = noise * (np.sqrt(s2 / 2.0) * w_r * (geom.n_range / w_r.sum()))[None, :]
+    full[:, geom.range_band_index] = noise * receiver_noise_scale(geom, snr_db)[None, :]
     return full
 
 
@@ -323,6 +337,12 @@ class ChainPlan:
         self.meter = TargetMeter(g, setup.clean_scene, self.template.azimuth_m, self.template.slant_range_m,
                                  azimuth_search_cells=AZ_SEARCH_CELLS)
 
+    def noise_scale(self, setup: ChainSetup) -> np.ndarray:
+        """:func:`receiver_noise_scale` of the setup's SNR, computed once."""
+        if getattr(self, "_noise_scale", None) is None:
+            self._noise_scale = receiver_noise_scale(setup.geom, setup.snr_db)
+        return self._noise_scale
+
     def form(self, setup: ChainSetup, measured: np.ndarray, trials: range, seed: int,
              stream: int = SAR_STREAM) -> tuple[np.ndarray, np.ndarray]:
         """(clean images, PGA images), each (B, n_a, n_r), of the trials ``trials`` imaged with the
@@ -335,7 +355,10 @@ class ChainPlan:
                 return clean, clean
             spec = self.pga_spectrum
             if noise:  # image formation is linear: the echoes' spectrum plus each trial's noise
-                spec = spec + np.stack([receiver_noise_spectrum(g, setup.snr_db, r) for r in noise])
+                spec = np.empty((len(noise),) + self.pga_spectrum.shape, dtype=complex)
+                scale, band = self.noise_scale(setup), g.range_band_index
+                for b, r in enumerate(noise):
+                    add_band_noise(spec[b], self.pga_spectrum, receiver_noise_draws(g, r), scale, band)
             return clean, self.former.form(spec, measured)
         clean = np.stack([form_image(g, setup.clean_echoes, m, method=opt.image_method).data for m in measured])
         if setup.snr_db is None and not self.separate:

@@ -188,6 +188,7 @@ class RdaImageFormer:
         if off.ndim != 3 or off.shape[1:] != (self.geom.n_pulses, 3) or not np.all(np.isfinite(off)):
             raise InputError(f"APC offsets have shape {off.shape}", field="measured_offset_m",
                              expected=f"finite (B, {self.geom.n_pulses}, 3) metres")
-        img = self.rda(self.mocomp.apply(range_spectrum, off))
+        # the azimuth window is applied in the motion compensation's pass over the data
+        img = self.rda(self.mocomp.apply(range_spectrum, off, self.rda.window[:, 0]), windowed=True)
         img *= self.deramp
         return img

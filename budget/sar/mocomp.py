@@ -18,11 +18,15 @@ left; with measured ≠ true the residual true − measured enters the data exac
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.fft as sfft
 
 from ..units import range_to_phase, two_way_wavenumber_at_frequency_rad_m
+from .complex_product import FUSED
 from .geometry import SarGeometry
+from .mocomp_kernels import first_order_product, second_order_in_place
 
 
 def los_range_change_m(geom: SarGeometry, offset_m: np.ndarray, ground_points_m: np.ndarray) -> np.ndarray:
@@ -59,6 +63,15 @@ def cis(phase_rad: np.ndarray) -> np.ndarray:
     return out
 
 
+def _weights(pulse_weight: np.ndarray | None) -> np.ndarray:
+    """Per-pulse weights as the compiled loop takes them (empty: none)."""
+    return np.empty(0) if pulse_weight is None else np.ascontiguousarray(pulse_weight, dtype=float).ravel()
+
+
+# NumPy's temporary elision threshold (NPY_MIN_ELIDE_BYTES)
+_ELIDE_BYTES = 256 * 1024
+
+
 class MotionCompensator:
     """:func:`motion_compensate` for one geometry and a stack of measured trajectories.
 
@@ -69,7 +82,8 @@ class MotionCompensator:
     product (e^{jθ0} e^{jSθa}) · e^{jθb}, θ0 = 4π f0 Δr_c / c, θ = 4π Δf Δr_c / c: a few phasors
     per pulse and one complex product per sample instead of one complex exponential per sample
     (rounding ≈ 2 ulp). Input is the range spectrum of the data (DFT along range), so data that
-    every trajectory shares is transformed once.
+    every trajectory shares is transformed once. The per-sample products and the second-order
+    phase run as compiled loops (:mod:`budget.sar.mocomp_kernels`), without stack-sized temporaries.
     """
 
     #: S of the first-order factorisation k = S·a + b.
@@ -89,7 +103,8 @@ class MotionCompensator:
         a = np.floor_divide(k, self.STEP)
         self._a_values = np.arange(a.min(), a.max() + 1)
         self._b_values = np.arange(self.STEP)
-        self._gather = (a - a.min()) * self.STEP + (k - a * self.STEP)  # bin → (a, b) flattened
+        self._a_index = a - a.min()  # bin k → its (a, b) in the coarse and fine phasors
+        self._b_index = k - a * self.STEP
         self.carrier_wavenumber_rad_m = two_way_wavenumber_at_frequency_rad_m(geom.carrier_frequency_hz, geom.c_m_s)
         self.bin_wavenumber_rad_m = two_way_wavenumber_at_frequency_rad_m(
             geom.range_sample_rate_hz / geom.n_range, geom.c_m_s)
@@ -99,24 +114,32 @@ class MotionCompensator:
         d = self.nominal_apc_m + offset_m - self.centre_m
         return np.sqrt(np.sum(d * d, axis=-1)) - self.nominal_centre_range_m
 
-    def _first_order(self, dr_c: np.ndarray) -> np.ndarray:
-        """exp(+j 4π (f0 + f_k) Δr_c / c) on the range DFT bins (numpy order), (…, n_pulses, n_range)."""
+    def _phasors(self, dr_c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(coarse, fine) phasors of the first-order factor: e^{jθ0} e^{jSθa} for every a,
+        e^{jθb} for b = 0 … S−1, (…, n_pulses, n_a) and (…, n_pulses, S)."""
         theta = self.bin_wavenumber_rad_m * dr_c[..., None]
         coarse = cis(self.carrier_wavenumber_rad_m * dr_c[..., None] + (self.STEP * self._a_values) * theta)
-        fine = cis(self._b_values * theta)
-        outer = (coarse[..., :, None] * fine[..., None, :]).reshape(dr_c.shape + (-1,))
-        return np.take(outer, self._gather, axis=-1)
+        return coarse, cis(self._b_values * theta)
 
-    def apply(self, range_spectrum: np.ndarray, offset_m: np.ndarray) -> np.ndarray:
+    def apply(self, range_spectrum: np.ndarray, offset_m: np.ndarray,
+              pulse_weight: np.ndarray | None = None) -> np.ndarray:
         """Motion-compensated data (B, n_pulses, n_range) from the range spectrum of the data
         ((n_pulses, n_range), shared, or (B, n_pulses, n_range)) and B measured offsets
-        (B, n_pulses, 3) m."""
+        (B, n_pulses, 3) m; with ``pulse_weight`` (n_pulses,) each pulse is then multiplied by
+        its weight (an azimuth window), in the same pass."""
         off = np.asarray(offset_m, dtype=float)
         dr_c = self.centre_range_change_m(off)  # (B, n_pulses)
-        out = sfft.ifft(range_spectrum * self._first_order(dr_c), axis=-1)
+        coarse, fine = self._phasors(dr_c)
+        spec = np.asarray(range_spectrum, dtype=complex)
+        shape = coarse.shape[:-1] + (self.n_range,)
+        # operand order of the former NumPy product spectrum · phasor: NumPy reused the phasor
+        # temporary for a stacked spectrum of ≥ 256 KiB and then multiplied it first (its
+        # temporary elision); the numbers stay those of that form to the last bit
+        phasor_first = spec.ndim == 3 and spec.nbytes >= _ELIDE_BYTES
+        out = sfft.ifft(first_order_product(np.broadcast_to(spec, shape), coarse, fine, self._a_index, self._b_index,
+                                            FUSED, phasor_first), axis=-1, overwrite_x=True)
         p = self.nominal_apc_m + off  # reference points lie on x = 0, z = 0 at ground range y_r
-        y = self.reference_points_m[:, 1]
-        d_off = np.sqrt((p[..., 0:1] * p[..., 0:1] + (p[..., 1:2] - y) ** 2) + p[..., 2:3] * p[..., 2:3])
-        dr = (d_off - self.nominal_reference_range_m) - dr_c[..., None]
-        out *= cis(-range_to_phase(dr, self.wavelength_m))
+        second_order_in_place(out, np.ascontiguousarray(p), np.ascontiguousarray(self.reference_points_m[:, 1]),
+                              self.nominal_reference_range_m, np.ascontiguousarray(dr_c), -4.0 * math.pi,
+                              self.wavelength_m, _weights(pulse_weight), FUSED)
         return out

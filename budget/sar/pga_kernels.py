@@ -21,40 +21,52 @@ from numba import njit
 
 
 @njit(cache=True)
-def _ramp_column(out: np.ndarray, src: np.ndarray, col_out: int, col_src: int, z: complex) -> None:
-    """out[:, col_out] = src[:, col_src] · z^{m(k)}, m(k) the signed DFT index of row k (numpy
-    order), the powers z^1, z^2, … formed as sequential products and z^{−m} = conj(z^m)."""
+def _ramp_columns(out: np.ndarray, src: np.ndarray, cols: np.ndarray, z: np.ndarray) -> None:
+    """out[:, j] = src[:, cols[j]] · z_j^{m(k)} for every j, m(k) the signed DFT index of row k
+    (numpy order), the powers z_j^1, z_j^2, … formed as sequential products and z^{−m} = conj(z^m).
+    ``out`` may be ``src`` itself with ``cols`` = 0, 1, …. Row after row across all the columns:
+    each column's chain of products is the same, but the columns' chains run side by side instead
+    of one long dependent chain after the other."""
     n = out.shape[0]
+    n_c = cols.size
     n_pos = (n - 1) // 2 + 1
     n_neg = n // 2
-    out[0, col_out] = src[0, col_src]
-    p = z
+    for j in range(n_c):
+        out[0, j] = src[0, cols[j]]
+    p = z.copy()
     for m in range(1, max(n_pos - 1, n_neg) + 1):
         if m < n_pos:
-            out[m, col_out] = src[m, col_src] * p
+            for j in range(n_c):
+                out[m, j] = src[m, cols[j]] * p[j]
         if m <= n_neg:
-            out[n - m, col_out] = src[n - m, col_src] * np.conj(p)
-        p = p * z
+            for j in range(n_c):
+                out[n - m, j] = src[n - m, cols[j]] * np.conj(p[j])
+        for j in range(n_c):
+            p[j] = p[j] * z[j]
 
 
 @njit(cache=True)
 def centroid_slope(shifted: np.ndarray, rows: np.ndarray, rot: np.ndarray, cols: np.ndarray) -> np.ndarray:
     """Mean phase slope (rad per bin) of each selected line's windowed phase history, from the
     image: arg(Σ_x |w(x)|² e^{j2πx/n}/n − (Σ_x w(x)) (Σ_x w(x) e^{−j2πx/n})*/n²) over the window
-    ``rows`` (``rot`` = e^{j2πx/n} on them), w = ``shifted[rows, col]``."""
+    ``rows`` (``rot`` = e^{j2πx/n} on them), w = ``shifted[rows, col]``; each line's sums over the
+    rows in order, the lines side by side."""
     n = shifted.shape[0]
-    out = np.empty(cols.size)
-    for j in range(cols.size):
-        col = cols[j]
-        circ = 0.0 + 0.0j
-        total = 0.0 + 0.0j
-        turned = 0.0 + 0.0j
-        for i in range(rows.size):
-            w = shifted[rows[i], col]
-            circ += (w.real * w.real + w.imag * w.imag) * rot[i]
-            total += w
-            turned += w * np.conj(rot[i])
-        c = circ / n - total * np.conj(turned) / (n * n)
+    n_c = cols.size
+    circ = np.zeros(n_c, dtype=np.complex128)
+    total = np.zeros(n_c, dtype=np.complex128)
+    turned = np.zeros(n_c, dtype=np.complex128)
+    for i in range(rows.size):
+        r = rot[i]
+        rc = np.conj(r)
+        for j in range(n_c):
+            w = shifted[rows[i], cols[j]]
+            circ[j] += (w.real * w.real + w.imag * w.imag) * r
+            total[j] += w
+            turned[j] += w * rc
+    out = np.empty(n_c)
+    for j in range(n_c):
+        c = circ[j] / n - total[j] * np.conj(turned[j]) / (n * n)
         out[j] = np.arctan2(c.imag, c.real)
     return out
 
@@ -192,28 +204,34 @@ def _ramp_factor(shift: float, n: int) -> complex:
 def centre_in_place(corr: np.ndarray, spec: np.ndarray) -> None:
     """Moves each line of ``corr`` (phase histories, numpy order) so that the brightest point of
     its image ``spec`` = DFT(corr) lands at index 0: corr[:, l] ·= e^{−j2π f_k s_l}
-    (the powers of z_l = e^{−j2π s_l/n}, :func:`_ramp_column`), s_l = the index of the largest
+    (the powers of z_l = e^{−j2π s_l/n}, :func:`_ramp_columns`), s_l = the index of the largest
     |spec| plus the parabolic fit's offset 0.5 (a₋ − a₊)/(a₋ − 2a₀ + a₊) through |spec| there and at
     its circular neighbours (where that denominator is < 0, else 0). The largest is
     found on |spec|² (no square roots over the whole line), the three magnitudes of the fit are
     |·| as np.abs forms them."""
     n, n_l = spec.shape
+    top = np.empty(n_l)
+    best = np.zeros(n_l, dtype=np.int64)
     for col in range(n_l):
-        best = 0
         v = spec[0, col]
-        top = v.real * v.real + v.imag * v.imag
-        for i in range(1, n):
+        top[col] = v.real * v.real + v.imag * v.imag
+    for i in range(1, n):
+        for col in range(n_l):
             v = spec[i, col]
             p = v.real * v.real + v.imag * v.imag
-            if p > top:  # first maximum, as np.argmax
-                top = p
-                best = i
-        a_0 = abs(spec[best, col])
-        a_m = abs(spec[(best - 1) % n, col])
-        a_p = abs(spec[(best + 1) % n, col])
+            if p > top[col]:  # first maximum, as np.argmax
+                top[col] = p
+                best[col] = i
+    z = np.empty(n_l, dtype=np.complex128)
+    for col in range(n_l):
+        b = best[col]
+        a_0 = abs(spec[b, col])
+        a_m = abs(spec[(b - 1) % n, col])
+        a_p = abs(spec[(b + 1) % n, col])
         den = a_m - 2.0 * a_0 + a_p
-        shift = best + (0.5 * (a_m - a_p) / den if den < 0 else 0.0)
-        _ramp_column(corr, corr, col, col, _ramp_factor(shift, n))
+        shift = b + (0.5 * (a_m - a_p) / den if den < 0 else 0.0)
+        z[col] = _ramp_factor(shift, n)
+    _ramp_columns(corr, corr, np.arange(n_l), z)
 
 
 @njit(cache=True)
@@ -221,12 +239,14 @@ def refine_ramp(shifted: np.ndarray, h_shift: np.ndarray, rows: np.ndarray, rot:
                 cols: np.ndarray) -> np.ndarray:
     """The selected lines ``h_shift[:, cols]`` moved by their centroid offsets s = slope·n/(2π),
     slope from :func:`centroid_slope` of ``shifted`` over the window ``rows``: a new (n, len(cols))
-    array (the ramps of :func:`_ramp_column`)."""
+    array (the ramps of :func:`_ramp_columns`)."""
     n = h_shift.shape[0]
     slope = centroid_slope(shifted, rows, rot, cols)
-    out = np.empty((n, cols.size), dtype=np.complex128)
+    z = np.empty(cols.size, dtype=np.complex128)
     for j in range(cols.size):
-        _ramp_column(out, h_shift, j, cols[j], _ramp_factor(slope[j] * n / (2.0 * np.pi), n))
+        z[j] = _ramp_factor(slope[j] * n / (2.0 * np.pi), n)
+    out = np.empty((n, cols.size), dtype=np.complex128)
+    _ramp_columns(out, h_shift, cols, z)
     return out
 
 

@@ -122,21 +122,24 @@ class RangeDopplerPlan:
         self.resample = None if pos is None else _resample_operator(pos)
         self.azimuth_filter = fac["azimuth_filter"]
 
-    def range_compressed_spectrum(self, data: np.ndarray) -> np.ndarray:
-        """Steps 1–3 up to the range inverse DFT: (B, n_azimuth, n_range) in (f_η, r)."""
+    def range_compressed_spectrum(self, data: np.ndarray, windowed: bool = False) -> np.ndarray:
+        """Steps 1–3 up to the range inverse DFT: (B, n_azimuth, n_range) in (f_η, r);
+        ``windowed``: ``data`` already carries the azimuth window (``self.window``)."""
         data = np.asarray(data)
+        weighted = data if windowed else data * self.window
         if self.pad:
             padded = np.zeros(data.shape[:-2] + (self.n_azimuth, self.n_range), dtype=complex)
-            padded[..., self.pad:self.pad + self.n_pulses, :] = data * self.window
+            padded[..., self.pad:self.pad + self.n_pulses, :] = weighted
             s = sfft.fft2(padded, axes=(-2, -1))
         else:
-            s = sfft.fft2(data * self.window, axes=(-2, -1))
+            s = sfft.fft2(weighted, axes=(-2, -1))
         s *= self.reference_function
         return sfft.ifft(s, axis=-1, overwrite_x=True)
 
-    def __call__(self, data: np.ndarray) -> np.ndarray:
-        """Focused images (B, n_azimuth, n_range) of motion-compensated data (B, n_pulses, n_range)."""
-        s = self.range_compressed_spectrum(data)
+    def __call__(self, data: np.ndarray, windowed: bool = False) -> np.ndarray:
+        """Focused images (B, n_azimuth, n_range) of motion-compensated data (B, n_pulses, n_range)
+        (``windowed``: already multiplied by the azimuth window)."""
+        s = self.range_compressed_spectrum(data, windowed)
         if self.resample is not None:
             lead = s.shape[:-2]
             flat = np.ascontiguousarray(s.reshape(-1, self.n_azimuth * self.n_range).T)  # (N, B)
