@@ -66,3 +66,25 @@ def test_position_only_series():
     assert np.array_equal(pos.peak_range_cells, both.peak_range_cells)
     with pytest.raises(InputError, match="keep_series"):
         simulate_motion(scen, model, 4, 1, keep_series="range")
+
+
+def test_a_clutter_scene_too_costly_to_simulate_is_refused_before_the_work():
+    """80 GHz at 26 km and 6 m/s: 16,000 pulses over 1.3 M clutter cells (≈ 70 min of clutter)."""
+    scen = Scenario.model_validate({"name": "slow_w_band", "carrier_frequency_hz": 80.2e9, "slant_range_m": 26064.0,
+                                    "azimuth_resolution_m": 0.0618, "range_resolution_m": 0.322,
+                                    "platform_speed_m_s": 6.24, "depression_deg": 9.0})
+    with pytest.raises(InputError) as e:
+        ChainSetup.build(scen, McOptions(scene="realistic"))
+    assert e.value.field == "scene" and "phase evaluations" in str(e.value) and "points scene" in str(e.value)
+
+
+def test_point_target_echoes_in_groups_equal_the_whole_envelope(monkeypatch):
+    import budget.sar.echoes as echoes
+    from budget.sar import Scene, simulate_echoes
+
+    geom = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    scene = Scene.default(geom, snr_db=None)
+    whole = simulate_echoes(geom, scene, None, None)
+    monkeypatch.setattr(echoes, "ENVELOPE_ELEMENTS", 2 * geom.n_pulses * geom.band_bins)  # 2 targets a group
+    grouped = simulate_echoes(geom, scene, None, None)
+    assert np.max(np.abs(grouped - whole)) <= 1e-12 * np.max(np.abs(whole))

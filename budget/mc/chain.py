@@ -129,6 +129,7 @@ class ChainSetup:
     def build(cls, scenario: Scenario, options: McOptions | None = None,
               scene: Scene | None = None) -> "ChainSetup":
         options = options or McOptions()
+        disturbance = options.platform_motion.disturbance_for(scenario)  # refused before the echoes
         geom = SarGeometry.from_scenario(scenario, window=options.window_for(scenario))
         kind = options.scene
         if kind == "auto":
@@ -164,8 +165,7 @@ class ChainSetup:
         else:
             raise InputError("the scene has clutter but no point targets to measure",
                              field="scene", expected="at least one point target")
-        return cls(scenario, geom, scene, echoes, options, clean, clean_echoes, kind, snr,
-                   options.platform_motion.disturbance_for(scenario))
+        return cls(scenario, geom, scene, echoes, options, clean, clean_echoes, kind, snr, disturbance)
 
     def describe(self) -> dict:
         """What the verdict was judged on (for results: the user could not know it otherwise)."""

@@ -27,6 +27,12 @@ from .scene import Scene
 from .windows import ideal_irf
 
 _GRID_UPSAMPLE = 16
+#: Largest (pulses × bins × targets) envelope of the point targets formed at once (complex:
+#: 16 bytes each, 256 MB); more targets are summed in groups, with the same products.
+ENVELOPE_ELEMENTS = 1 << 24
+#: Most clutter phase evaluations (pulses × clutter points) a scene may ask for: about a minute and
+#: a half at the ≈ 10⁷ per second this loop reaches, 40× the presets' largest (2.5·10⁷).
+MAX_CLUTTER_EVALUATIONS = 1_000_000_000
 
 
 def _check_rng(rng, scene: Scene) -> np.random.Generator | None:
@@ -63,14 +69,18 @@ def simulate_echoes(geom: SarGeometry, scene: Scene, true_offset_m=None,
         pts = geom.scene_point_m(x, geom.ref_range_m + r)
         rng_nk = np.linalg.norm(apc[:, None, :] - pts[None, :, :], axis=-1)
         carrier = a[None, :] * np.exp(1j * range_to_phase(rng_nk, geom.wavelength_m))
-        # exp(−j 4π f_m (R − r0)/c) with f_m = m Δf on symmetric m: powers of one phasor
-        # (cumulative product: one complex exponential per target and pulse instead of M)
-        step = np.exp(-1j * (k_f[1] - k_f[0]) * (rng_nk - r0))
-        env = np.empty((geom.n_pulses, geom.band_bins, rng_nk.shape[1]), dtype=complex)
-        env[:, 0] = np.exp(-1j * k_f[0] * (rng_nk - r0))
-        env[:, 1:] = step[:, None, :]
-        np.cumprod(env, axis=1, out=env)
-        spec += np.einsum("nmk,nk->nm", env, carrier)
+        # targets in groups, so the (pulses, bins, targets) envelope stays below ENVELOPE_ELEMENTS
+        group = max(1, ENVELOPE_ELEMENTS // (geom.n_pulses * geom.band_bins))
+        for k0 in range(0, rng_nk.shape[1], group):
+            rk = rng_nk[:, k0:k0 + group]
+            # exp(−j 4π f_m (R − r0)/c) with f_m = m Δf on symmetric m: powers of one phasor
+            # (cumulative product: one complex exponential per target and pulse instead of M)
+            step = np.exp(-1j * (k_f[1] - k_f[0]) * (rk - r0))
+            env = np.empty((geom.n_pulses, geom.band_bins, rk.shape[1]), dtype=complex)
+            env[:, 0] = np.exp(-1j * k_f[0] * (rk - r0))
+            env[:, 1:] = step[:, None, :]
+            np.cumprod(env, axis=1, out=env)
+            spec += np.einsum("nmk,nk->nm", env, carrier[:, k0:k0 + group])
     if scene.clutter_to_target_db is not None:
         spec += _clutter_spectrum(geom, scene, apc, rng)
     w_r = geom.window_range.samples(geom.band_bins)
@@ -95,6 +105,13 @@ def _clutter_spectrum(geom: SarGeometry, scene: Scene, apc: np.ndarray,
     r_lo, r_hi = geom.range_axis_m[12], geom.range_axis_m[-13]
     y_s = r_hi - r_lo
     n_q = int(np.ceil(scene.clutter_density_per_cell * x_s * y_s / (cell_a * cell_r)))
+    if n_q * geom.n_pulses > MAX_CLUTTER_EVALUATIONS:
+        work = n_q * geom.n_pulses
+        raise InputError(f"the clutter of this scene needs {geom.n_pulses} pulses × {n_q / 1e6:.3g} M clutter "
+                         f"points = {work:.2g} phase evaluations (≈ {work / 1e7 / 60:.0f} min to simulate)",
+                         field="scene", value="clutter",
+                         expected=f"≤ {MAX_CLUTTER_EVALUATIONS:.0e} (the points scene, a lower clutter "
+                                  "density, or a smaller image: coarser resolution or shorter aperture)")
     xq = rng.uniform(-0.5 * x_s, 0.5 * x_s, n_q)
     rq = rng.uniform(r_lo, r_hi, n_q)
     # mean pixel power = density · σ² · ∫∫|h|² dA  (h: ideal IRF with unit peak)
