@@ -15,7 +15,9 @@ model's at the τ where the effect shows most (quantization: at τ = dt; heavy t
    log 2) when ``../shared/data`` is present.
 
 Run from the repository root: ``python3 benchmarks/bench_gap.py [--quick] [--jobs 2] [--real]
-[--low-frequency] [--decorrelate]`` (the last two: the options of :func:`budget.gap.run_gap`);
+[--low-frequency] [--decorrelate] [--ratio R] [--effects a,b] [--no-timing]`` (``--low-frequency``
+and ``--decorrelate``: the options of :func:`budget.gap.run_gap`; ``--ratio``: the Allan-deviation
+ratio the effects are sized to, default 3 — heavy tails and outliers keep their own sizes);
 ``--real --seeds 0 --fp-seeds 0``: the speed run and the real logs only (≈ 5 min).
 """
 
@@ -117,6 +119,10 @@ def main() -> None:
     ap.add_argument("--fp-seeds", type=int, default=50)
     ap.add_argument("--jobs", type=int, default=1, help="processes (the machine has 2 cores)")
     ap.add_argument("--effects", default=",".join(gt.ALL), help="comma-separated subset")
+    ap.add_argument("--ratio", type=float, default=gt.RATIO,
+                    help=f"Allan-deviation ratio (log / base model) the hidden effects are sized to "
+                         f"(default {gt.RATIO:g}; the detection target is stated for 2–5)")
+    ap.add_argument("--no-timing", action="store_true", help="skip the speed run")
     ap.add_argument("--real", action="store_true",
                     help="also cross-validate the real ADIS16405 logs (after the speed run and the "
                          "detection matrix; --real --seeds 0 --fp-seeds 0 for the real logs alone, "
@@ -130,7 +136,13 @@ def main() -> None:
     n = gt.ONE_HOUR
     if args.quick:
         args.seeds, args.fp_seeds, n = 2, 4, 60_000
-    timing(n, opts)
+    if not args.ratio > 1.0:
+        ap.error("--ratio must be > 1 (the log's Allan deviation over the base model's)")
+    gt.RATIO = args.ratio  # the generators read it when they size an effect (worker processes fork)
+    if args.ratio != 3.0:
+        print(f"hidden effects sized to {args.ratio:g}× the base model's Allan deviation")
+    if not args.no_timing:
+        timing(n, opts)
     tasks = [(name, n, s, opts) for name in args.effects.split(",") if name for s in range(args.seeds)]
     tasks += [(None, n, 5000 + s, opts) for s in range(args.fp_seeds)]
     with ProcessPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
