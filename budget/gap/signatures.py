@@ -61,6 +61,8 @@ FIRST_BIN = 4
 MAX_NPERSEG = 1 << 16
 #: Differences examined by the lattice test (enough for a stable verdict, bounded time).
 LATTICE_SAMPLES = 200_000
+#: First differences read to decide whether a series' robust scale needs the grouped median.
+SCALE_LATTICE_SAMPLES = 20_000
 
 
 @dataclass(frozen=True)
@@ -219,7 +221,11 @@ def series_signature(x: np.ndarray, grid: SignatureGrid, *, lattice: bool = Fals
     d = np.diff(x)
     med = float(np.median(d))
     dev = np.abs(d - med)
-    sigma_r = 1.4826 * float(np.median(dev))
+    # on a lattice the plain median of |Δx − med| jumps by whole steps between two series of the
+    # same process, and the tail limit k·σ with it across several levels; the grouped median moves
+    # continuously with the distribution (continuous data: the plain median, unchanged)
+    step = lattice_step(d[:SCALE_LATTICE_SAMPLES])
+    sigma_r = 1.4826 * (float(np.median(dev)) if step is None else grouped_median(dev, step))
     c = d - d.mean()
     m2 = _dot(c, c) / c.size
     kurt = float(np.mean(c ** 4) / m2 ** 2 - 3.0) if m2 > 0 else 0.0
@@ -237,6 +243,20 @@ def series_signature(x: np.ndarray, grid: SignatureGrid, *, lattice: bool = Fals
     return Signature(avar, psd, kurt, m2, sigma_r, tails, int(np.count_nonzero(dev > 2.0 * limit)),
                      n_sp, mag, float(dev.max()), slope, temp,
                      lattice=lattice_step(d) if lattice else None, low=low)
+
+
+def grouped_median(v: np.ndarray, step: float) -> float:
+    """Median of values ``v`` that lie on a lattice of spacing ``step`` (whole or half steps from
+    0), interpolated within its class of width ``step`` — the grouped-data median
+    L + (n/2 − F_below)/f·step, L the class's lower boundary — so that it is continuous in the
+    distribution instead of jumping from one level to the next."""
+    half = np.round(np.asarray(v, float) * (2.0 / step)).astype(np.int64)  # levels in half steps
+    levels, counts = np.unique(half, return_counts=True)
+    cum = np.cumsum(counts)
+    n = 0.5 * v.size
+    j = int(np.searchsorted(cum, n))
+    below = float(cum[j] - counts[j])
+    return float((0.5 * levels[j] - 0.5) * step + step * (n - below) / counts[j])
 
 
 def lattice_step(d: np.ndarray) -> float | None:
