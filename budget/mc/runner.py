@@ -219,6 +219,6 @@ def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = Non
         extra.append(f"platform_accel_m_s2 = {scenario.platform_accel_m_s2:g}")
     if extra:
         text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) is not simulated "
-                 "(options.platform_motion: oscillation or attitude_change flies a rotation)")
+                 "(McOptions.platform_motion, --platform-motion: oscillation or attitude_change flies a rotation)")
     return text
 

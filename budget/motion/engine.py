@@ -41,7 +41,7 @@ from ..aiding_spec import AidingPlan
 from ..errors import InputError, from_validation_error, whole_number
 from ..imu.generator import generate_imu_errors
 from ..imu.noise_model import NoiseModel, NoiseModelSI, as_noise_model_si
-from ..nav.platform import Disturbance, true_motion
+from ..nav.platform import MAX_FREQUENCY_FRACTION, Disturbance, true_motion
 from ..nav.strapdown import InitialErrors, cross, propagate_errors
 from ..rng import STREAMS, trial_generator
 from ..scenario import Scenario
@@ -117,7 +117,7 @@ class _Context:
         self.lever = np.asarray(scenario.lever_arm_m, dtype=float)
         self.wavelength = scenario.wavelength_m
         self.motion = None if (disturbance is not None and disturbance.is_random) else \
-            true_motion(scenario.platform_speed_m_s, self.span_time_s, disturbance)
+            true_motion(scenario.platform_speed_m_s, self.span_time_s, disturbance, imu_dt_s=self.dt)
         if self.plan is not None:
             self.blend_time_s = self.plan.blend_time_s or BLEND_APERTURES * scenario.tc_s
             self.filter_initial = InitialUncertainty(
@@ -130,7 +130,7 @@ class _Context:
             return self.motion
         rng = trial_generator(self.seed, start, DISTURBANCE_STREAM)
         return true_motion(self.scenario.platform_speed_m_s, self.span_time_s, self.disturbance,
-                           n_trials=self.block, rng=rng)
+                           n_trials=self.block, rng=rng, imu_dt_s=self.dt)
 
 
 def _apc_error(ctx: _Context, start: int, motion, gyro, accel, init) -> np.ndarray:
@@ -269,9 +269,11 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     if n > MAX_SAMPLES:
         raise InputError(f"the aperture spans {n} IMU samples", field="imu_rate_hz",
                          expected=f"at most {MAX_SAMPLES:,} (lower the IMU rate)")
-    if disturbance is not None and 2.0 * disturbance.max_frequency_hz() >= scenario.imu_rate_hz:
-        raise InputError(f"disturbance content up to {disturbance.max_frequency_hz():g} Hz needs an IMU rate "
-                         f"above {2 * disturbance.max_frequency_hz():g} Hz", field="imu_rate_hz",
+    if disturbance is not None and disturbance.max_frequency_hz() > MAX_FREQUENCY_FRACTION * scenario.imu_rate_hz:
+        f_max = disturbance.max_frequency_hz()
+        raise InputError(f"disturbance content up to {f_max:g} Hz needs an IMU rate of at least "
+                         f"{f_max / MAX_FREQUENCY_FRACTION:g} Hz (10× its highest frequency: the motion error of a "
+                         "scale factor or misalignment on it is then right to 1.6 %)", field="imu_rate_hz",
                          value=scenario.imu_rate_hz)
     pts = scene_targets(scenario, targets)
     if keep_series not in (True, False, "position"):

@@ -32,7 +32,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from ..errors import InputError, refuse_bool_numbers
-from .platform import Disturbance, SinusoidalMotion
+from .platform import ROTATION_AXES, TRANSLATION_AXES, Disturbance, SinusoidalMotion
 
 KINDS = ("straight", "oscillation", "attitude_change", "custom")
 #: Oscillation period when none is given (s): aircraft attitude in turbulence, 0.1 Hz.
@@ -130,8 +130,10 @@ class PlatformMotion(BaseModel):
                     f"{math.degrees(math.pi * theta / (2.0 * scenario.tc_s)):.3g} deg/s)"
                     + ("" if self.angle_deg is not None else " (default Θ = 1 rad, the gyro-scale-factor "
                                                             "bound's)") + "; straight track")
-        parts = [f"{s.axis} {s.amplitude:g} at {s.frequency_hz:g} Hz" for s in dist.sinusoids]
-        parts += [f"{r.axis} random ({r.frequency_hz[0]:g}–{r.frequency_hz[-1]:g} Hz)" for r in dist.random]
+        unit = {ax: "m" for ax in TRANSLATION_AXES} | {ax: "rad" for ax in ROTATION_AXES}
+        parts = [f"{s.axis} {s.amplitude:g} {unit[s.axis]} at {s.frequency_hz:g} Hz" for s in dist.sinusoids]
+        parts += [f"{r.axis} random {r.rms:.3g} {unit[r.axis]} rms ({r.frequency_hz[0]:g}–{r.frequency_hz[-1]:g} Hz)"
+                  for r in dist.random]
         return ("platform disturbance (custom): " + "; ".join(parts)
                 + ("" if dist.has_rotation else "; no rotation, so gyro scale factor and misalignment have "
                                                  "no effect here"))

@@ -29,6 +29,15 @@ from ..fileio import read_structured
 from ..units import G0
 
 TRANSLATION_AXES = ("surge", "sway", "heave")
+#: Highest disturbance frequency simulated, as a fraction of the IMU rate: the motion error of a
+#: scale factor or misalignment on a component at f is then right to (πf/rate)²/6 ≤ 1.6 %
+#: (:func:`true_motion`); Nyquist alone would allow a 90 Hz motion at 200 Hz, simulated at 32 %.
+MAX_FREQUENCY_FRACTION = 0.1
+#: Largest displacement amplitude (sinusoid peak, random rms) of a disturbance, m.
+MAX_DISPLACEMENT_M = 1000.0
+#: Largest attitude amplitude (sinusoid peak, random rms) of a disturbance, rad: beyond it the
+#: attitude leaves the range a "disturbance" of straight flight describes.
+MAX_ANGLE_RAD = 1.0
 ROTATION_AXES = ("roll", "pitch", "yaw")
 Axis = Literal["surge", "sway", "heave", "roll", "pitch", "yaw"]
 
@@ -42,8 +51,8 @@ class SinusoidalMotion(BaseModel):
 
     axis: Axis
     frequency_hz: float = Field(..., gt=0, allow_inf_nan=False)
-    amplitude_m: float | None = Field(None, ge=0, allow_inf_nan=False)
-    amplitude_rad: float | None = Field(None, ge=0, le=1.0, allow_inf_nan=False)
+    amplitude_m: float | None = Field(None, ge=0, le=MAX_DISPLACEMENT_M, allow_inf_nan=False)
+    amplitude_rad: float | None = Field(None, ge=0, le=MAX_ANGLE_RAD, allow_inf_nan=False)
     phase_rad: float = Field(0.0, allow_inf_nan=False)
 
     @model_validator(mode="after")
@@ -84,7 +93,17 @@ class RandomMotion(BaseModel):
         p = np.asarray(psd)
         if not (np.all(np.isfinite(p)) and np.all(p > 0)):
             raise ValueError("PSD values must be finite and > 0 (use fewer points to model a band)")
+        limit, unit = (MAX_DISPLACEMENT_M, "m") if self.axis in TRANSLATION_AXES else (MAX_ANGLE_RAD, "rad")
+        if self.rms > limit:
+            raise ValueError(f"the {self.axis} PSD table integrates to {self.rms:.3g} {unit} rms; "
+                             f"expected ≤ {limit:g} {unit} (as for a sinusoid's amplitude)")
         return self
+
+    @property
+    def rms(self) -> float:
+        """Root of the PSD integrated over the table (m or rad rms; log-log interpolation)."""
+        f = np.geomspace(self.frequency_hz[0], self.frequency_hz[-1], 4097)
+        return float(math.sqrt(np.trapezoid(self.psd_at(f), f)))
 
     @property
     def psd(self) -> tuple[float, ...]:
@@ -116,6 +135,12 @@ class Disturbance(BaseModel):
     sinusoids: tuple[SinusoidalMotion, ...] = ()
     random: tuple[RandomMotion, ...] = ()
 
+    @model_validator(mode="after")
+    def _not_empty(self) -> "Disturbance":
+        if not (self.sinusoids or self.random):
+            raise ValueError("a disturbance needs at least one component (sinusoids and/or random)")
+        return self
+
     @property
     def is_random(self) -> bool:
         return bool(self.random)
@@ -146,7 +171,9 @@ class TrueMotion:
 
     ``position_m``: IMU position in the nav frame, origin at the nominal position at the
     aperture centre. ``c_b_n``: body→nav DCM (None = identity throughout). ``force_n_m_s2`` and
-    ``force_b_m_s2``: specific force; ``rate_b_rad_s``: body angular rate.
+    ``force_b_m_s2``: specific force; ``rate_b_rad_s``: body angular rate. With an IMU interval
+    (:func:`true_motion`'s ``imu_dt_s``) the body rate and body specific force are those of each
+    interval's midpoint, what the IMU sample of that interval stands for; the rest is at the samples.
     """
 
     time_s: np.ndarray
@@ -157,12 +184,11 @@ class TrueMotion:
     c_b_n: np.ndarray | None
 
 
-def _random_series(comp: RandomMotion, n_trials: int, time_s: np.ndarray,
-                   rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Displacement and its first two derivatives, each (T, N), as a random Fourier series on
-    the grid f_k = k/(2·duration): amplitudes √(S(f_k)·Δf)·(a_k, b_k), a, b ~ N(0, 1)."""
-    duration = time_s[-1] - time_s[0]
-    df = 1.0 / (2.0 * duration)
+def _random_coefficients(comp: RandomMotion, n_trials: int, duration_s: float,
+                         rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One realisation per trial of ``comp`` as a random Fourier series on the grid
+    f_k = k/(2·duration): (f (K,), a (T, K), b (T, K)) with amplitudes √(S(f_k)·Δf)·N(0, 1)."""
+    df = 1.0 / (2.0 * duration_s)
     kmax = int(math.floor(comp.frequency_hz[-1] / df)) + 1
     f = df * np.arange(1, kmax + 1)
     amp = np.sqrt(comp.psd_at(f) * df)
@@ -170,6 +196,12 @@ def _random_series(comp: RandomMotion, n_trials: int, time_s: np.ndarray,
     f, amp = f[keep], amp[keep]
     a = rng.standard_normal((n_trials, f.size)) * amp
     b = rng.standard_normal((n_trials, f.size)) * amp
+    return f, a, b
+
+
+def _fourier_series(f: np.ndarray, a: np.ndarray, b: np.ndarray,
+                    time_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Displacement Σ a_k cos ω_k t + b_k sin ω_k t and its first two derivatives, each (T, N)."""
     w = 2.0 * math.pi * f
     arg = np.outer(w, time_s)  # (K, N)
     cos_, sin_ = np.cos(arg), np.sin(arg)
@@ -195,40 +227,71 @@ def _euler_to_dcm(r, p, y) -> np.ndarray:
 
 
 def true_motion(speed_m_s: float, time_s: np.ndarray, disturbance: Disturbance | None = None,
-                n_trials: int = 1, rng: np.random.Generator | None = None) -> TrueMotion:
+                n_trials: int = 1, rng: np.random.Generator | None = None,
+                imu_dt_s: float | None = None) -> TrueMotion:
     """True kinematics of straight flight at ``speed_m_s`` plus ``disturbance``.
 
     ``time_s`` (N,) runs over the aperture; the nominal position is x = V·(t − t_mid). With a
     random disturbance the arrays get a leading trial axis and ``rng`` is required.
+    ``imu_dt_s``: the IMU sample interval. The strapdown propagation holds sample k over
+    [t_k, t_k + dt) (:func:`budget.nav.strapdown.propagate_errors`), so the IMU sample of that
+    interval must describe the interval, not its start: the returned ``rate_b_rad_s`` and
+    ``force_b_m_s2`` are then taken at the interval midpoints t_k + dt/2 (the same realisation).
+    Taken at t_k, a scale factor on a rate that is not zero at the start integrates to a constant
+    tilt γ·ω(0)·dt/2 that gravity turns into a position error growing as t² (relative error
+    ≈ ω²·T·dt/4: 4.8× the true error for a 5 Hz roll at 200 Hz over 3 s). At the midpoints the
+    error of a component at f is ≈ (πf·dt)²/6 (the propagation's own discretisation; 1.6 % at
+    f = rate/10): :data:`MAX_FREQUENCY_FRACTION` bounds it.
     """
     time_s = np.asarray(time_s, dtype=float)
     n = time_s.size
     t_mid = 0.5 * (time_s[0] + time_s[-1])
     rand = disturbance is not None and disturbance.is_random
+    if rand and rng is None:
+        raise ValueError("a random disturbance needs a numpy.random.Generator")
+    coeffs = [(c.axis, _random_coefficients(c, n_trials, time_s[-1] - time_s[0], rng))
+              for c in disturbance.random] if rand else []
     lead = (n_trials,) if rand else ()
-    disp = {ax: np.zeros(lead + (n,)) for ax in (*TRANSLATION_AXES, *ROTATION_AXES)}
-    vel = {ax: np.zeros(lead + (n,)) for ax in disp}
-    acc = {ax: np.zeros(lead + (n,)) for ax in disp}
-    if disturbance is not None:
-        for s in disturbance.sinusoids:
-            w = 2.0 * math.pi * s.frequency_hz
-            arg = w * time_s + s.phase_rad
-            disp[s.axis] = disp[s.axis] + s.amplitude * np.sin(arg)
-            vel[s.axis] = vel[s.axis] + s.amplitude * w * np.cos(arg)
-            acc[s.axis] = acc[s.axis] - s.amplitude * w**2 * np.sin(arg)
-        if rand:
-            if rng is None:
-                raise ValueError("a random disturbance needs a numpy.random.Generator")
-            for c in disturbance.random:
-                x, xd, xdd = _random_series(c, n_trials, time_s, rng)
-                disp[c.axis] = disp[c.axis] + x
-                vel[c.axis] = vel[c.axis] + xd
-                acc[c.axis] = acc[c.axis] + xdd
     shape = lead + (n, 3)
+    disp, vel, acc = _axis_series(disturbance, coeffs, time_s, lead)
     pos = np.empty(shape)
     pos[..., 0] = speed_m_s * (time_s - t_mid) + disp["surge"]
     pos[..., 1] = disp["sway"]
     pos[..., 2] = disp["heave"]
+    f_n, w_b, f_b, c_b_n = _body_kinematics(disturbance, disp, vel, acc, shape)
+    if imu_dt_s is not None and disturbance is not None:
+        d_m, v_m, a_m = _axis_series(disturbance, coeffs, time_s + 0.5 * imu_dt_s, lead)
+        _, w_b, f_b, _ = _body_kinematics(disturbance, d_m, v_m, a_m, shape)
+    return TrueMotion(time_s=time_s, position_m=pos, force_n_m_s2=f_n, force_b_m_s2=f_b,
+                      rate_b_rad_s=w_b, c_b_n=c_b_n)
+
+
+def _axis_series(disturbance: Disturbance | None, coeffs: list, time_s: np.ndarray,
+                 lead: tuple) -> tuple[dict, dict, dict]:
+    """Displacement, velocity and acceleration of every axis at ``time_s`` (sinusoids and the
+    random components' drawn series), each (…, N)."""
+    n = time_s.size
+    disp = {ax: np.zeros(lead + (n,)) for ax in (*TRANSLATION_AXES, *ROTATION_AXES)}
+    vel = {ax: np.zeros(lead + (n,)) for ax in disp}
+    acc = {ax: np.zeros(lead + (n,)) for ax in disp}
+    if disturbance is None:
+        return disp, vel, acc
+    for s in disturbance.sinusoids:
+        w = 2.0 * math.pi * s.frequency_hz
+        arg = w * time_s + s.phase_rad
+        disp[s.axis] = disp[s.axis] + s.amplitude * np.sin(arg)
+        vel[s.axis] = vel[s.axis] + s.amplitude * w * np.cos(arg)
+        acc[s.axis] = acc[s.axis] - s.amplitude * w**2 * np.sin(arg)
+    for axis, (f, a, b) in coeffs:
+        x, xd, xdd = _fourier_series(f, a, b, time_s)
+        disp[axis] = disp[axis] + x
+        vel[axis] = vel[axis] + xd
+        acc[axis] = acc[axis] + xdd
+    return disp, vel, acc
+
+
+def _body_kinematics(disturbance: Disturbance | None, disp: dict, vel: dict, acc: dict, shape: tuple):
+    """(f_n, ω_b, f_b, C_b^n or None) from the axis series (module docstring)."""
     f_n = np.empty(shape)
     f_n[..., 0], f_n[..., 1], f_n[..., 2] = acc["surge"], acc["sway"], acc["heave"] + G0
     r, p, y = disp["roll"], disp["pitch"], disp["yaw"]
@@ -240,9 +303,5 @@ def true_motion(speed_m_s: float, time_s: np.ndarray, disturbance: Disturbance |
         w_b[..., 1] = pd * np.cos(r) + yd * np.sin(r) * np.cos(p)
         w_b[..., 2] = -pd * np.sin(r) + yd * np.cos(r) * np.cos(p)
         f_b = np.einsum("...ji,...j->...i", c_b_n, f_n)
-    else:
-        c_b_n = None
-        w_b = np.zeros(shape)
-        f_b = f_n.copy()
-    return TrueMotion(time_s=time_s, position_m=pos, force_n_m_s2=f_n, force_b_m_s2=f_b,
-                      rate_b_rad_s=w_b, c_b_n=c_b_n)
+        return f_n, w_b, f_b, c_b_n
+    return f_n, np.zeros(shape), f_n.copy(), None
