@@ -21,7 +21,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..errors import InputError
-from .irf_kernels import measure_rows
+from .irf_kernels import measure_rows, parabolic_peak
 
 
 def upsample_periodic(line: np.ndarray, factor: int) -> np.ndarray:
@@ -64,11 +64,7 @@ def measure_cut(cut: np.ndarray, spacing: float, origin: float, *, expected_inde
     win = np.mod(np.arange(int(np.floor(expected_index)) - search_half,
                            int(np.floor(expected_index)) + search_half + 2), n)
     ip = int(win[np.argmax(p[win])])
-    # parabolic refinement of the peak on the amplitude
-    a_m, a_0, a_p = np.sqrt(p[(ip - 1) % n]), np.sqrt(p[ip]), np.sqrt(p[(ip + 1) % n])
-    den = a_m - 2 * a_0 + a_p
-    delta = 0.5 * (a_m - a_p) / den if den < 0 else 0.0
-    peak_amp = a_0 - 0.25 * (a_m - a_p) * delta
+    delta, peak_amp = parabolic_peak(float(p[(ip - 1) % n]), float(p[ip]), float(p[(ip + 1) % n]))
     centre = ip + delta
     half = p[ip] / 2.0
     null_s = null / spacing

@@ -18,6 +18,16 @@ from numba import njit
 
 
 @njit(cache=True)
+def parabolic_peak(p_m: float, p_0: float, p_p: float) -> tuple:
+    """(offset in samples, amplitude) of the parabola through the amplitudes √p of a power peak
+    p_0 and its neighbours p_m, p_p; (0, √p_0) when the three do not curve down."""
+    a_m, a_0, a_p = math.sqrt(p_m), math.sqrt(p_0), math.sqrt(p_p)
+    den = a_m - 2 * a_0 + a_p
+    delta = 0.5 * (a_m - a_p) / den if den < 0 else 0.0
+    return delta, a_0 - 0.25 * (a_m - a_p) * delta
+
+
+@njit(cache=True)
 def _crossing(p: np.ndarray, ip: int, direction: int, half: float, limit: int) -> float:
     """Distance (samples) from ``ip`` to the half-power crossing in ``direction``: the first
     k = 1 … limit−1 with p[ip + direction·k] < half, linearly interpolated; ``limit`` when none."""
@@ -73,11 +83,7 @@ def measure_rows(cuts: np.ndarray, spacing: np.ndarray, origin: np.ndarray, expe
             if p[i] > top:
                 top = p[i]
                 ip = i
-        # parabolic refinement of the peak on the amplitude
-        a_m, a_0, a_p = math.sqrt(p[(ip - 1) % n]), math.sqrt(p[ip]), math.sqrt(p[(ip + 1) % n])
-        den = a_m - 2 * a_0 + a_p
-        delta = 0.5 * (a_m - a_p) / den if den < 0 else 0.0
-        peak_amp = a_0 - 0.25 * (a_m - a_p) * delta
+        delta, peak_amp = parabolic_peak(p[(ip - 1) % n], p[ip], p[(ip + 1) % n])
         centre = ip + delta
         half = p[ip] / 2.0
         width[r] = (_crossing(p, ip, 1, half, limit) + _crossing(p, ip, -1, half, limit)) * spacing[r]
