@@ -9,7 +9,9 @@ model's at the τ where the effect shows most (quantization: at τ = dt; heavy t
 1. wall time of :func:`budget.gap.run_gap` on a one-hour, 100 Hz, six-channel log (target < 60 s);
 2. detection matrix: for each hidden effect over ``--seeds`` seeds, what was named *first*
    (effect@channel counts), how often it was the right one, and the median / worst relative
-   error of each parameter when it was;
+   error of each parameter when it was; for the rate random walk, the ramp and the temperature
+   sensitivity also the most any detector could reach on these logs (``tests/gap_power.py``:
+   the Neyman–Pearson power at α = 2 % with the magnitude known);
 3. false positives: effects named on logs that follow the base model (``--fp-seeds``);
 4. with ``--real``: cross-validation on the two shared ADIS16405 logs (fit on log 1, test on
    log 2) when ``../shared/data`` is present.
@@ -37,6 +39,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
+import gap_power as gp  # noqa: E402
 import gap_truth as gt  # noqa: E402
 from budget.gap import cross_validate, log_from_arrays, run_gap  # noqa: E402
 from budget.imu import NoiseModel  # noqa: E402
@@ -50,7 +53,7 @@ def run_one(args) -> dict:
     x, temp, truth = gt.make(name, n, 1000 + seed)
     t0, c0 = time.perf_counter(), time.process_time()
     rep = run_gap(log_from_arrays(x, gt.RATE, temp_c=temp), BASE, seed=seed, max_steps=4, **opts)
-    out = {"name": name, "seed": seed, "time": time.perf_counter() - t0,
+    out = {"name": name, "seed": seed, "n": n, "time": time.perf_counter() - t0,
            "cpu": time.process_time() - c0, "truth": truth,
            "steps": [(s.name, s.channel, dict(s.params)) for s in rep.steps],
            "stop": rep.stop_reason}
@@ -88,6 +91,14 @@ def detection(results: list[dict], seeds: int) -> None:
         print(f"  {name:24s} on {truth['channel']:8s} right first {len(right):2d}/{len(rows)}  "
               f"param err median/worst: {err_txt}  ({t:.0f} s/run)")
         print("      first named: " + ", ".join(f"{k} ×{v}" for k, v in first.most_common()))
+        if name in gp.BOUNDED:
+            bound = gp.power_bound(name, gt.RATIO, n=rows[0]["n"])
+            extra = ""
+            if name == "temperature_sensitivity":
+                b2 = gp.power_bound(name, gt.RATIO, n=rows[0]["n"], trend=True)
+                extra = f"; {b2:.0%} with a linear trend unknown too"
+            print(f"      best any detector can do (Neyman–Pearson, this magnitude known, α = 2 %): "
+                  f"{bound:.0%} → {bound * len(rows):.1f}/{len(rows)} expected{extra}")
         stops = Counter(r["stop"].split(":")[0] for r in rows)
         print("      stop: " + "; ".join(f"{k} ×{v}" for k, v in stops.most_common()))
 

@@ -146,10 +146,14 @@ def test_log_following_its_model_names_nothing():
 
 @pytest.mark.slow
 def test_false_positive_rate_over_seeds():
-    """20 logs of the base model at reduced size: at most one may get an effect (α = 1 %)."""
-    named = [seed for seed in range(100, 120)
+    """120 logs of the base model at reduced size: at most 3 (2.5 %) may get an effect (the
+    target is ≤ 2 %; P(≥ 4 of 120) is 3 % at a 1 % rate per log). Formerly 20 logs with at most
+    one, a rate of 5 % allowed and a weak test of it: with the slope judged against the model's
+    exact moments seed 103's gyro_x slope stands at 3.9σ (a 1-in-10⁴ draw per channel) and is
+    named a ramp, beside seed 105's quantization that was there before — 2 of 120 in all."""
+    named = [seed for seed in range(100, 220)
              if run_gap(make_log(None, None, None, 16_384, seed), BASE, seed=seed).steps]
-    assert len(named) <= 1, f"effects named on model-following logs, seeds {named}"
+    assert len(named) <= 3, f"effects named on model-following logs, seeds {named}"
 
 
 def test_rerun_with_updated_model_names_nothing(tmp_path):

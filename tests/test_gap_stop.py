@@ -52,12 +52,18 @@ def test_size_gain_flags_a_step_that_makes_every_size_worse():
 @pytest.mark.parametrize("seed", [0, 1])
 def test_model_following_log_stops_by_the_effect_size_rule(seed):
     """Ten-minute, six-channel logs of the base model from the independent generator: at most
-    one step, and the run ends because every channel is close enough."""
+    one step, and the run ends by the effect-size rule — every channel close enough, or, with
+    nothing named, no candidate that passes (seed 1: a chance 0.87 dB Allan misfit at τ = 10 s
+    on accel_x, which the open-channels-only Bonferroni count used to "explain" with a rate
+    random walk; counted over every channel, nothing is significant and nothing is named)."""
     x, temp, _ = gt.make(None, 60_000, 4000 + seed)
     rep = run_gap(log_from_arrays(x, gt.RATE, temp_c=temp), BASE, seed=seed, max_steps=10)
     assert len(rep.steps) <= 1, rep.summary()
-    assert "close enough" in rep.stop_reason, rep.stop_reason
-    assert rep.close_enough
+    if rep.steps or "close enough" in rep.stop_reason:
+        assert "close enough" in rep.stop_reason, rep.stop_reason
+        assert rep.close_enough
+    else:
+        assert rep.stop_reason.startswith("no candidate gives a significant"), rep.stop_reason
 
 
 def test_mapping_may_be_given_as_a_path(tmp_path):
@@ -85,27 +91,32 @@ def test_mapping_may_be_given_as_a_path(tmp_path):
 
 
 @pytest.mark.slow
-def test_rate_random_walk_on_an_independent_one_hour_log_is_named_first():
+@pytest.mark.parametrize("seed", [
+    pytest.param(0, marks=pytest.mark.xfail(strict=True, reason=(
+        "since the Bonferroni count covers every channel (false positives 2/50 → 1/50 on the "
+        "benchmark) this record's walk no longer passes the penalty: nothing is named; the "
+        "benchmark's walk at 3× went 7/10 → 6/10 (README, Model gap)"))),
+    2, 9])
+def test_rate_random_walk_on_an_independent_one_hour_log_is_named_first(seed):
     """The benchmark's hidden rate random walk (gyro_x, ADEV 3× the model's at τ ≈ 650 s, one
     hour at 100 Hz), drawn by the independent generator: named first, K within 30 %, on each
     of three seeds where the record shows it (seeds 0, 2, 9 of ``bench_gap.py``)."""
-    for seed in (0, 2, 9):
-        x, temp, truth = gt.make("rate_random_walk", gt.ONE_HOUR, 1000 + seed)
-        rep = run_gap(log_from_arrays(x, gt.RATE, temp_c=temp), BASE, seed=seed, max_steps=4)
-        assert rep.steps and (rep.steps[0].name, rep.steps[0].channel) == ("rate_random_walk", "gyro_x"), \
-            rep.summary()
-        k = rep.steps[0].params["K"]
-        assert abs(k / truth["params"]["K"] - 1.0) < 0.3
-        # over one hour a Gauss–Markov term with τ_c of a few hundred seconds is the same
-        # process below τ_c (its PSD 2σ²τ_c/(1 + (2πfτ_c)²) → K²/(2πf)² with K² = 2σ²/τ_c):
-        # the step must say that the record does not tell them apart, at a consistent K
-        gm = [a for a in rep.steps[0].alternatives if a["name"] == "gauss_markov"]
-        assert len(gm) == 1, rep.summary()
-        p = gm[0]["params"]
-        assert 0.0 <= gm[0]["margin"] <= ALTERNATIVE_MARGIN
-        assert p["sigma"] * np.sqrt(2.0 / p["tau_s"]) == pytest.approx(k, rel=0.4)
-        assert "not told apart from: gauss_markov" in rep.summary()
-        assert rep.to_dict()["effects"][0]["alternatives"][0]["name"] == "gauss_markov"
+    x, temp, truth = gt.make("rate_random_walk", gt.ONE_HOUR, 1000 + seed)
+    rep = run_gap(log_from_arrays(x, gt.RATE, temp_c=temp), BASE, seed=seed, max_steps=4)
+    assert rep.steps and (rep.steps[0].name, rep.steps[0].channel) == ("rate_random_walk", "gyro_x"), \
+        rep.summary()
+    k = rep.steps[0].params["K"]
+    assert abs(k / truth["params"]["K"] - 1.0) < 0.3
+    # over one hour a Gauss–Markov term with τ_c of a few hundred seconds is the same
+    # process below τ_c (its PSD 2σ²τ_c/(1 + (2πfτ_c)²) → K²/(2πf)² with K² = 2σ²/τ_c):
+    # the step must say that the record does not tell them apart, at a consistent K
+    gm = [a for a in rep.steps[0].alternatives if a["name"] == "gauss_markov"]
+    assert len(gm) == 1, rep.summary()
+    p = gm[0]["params"]
+    assert 0.0 <= gm[0]["margin"] <= ALTERNATIVE_MARGIN
+    assert p["sigma"] * np.sqrt(2.0 / p["tau_s"]) == pytest.approx(k, rel=0.4)
+    assert "not told apart from: gauss_markov" in rep.summary()
+    assert rep.to_dict()["effects"][0]["alternatives"][0]["name"] == "gauss_markov"
 
 
 def test_alternatives_are_same_channel_effects_within_the_margin_best_first():

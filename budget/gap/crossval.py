@@ -150,7 +150,8 @@ def cross_validate(fit_measured, test_measured, model, *, seed: int = 0,
         ch = eff.channel
         trial = validated.with_effect(eff)
         st = evaluate(trial, [ch])[ch]
-        drop = (current[ch].terms.sum_sq - st.terms.sum_sq) / null.inflation(ch)
+        drop = null.drop(ch, current[ch].terms.sum_sq, current[ch].terms.linear_sq, st.terms.sum_sq,
+                         st.terms.linear_sq)
         penalty = float(stats.chi2.isf(alpha, LIBRARY[eff.name].n_params))
         row = {"name": eff.name, "channel": ch, "params": dict(eff.params), "drop": float(drop),
                "penalty": penalty}

@@ -41,16 +41,21 @@ class FitContext:
         return self.grid.dt_s
 
     def sumsq(self, inc: th.Increment) -> float:
-        """Predicted Σz² of the channel with the effect added. A candidate that widens the
+        """Predicted Σz² of the channel with the effect added (:meth:`sumsq_parts`)."""
+        return self.sumsq_parts(inc)[0]
+
+    def sumsq_parts(self, inc: th.Increment) -> tuple[float, float]:
+        """(predicted Σz², its linear part) with the effect added. A candidate that widens the
         scatter of the slope or temperature coefficient (random walk) also pays ln(var'/var),
-        the Gaussian log-likelihood term that Σz² alone would leave out."""
+        the Gaussian log-likelihood term that Σz² alone would leave out (in the linear part)."""
         pred = self.model.predict(inc, self.grid)
-        total = gap_terms(self.meas, pred, self.grid).sum_sq
+        terms = gap_terms(self.meas, pred, self.grid)
+        linear = terms.linear_sq
         if inc.slope_var > 0 and self.model.slope_var > 0:
-            total += math.log(pred.slope_var / self.model.slope_var)
+            linear += math.log(pred.slope_var / self.model.slope_var)
         if inc.temp_var > 0 and self.model.temp_var > 0 and self.meas.temp_coef is not None:
-            total += math.log(pred.temp_var / self.model.temp_var)
-        return total
+            linear += math.log(pred.temp_var / self.model.temp_var)
+        return terms.sum_sq - terms.linear_sq + linear, linear
 
     def freq(self) -> np.ndarray:
         if "freq" not in self.cache:
@@ -89,6 +94,8 @@ class CandidateFit:
     #: of the channel with the effect added (``None``: not predicted, e.g. a direct proposal)
     pred_db: np.ndarray | None = None
     pred_kurtosis: float = 0.0
+    #: the linear statistics' part of ``sum_sq`` (:meth:`FitContext.sumsq_parts`)
+    linear_sq: float = 0.0
 
 
 def amp2_start(ctx: FitContext, shape: np.ndarray) -> float:
@@ -155,10 +162,11 @@ class Candidate(ABC):
         if best is None:
             return None
         params = self.params(best[0], ctx)
-        pred = ctx.model.predict(self.increment(best[0], ctx), ctx.grid)
+        inc = self.increment(best[0], ctx)
+        pred = ctx.model.predict(inc, ctx.grid)
         return CandidateFit(Effect(name=self.name, channel=ctx.channel, params=params), best[1],
                             self.n_params, best[0], db_terms(ctx.meas, pred, ctx.grid),
-                            kurtosis_size(ctx.meas, pred))
+                            kurtosis_size(ctx.meas, pred), linear_sq=ctx.sumsq_parts(inc)[1])
 
 
 class LinearVariance(Candidate):

@@ -16,8 +16,11 @@ with the mean over the realizations through a standardized difference z:
 * kurtosis of the first differences: z = Δκ / √(v_κ(1 + 1/S)), v_κ = max(27/N, scatter);
 * tail count: Freeman–Tukey z = (√c + √(c+1) − √(4μ+1)) / √(D(1 + 1/S)) for a Poisson count c
   of mean μ (dispersion D ≥ 1 from the realizations);
-* time slope and temperature coefficient: Student t with S − 1 degrees of freedom from the
-  realizations' scatter, mapped to a normal score;
+* time slope and temperature coefficient: (meas − mean)/√var with the model's exact mean and
+  variance of the statistic (:class:`LinearMoments`, :mod:`budget.gap.regression_var`), a
+  normal score; when an effect of the channel has no closed form, Student t with S − 1 degrees
+  of freedom from the realizations' mean and scatter (variance × (1 + 1/S)), mapped to a normal
+  score (with S = 12 a 5σ trend would read ≈ 3.4σ);
 * low-frequency bands (below the first Welch band; when the grid has them): mean c̄² of the
   detrended record's DCT coefficients in octave bands, z = normal score of c̄²_meas/c̄²_model under F(n, S·n)
   (:mod:`budget.gap.lowfreq`).
@@ -31,7 +34,9 @@ of those z vectors (pooled over channels, eigenvalues de-biased) makes the gap a
 sum of χ²_1 variables, Σλ_i χ²_1/K, whose quantiles come from a four-cumulant noncentral-χ²
 match (Liu, Tang & Zhang 2009). A channel is *within noise* below its 1 − α/n_channels
 quantile, the overall gap below the 1 − α quantile of the mean of the channels (default
-α = 0.01).
+α = 0.01). A drop of Σz² is deflated block by block (:meth:`NullModel.drop`): the correlated
+quadratic statistics by their inflation φ, the linear ones (slope, temperature), which a
+Gaussian null leaves uncorrelated with them, by their own.
 """
 
 from __future__ import annotations
@@ -49,8 +54,28 @@ from .theory import Increment
 
 #: Relative variance of one Welch bin (50 % overlap, Hann) per segment.
 WELCH_VAR = 1.056
+#: Statistics linear in the series (regression coefficients): under a Gaussian null they are
+#: uncorrelated with every quadratic one (ADEV, PSD, distribution), odd moments vanishing.
+LINEAR_KINDS = ("slope", "temperature")
 KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "tails2", "slope", "temperature",
          "psd_low")
+
+
+@dataclass(frozen=True)
+class LinearMoments:
+    """The model's exact mean and variance of the time slope and of the temperature coefficient
+    (``None``: no closed form; :mod:`budget.gap.regression_var`)."""
+
+    slope_mean: float | None
+    slope_var: float | None
+    temp_mean: float | None = None
+    temp_var: float | None = None
+
+    def covers(self, with_temperature: bool) -> bool:
+        ok = self.slope_mean is not None and self.slope_var is not None and self.slope_var > 0
+        if with_temperature:
+            ok = ok and self.temp_mean is not None and self.temp_var is not None and self.temp_var > 0
+        return bool(ok)
 
 
 @dataclass(frozen=True)
@@ -77,9 +102,16 @@ class ModelSummary:
     #: increments; ``low_sim``: the realizations' part alone (its scatter sets the F score)
     low: np.ndarray | None = None
     low_sim: np.ndarray | None = None
+    #: ``slope``/``slope_var`` and ``temp_coef``/``temp_var`` are the model's exact moments
+    #: (:class:`LinearMoments`), not the realizations' mean and scatter: the slope and
+    #: temperature z are then normal, not Student t with S − 1 degrees of freedom
+    linear_exact: bool = False
 
     @classmethod
-    def from_signatures(cls, sigs: list[Signature]) -> "ModelSummary":
+    def from_signatures(cls, sigs: list[Signature], linear: "LinearMoments | None" = None) -> "ModelSummary":
+        """Mean signatures of ``sigs``; ``linear``: the model's exact moments of the slope and
+        temperature coefficient, used instead of the realizations' when every one the log has
+        is known."""
         S = len(sigs)
         avar = np.array([s.avar for s in sigs])
         kw = dict(n_real=S, avar=avar.mean(0), ln_adev=0.5 * np.log(avar).mean(0))
@@ -104,6 +136,10 @@ class ModelSummary:
             if sigs[0].low is not None:
                 low = np.mean([s.low for s in sigs], axis=0)
                 kw.update(low=low, low_sim=low)
+            if linear is not None and linear.covers(sigs[0].temp_coef is not None):
+                kw.update(slope=linear.slope_mean, slope_var=linear.slope_var, linear_exact=True)
+                if sigs[0].temp_coef is not None:
+                    kw.update(temp_coef=linear.temp_mean, temp_var=linear.temp_var)
         return cls(**kw)
 
     def predict(self, inc: Increment, grid: SignatureGrid) -> "ModelSummary":
@@ -167,6 +203,11 @@ class GapTerms:
         return float(np.sum(self.objective_z ** 2))
 
     @property
+    def linear_sq(self) -> float:
+        """The part of :attr:`sum_sq` from the linear statistics (:data:`LINEAR_KINDS`)."""
+        return float(np.sum(self.objective_z[np.isin(self.kind, LINEAR_KINDS)] ** 2))
+
+    @property
     def n_terms(self) -> int:
         return int(self.z.size)
 
@@ -182,8 +223,13 @@ class GapTerms:
 
 
 def _t_to_z(t: float, dof: int) -> float:
-    """Normal score with the same two-sided tail probability as Student t."""
-    if dof <= 0 or not math.isfinite(t):
+    """Normal score with the same two-sided tail probability as Student t (``dof`` = 0: t is
+    already a normal score)."""
+    if not math.isfinite(t):
+        return 0.0
+    if dof == 0:
+        return float(t)
+    if dof < 0:
         return 0.0
     logp = stats.t.logsf(abs(t), dof)
     return float(math.copysign(-special.ndtri_exp(logp), t))
@@ -231,7 +277,10 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
         zt = (math.sqrt(c) + math.sqrt(c + 1) - math.sqrt(4 * mu + 1)) / math.sqrt(model.tails_disp * (1 + 1 / S))
         c2, mu2 = meas.tail2_count, max(model.tails2 or 0.0, 0.0)
         zt2 = (math.sqrt(c2) + math.sqrt(c2 + 1) - math.sqrt(4 * mu2 + 1)) / math.sqrt(model.tails2_disp * (1 + 1 / S))
-        zs = _t_to_z((meas.slope - model.slope) / math.sqrt(model.slope_var * (1 + 1 / S)), S - 1) \
+        # exact model moments: a normal score (∞ degrees of freedom, no sampling of the mean);
+        # the realizations' mean and scatter: t(S − 1), the mean's own scatter in the variance
+        dof, inflate = (0, 1.0) if model.linear_exact else (S - 1, 1 + 1 / S)
+        zs = _t_to_z((meas.slope - model.slope) / math.sqrt(model.slope_var * inflate), dof) \
             if model.slope_var > 0 else 0.0
         z.append(np.array([zk, zt, zt2, zs]))
         kinds += ["kurtosis", "tails", "tails2", "slope"]
@@ -239,7 +288,7 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
                   "trend over the record"]
         locus.append(np.full(4, np.nan))
         if meas.temp_coef is not None and model.temp_coef is not None:
-            zc = _t_to_z((meas.temp_coef - model.temp_coef) / math.sqrt(model.temp_var * (1 + 1 / S)), S - 1) \
+            zc = _t_to_z((meas.temp_coef - model.temp_coef) / math.sqrt(model.temp_var * inflate), dof) \
                 if model.temp_var > 0 else 0.0
             z.append(np.array([zc]))
             kinds.append("temperature")
@@ -313,6 +362,20 @@ def _eigenvalues(z: np.ndarray) -> np.ndarray:
     return keep * lam + (1.0 - keep) * t1 / k
 
 
+def _phi(lam: np.ndarray) -> float:
+    """Variance inflation Σλ²/K of a quadratic form's eigenvalues (≥ 1)."""
+    return max(1.0, float(np.sum(lam ** 2) / lam.size))
+
+
+def _linear_mask(key, k: int) -> np.ndarray:
+    """Which of the k terms are linear statistics, read from a layout key (n_terms, kinds, …)
+    (:attr:`budget.gap.workflow._State.layout`); none for any other key."""
+    kinds = key[1] if isinstance(key, tuple) and len(key) > 1 else None
+    if not isinstance(kinds, tuple) or len(kinds) != k:
+        return np.zeros(k, dtype=bool)
+    return np.isin(np.array(kinds, dtype=object), LINEAR_KINDS)
+
+
 @dataclass(frozen=True)
 class NullModel:
     """Null distribution of the gaps (the log follows the model).
@@ -328,6 +391,8 @@ class NullModel:
     eigen: dict[str, np.ndarray]
     alpha: float
     samples: dict[str, np.ndarray] = field(repr=False, default_factory=dict)
+    #: channel → (φ of the quadratic statistics, φ of the linear ones): see :meth:`drop`
+    blocks: dict[str, tuple[float, float]] = field(repr=False, default_factory=dict)
 
     @classmethod
     def fit(cls, loo: dict[str, tuple[np.ndarray, tuple]], alpha: float = 0.01) -> "NullModel":
@@ -335,14 +400,18 @@ class NullModel:
         groups: dict[tuple, list[str]] = {}
         for ch, (_, key) in loo.items():
             groups.setdefault(key, []).append(ch)
-        eigen, samples = {}, {}
-        for chans in groups.values():
+        eigen, samples, blocks = {}, {}, {}
+        for key, chans in groups.items():
             z = np.concatenate([loo[ch][0] for ch in chans])
             lam = _eigenvalues(z)
+            lin = _linear_mask(key, z.shape[1])
+            phi = (_phi(_eigenvalues(z[:, ~lin])) if np.any(~lin) else 1.0,
+                   _phi(_eigenvalues(z[:, lin])) if np.any(lin) else 1.0)
             for ch in chans:
                 eigen[ch] = lam
                 samples[ch] = np.mean(loo[ch][0] ** 2, axis=1)
-        return cls(eigen, alpha, samples)
+                blocks[ch] = phi
+        return cls(eigen, alpha, samples, blocks)
 
     @property
     def n_channels(self) -> int:
@@ -364,8 +433,18 @@ class NullModel:
 
     def inflation(self, channel: str) -> float:
         """var(Σz²)/(2K) = Σλ²/K: how much the correlated terms inflate a χ² difference."""
-        lam = self.eigen[channel]
-        return max(1.0, float(np.sum(lam ** 2) / lam.size))
+        return _phi(self.eigen[channel])
+
+    def drop(self, channel: str, old_sq: float, old_linear: float, new_sq: float,
+             new_linear: float) -> float:
+        """Deflated drop of a channel's Σz² from (total, linear part) ``old`` to ``new``:
+        ΔΣz²_quadratic/φ_q + ΔΣz²_linear/φ_l, each block by its own inflation. The linear
+        statistics (time slope, temperature coefficient) are uncorrelated with the quadratic
+        ones under the null, so a drop in their z² is evidence at its face value, not shrunk
+        by the correlation of neighbouring Allan-deviation τ (one φ for both would make a ramp
+        whose slope stands at 5σ read as ≈ 2σ). Without a linear block: ΔΣz²/φ."""
+        phi_q, phi_l = self.blocks.get(channel, (self.inflation(channel), 1.0))
+        return ((old_sq - old_linear) - (new_sq - new_linear)) / phi_q + (old_linear - new_linear) / phi_l
 
     def to_dict(self) -> dict:
         return {"alpha": self.alpha,
@@ -377,8 +456,9 @@ class NullModel:
                 "n_loo": int(sum(v.size for v in self.samples.values()))}
 
 
-def loo_z(sigs: list[Signature], grid: SignatureGrid) -> np.ndarray:
+def loo_z(sigs: list[Signature], grid: SignatureGrid, linear: LinearMoments | None = None) -> np.ndarray:
     """Leave-one-out z vectors (S, K): each realization against the summary of the others, in
-    the metric of the gap (decorrelated when the grid carries a whitening)."""
-    return np.array([gap_terms(s, ModelSummary.from_signatures(sigs[:i] + sigs[i + 1:]), grid).objective_z
-                     for i, s in enumerate(sigs)])
+    the metric of the gap (decorrelated when the grid carries a whitening); ``linear`` as in
+    :meth:`ModelSummary.from_signatures`."""
+    return np.array([gap_terms(s, ModelSummary.from_signatures(sigs[:i] + sigs[i + 1:], linear),
+                               grid).objective_z for i, s in enumerate(sigs)])

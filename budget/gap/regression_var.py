@@ -13,17 +13,25 @@ slope variance (:func:`budget.gap.theory.random_walk_weight`), is charged for it
 * bias instability: the same sum over the generator's Gauss–Markov bank
   (:func:`budget.imu.flicker.flicker_bank`, B = 1);
 * for a Gauss–Markov candidate whose τc moves during a fit, the value is interpolated in
-  (ln τc, ln var) on a table of 8 points per decade (cubic; the curve is smooth).
+  (ln τc, ln var) on a table of 8 points per decade (cubic; the curve is smooth);
+* the whole channel model's mean and variance of the statistic, every registered effect in
+  closed form (:func:`model_weight_mean`, :func:`model_weight_variance`): what the slope and
+  temperature z are judged against, so that they are normal scores rather than t scores with
+  the realizations' 11 degrees of freedom.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 import numpy as np
 from scipy import interpolate, signal
 
+from ..imu import Effect
+from ..imu import effects as fx
 from ..imu.flicker import flicker_bank
+from ..imu.registry import REGISTRY
 
 #: Table points per decade of τc for :class:`GaussMarkovTable`.
 POINTS_PER_DECADE = 8
@@ -56,3 +64,104 @@ class GaussMarkovTable:
     def __call__(self, tau_c_s: float) -> float:
         x = float(np.clip(math.log(tau_c_s), math.log(self.tau[0]), math.log(self.tau[-1])))
         return float(math.exp(self._f(x)))
+
+
+def _lowpass_adjoint(w: np.ndarray, cutoff_hz: float, dt_s: float) -> np.ndarray:
+    """v with v·x = w·lowpass(x) (:func:`budget.imu.effects.lowpass`, y_0 = x_0,
+    y_k = r·y_{k−1} + a·x_k, r = 1 − a): v_j = a·Σ_{k≥j} r^(k−j)·w_k for j ≥ 1, v_0 = Σ_k r^k·w_k."""
+    a = fx.lowpass_coefficient(cutoff_hz, dt_s)
+    u = signal.lfilter([1.0], [1.0, a - 1.0], w[::-1])[::-1]
+    v = a * u
+    v[0] = u[0]
+    return v
+
+
+def _autocorrelation(w: np.ndarray) -> np.ndarray:
+    """R(k) = Σ_j w_j·w_{j+k}, k = 0 … N−1 (by FFT)."""
+    n = w.size
+    spec = np.fft.rfft(w, 2 * n)
+    return np.fft.irfft(spec.real ** 2 + spec.imag ** 2, 2 * n)[:n]
+
+
+def model_weight_variance(effects: Iterable[Effect], weights: np.ndarray, dt_s: float) -> float | None:
+    """var(Σ w_j x_j) of a channel whose error x is drawn from ``effects`` (SI) by the
+    package's generator (:mod:`budget.imu.generator`), for weights with Σ w = 0 (a constant
+    bias drops out); ``None`` when an effect has no entry below.
+
+    Stationary terms add γ(0)·R(0) + 2·Σ_{k≥1} γ(k)·R(k), R the weights' autocorrelation:
+    white (and Student-t) noise γ(0) = N²/dt; each Gauss–Markov term of the flicker bank and
+    every ``gauss_markov`` σ²·φ^k; vibration σ²·ρ(k) (:func:`budget.imu.effects.vibration_acov`);
+    spikes rate·m²; rounding of the output rate δ²/12; quantization of the integrated output
+    (Δε)/dt with ε uniform of variance Q² (independent from sample to sample: an approximation
+    when the noise spans less than a quantum). A random-phase sinusoid adds
+    (A²/2)·|Σ w_j·e^(iωt_j)|², the rate random walk K²·dt·Σ_k(Σ_{j≥k} w_j)²; ramp and
+    temperature terms are the same in every realization and add nothing. The output filter
+    acts on the Gaussian and additive terms: their weights are its adjoint applied to w."""
+    w = np.asarray(weights, float)
+    effects = list(effects)
+    upstream = w
+    for f in reversed([f for f in effects if f.name == "lowpass"]):
+        upstream = _lowpass_adjoint(upstream, f.param("cutoff_hz"), dt_s)
+    r_up, r_out = _autocorrelation(upstream), None
+    k = np.arange(w.size)
+
+    def stationary(r: np.ndarray, gamma: np.ndarray) -> float:
+        return float(gamma[0] * r[0] + 2.0 * np.dot(gamma[1:], r[1:gamma.size]))
+
+    total = 0.0
+    for f in effects:
+        name, p = f.name, dict(f.params)
+        if name in ("white_noise", "heavy_tailed"):
+            total += p["density"] ** 2 / dt_s * r_up[0]
+        elif name == "bias_instability":
+            tau, var = flicker_bank(p["B"], dt_s, dt_s * (w.size - 1))
+            total += sum(v * stationary(r_up, np.exp(-k * dt_s / t)) for t, v in zip(tau, var))
+        elif name == "gauss_markov":
+            total += p["sigma"] ** 2 * stationary(r_up, np.exp(-k * dt_s / p["tau_s"]))
+        elif name == "vibration":
+            gamma = fx.vibration_acov(k, p["center_hz"], p["width_hz"], dt_s)
+            total += p["sigma"] ** 2 * stationary(r_up, gamma)
+        elif name == "sinusoid":
+            arg = 2.0 * math.pi * p["frequency_hz"] * dt_s * k
+            total += 0.5 * p["amplitude"] ** 2 * (np.dot(upstream, np.cos(arg)) ** 2
+                                                  + np.dot(upstream, np.sin(arg)) ** 2)
+        elif name == "rate_random_walk":
+            tail = np.cumsum(upstream[::-1])[::-1]
+            total += p["K"] ** 2 * dt_s * float(np.dot(tail, tail))
+        elif name in ("rate_ramp", "temperature_sensitivity", "lowpass"):
+            continue
+        elif name in ("quantization", "rate_quantization", "outliers"):
+            if r_out is None:
+                r_out = _autocorrelation(w)
+            if name == "quantization":
+                q2 = p["Q"] ** 2 / dt_s ** 2
+                total += q2 * (2.0 * r_out[0] - 2.0 * r_out[1])
+            elif name == "rate_quantization":
+                total += p["step"] ** 2 / 12.0 * r_out[0]
+            else:
+                total += p["rate"] * p["magnitude"] ** 2 * r_out[0]
+        else:
+            return None
+    return total
+
+
+def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: float,
+                      temp_c: np.ndarray | None) -> float | None:
+    """E(Σ w_j x_j) under ``effects`` (SI) for weights with Σ w = 0: a ramp adds R·Σ w_j t_j, a
+    temperature sensitivity c·Σ w_j (T_j − T_0) with T the log's temperature (what the
+    generator is driven by); every other registered effect has zero mean (random phase,
+    symmetric spikes, lattice offsets drawn per record). ``None`` for an unknown effect, or a
+    temperature effect without a temperature column."""
+    w = np.asarray(weights, float)
+    total = 0.0
+    for f in effects:
+        if f.name == "rate_ramp":
+            total += f.param("R") * float(np.dot(w, np.arange(w.size) / rate_hz))
+        elif f.name == "temperature_sensitivity":
+            if temp_c is None:
+                return None
+            temp = np.asarray(temp_c, float)
+            total += f.param("coefficient") * float(np.dot(w, temp - temp[0]))
+        elif f.name not in REGISTRY:
+            return None
+    return total
