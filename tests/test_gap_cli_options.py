@@ -61,20 +61,21 @@ def default_py(files):
 
 def test_default_records_both_options_off(files, tmp_path, capsys, default_py):
     out, text = _cli(files, tmp_path, "default", capsys=capsys)
-    assert out["options"] == {"low_frequency": False, "decorrelate": False}
+    assert out["options"] == {"low_frequency": False, "decorrelate": False, "slow_modes": True}
     assert "psd_low" not in out["input"]["signatures"]
     assert "options:" not in text
     # the CLI is the Python call with the same arguments
     assert out["gap_before"] == pytest.approx(default_py.gap_before, rel=1e-12)
-    assert default_py.options == {"low_frequency": False, "decorrelate": False}
+    assert default_py.options == {"low_frequency": False, "decorrelate": False, "slow_modes": True}
+    assert "walk" in out["input"]["signatures"]
 
 
 def test_low_frequency_adds_the_low_bands_and_leaves_the_other_terms(files, tmp_path, capsys,
                                                                     default_py):
     out, text = _cli(files, tmp_path, "lf", "--low-frequency", capsys=capsys)
-    assert out["options"] == {"low_frequency": True, "decorrelate": False}
+    assert out["options"] == {"low_frequency": True, "decorrelate": False, "slow_modes": True}
     assert "psd_low" in out["input"]["signatures"]
-    assert "options: low-frequency bands" in text and "(off by default)" in text
+    assert "options: low-frequency bands" in text and "(not the default)" in text
     py = _py(files, low_frequency=True)
     assert out["gap_before"] == pytest.approx(py.gap_before, rel=1e-12)
     for ch in CHANS:
@@ -91,7 +92,7 @@ def test_low_frequency_adds_the_low_bands_and_leaves_the_other_terms(files, tmp_
 
 def test_decorrelate_changes_the_sum_not_the_reported_z(files, tmp_path, capsys, default_py):
     out, text = _cli(files, tmp_path, "dec", "--decorrelate", capsys=capsys)
-    assert out["options"] == {"low_frequency": False, "decorrelate": True}
+    assert out["options"] == {"low_frequency": False, "decorrelate": True, "slow_modes": True}
     assert "psd_low" not in out["input"]["signatures"]
     assert "options: spectral terms summed decorrelated" in text
     py = _py(files, decorrelate=True)
@@ -113,7 +114,7 @@ def test_decorrelate_changes_the_sum_not_the_reported_z(files, tmp_path, capsys,
 
 def test_both_options_together(files, tmp_path, capsys):
     out, text = _cli(files, tmp_path, "both", "--low-frequency", "--decorrelate", capsys=capsys)
-    assert out["options"] == {"low_frequency": True, "decorrelate": True}
+    assert out["options"] == {"low_frequency": True, "decorrelate": True, "slow_modes": True}
     line = next(ln for ln in text.splitlines() if ln.startswith("options:"))
     assert "--low-frequency" in line and "--decorrelate" in line
     py = _py(files, low_frequency=True, decorrelate=True)
@@ -122,15 +123,31 @@ def test_both_options_together(files, tmp_path, capsys):
     assert "psd_low" in set(py.channels["gyro_x"].terms_before.kind)
 
 
+def test_no_slow_modes_removes_the_walk_term_only(files, tmp_path, capsys, default_py):
+    out, text = _cli(files, tmp_path, "nsm", "--no-slow-modes", capsys=capsys)
+    assert out["options"] == {"low_frequency": False, "decorrelate": False, "slow_modes": False}
+    assert "walk" not in out["input"]["signatures"]
+    assert "options: slow modes left out (--no-slow-modes)" in text
+    py = _py(files, slow_modes=False)
+    assert out["gap_before"] == pytest.approx(py.gap_before, rel=1e-12)
+    for ch in CHANS:
+        t0, t1 = default_py.channels[ch].terms_before, py.channels[ch].terms_before
+        keep = t0.kind != "walk"
+        assert np.count_nonzero(~keep) == 1 and "walk" not in set(t1.kind)
+        # the other statistics as with them: the same realizations (same seed)
+        np.testing.assert_array_equal(t1.z, t0.z[keep])
+
+
 def test_cross_validation_records_the_options(files, tmp_path):
     log, model = files
     rep = tmp_path / "cv.json"
     assert main(["gap", str(log), "--model", str(model), "--report", str(rep), "--test-log", str(log),
                  *ARGS, "--decorrelate"]) == 0
     out = json.loads(rep.read_text())
-    assert out["options"] == {"low_frequency": False, "decorrelate": True}
+    assert out["options"] == {"low_frequency": False, "decorrelate": True, "slow_modes": True}
     assert out["cross_validation"]["options"]["decorrelate"] is True
     assert out["cross_validation"]["options"]["low_frequency"] is False
+    assert out["cross_validation"]["options"]["slow_modes"] is True
 
 
 @pytest.fixture(scope="module")
@@ -161,7 +178,9 @@ def test_options_on_an_allan_table_are_refused(allan_table, files, tmp_path, cap
     assert main(["gap", str(allan_table), "--model", str(model), "--report", str(rep),
                  "--rate-hz", str(RATE), "--samples", str(N), "--channels", "gyro_x", "--quiet",
                  "--max-steps", "0"]) == 0
-    assert json.loads(rep.read_text())["options"] == {"low_frequency": False, "decorrelate": False}
+    # an Allan table has no record: no slow modes either
+    assert json.loads(rep.read_text())["options"] == {"low_frequency": False, "decorrelate": False,
+                                                      "slow_modes": False}
 
 
 def test_python_call_refuses_them_on_a_table_too(allan_table):

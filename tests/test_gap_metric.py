@@ -7,7 +7,8 @@ import pytest
 from scipy import stats
 
 from budget.gap import theory as th
-from budget.gap.metric import ModelSummary, NullModel, gap_terms, loo_z, quadratic_form_quantile
+from budget.gap.metric import ModelSummary, NullModel, gap_terms, loo_z
+from budget.gap.quadform import quadratic_form_quantile
 from budget.gap.report import localize
 from budget.gap.signatures import SignatureGrid, series_signature
 from budget.gap.simulate import simulate_signatures

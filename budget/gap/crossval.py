@@ -112,7 +112,8 @@ def cross_validate(fit_measured, test_measured, model, *, seed: int = 0,
     # the fit's grids: the temperature statistic weighted by each channel's base spectrum
     grids = {ch: SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c,
                                        bool(gap_kw.get("low_frequency", False)),
-                                       noise_psd=_spectrum(base, ch, meas)) for ch in chans}
+                                       noise_psd=_spectrum(base, ch, meas),
+                                       slow_modes=bool(gap_kw.get("slow_modes", True))) for ch in chans}
     sig = {ch: series_signature(meas.series[ch], grids[ch], lattice=True) for ch in chans}
     mean = {ch: float(np.mean(meas.series[ch])) for ch in chans}
     test_seed = seed + 1  # other random streams than the fit's
@@ -166,4 +167,5 @@ def cross_validate(fit_measured, test_measured, model, *, seed: int = 0,
                            {"seed": seed, "realizations": realizations, "alpha": alpha,
                             "tolerance_db": tolerance_db, "test_seed": test_seed,
                             "low_frequency": bool(gap_kw.get("low_frequency", False)),
-                            "decorrelate": bool(gap_kw.get("decorrelate", False))})
+                            "decorrelate": bool(gap_kw.get("decorrelate", False)),
+                            "slow_modes": bool(gap_kw.get("slow_modes", True))})

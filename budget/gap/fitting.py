@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import optimize
 
 from ..imu import Effect
-from . import lowfreq
+from . import lowfreq, walk
 from . import theory as th
 from .effect_size import db_terms, kurtosis_size
 from .metric import ModelSummary, adev_variance, gap_terms
@@ -131,9 +131,20 @@ class Candidate(ABC):
     def params(self, theta: np.ndarray, ctx: FitContext) -> dict[str, float]:
         """Effect parameters (SI channel units) for θ."""
 
+    def full_increment(self, theta: np.ndarray, ctx: FitContext) -> th.Increment:
+        """:meth:`increment` with the covariance the effect adds to the record's slowest modes
+        (:func:`budget.gap.walk.effect_cov`, from the effect's own parameters), when the
+        channel has them and the increment does not carry it already."""
+        inc = self.increment(theta, ctx)
+        lay = ctx.grid.walk
+        if inc.walk_cov is not None or lay is None or ctx.model.walk_cov is None:
+            return inc
+        cov = walk.effect_cov(self.name, self.params(theta, ctx), lay)
+        return replace(inc, walk_cov=cov)
+
     def search(self, theta0: np.ndarray, ctx: FitContext) -> tuple[np.ndarray, float]:
         """Minimise the predicted Σz² from ``theta0`` (1-D bounded, else Nelder–Mead)."""
-        f = lambda th_: ctx.sumsq(self.increment(np.atleast_1d(th_), ctx))
+        f = lambda th_: ctx.sumsq(self.full_increment(np.atleast_1d(th_), ctx))
         if theta0.size == 1:
             lo, hi = self.bracket(theta0[0])
             grid = np.sort(np.append(np.linspace(lo, hi, 13), theta0[0]))
@@ -162,7 +173,7 @@ class Candidate(ABC):
         if best is None:
             return None
         params = self.params(best[0], ctx)
-        inc = self.increment(best[0], ctx)
+        inc = self.full_increment(best[0], ctx)
         pred = ctx.model.predict(inc, ctx.grid)
         return CandidateFit(Effect(name=self.name, channel=ctx.channel, params=params), best[1],
                             self.n_params, best[0], db_terms(ctx.meas, pred, ctx.grid),
@@ -181,7 +192,11 @@ class LinearVariance(Candidate):
     def _unit(self, ctx: FitContext) -> th.Increment:
         key = ("unit", self.name)
         if key not in ctx.cache:
-            ctx.cache[key] = self.shapes(ctx)
+            unit = self.shapes(ctx)
+            if ctx.grid.walk is not None and ctx.model.walk_cov is not None and unit.walk_cov is None:
+                # every parameter here is an amplitude: the modes' covariance scales with its square
+                unit = replace(unit, walk_cov=walk.effect_cov(self.name, {self.param: 1.0}, ctx.grid.walk))
+            ctx.cache[key] = unit
         return ctx.cache[key]
 
     def starts(self, ctx):
@@ -201,7 +216,8 @@ class LinearVariance(Candidate):
         u, a2 = self._unit(ctx), math.exp(2.0 * theta[0])
         return th.Increment(u.avar * a2, None if u.psd is None else u.psd * a2, u.diff_var * a2,
                             u.diff_cum4 * a2 * a2, slope_var=u.slope_var * a2, temp_var=u.temp_var * a2,
-                            low=None if u.low is None else u.low * a2)
+                            low=None if u.low is None else u.low * a2,
+                            walk_cov=None if u.walk_cov is None else u.walk_cov * a2)
 
     def params(self, theta, ctx):
         return {self.param: math.exp(theta[0])}

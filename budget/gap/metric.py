@@ -21,6 +21,9 @@ with the mean over the realizations through a standardized difference z:
   normal score; when an effect of the channel has no closed form, Student t with S − 1 degrees
   of freedom from the realizations' mean and scatter (variance × (1 + 1/S)), mapped to a normal
   score (with S = 12 a 5σ trend would read ≈ 3.4σ);
+* slow modes (:mod:`budget.gap.walk`): the normal score of a weighted sum of the record's
+  slowest whitened modes under the model's exact covariance of them (more slow power than the
+  model: z > 0);
 * low-frequency bands (below the first Welch band; when the grid has them): mean c̄² of the
   detrended record's DCT coefficients in octave bands, z = normal score of c̄²_meas/c̄²_model under F(n, S·n)
   (:mod:`budget.gap.lowfreq`).
@@ -48,7 +51,8 @@ import numpy as np
 from scipy import special, stats
 
 from ..noise.allan import edf_simple, noise_type_from_slope
-from . import lowfreq
+from . import lowfreq, walk
+from .quadform import quadratic_form_quantile, quadratic_form_sf  # noqa: F401  (re-exported)
 from .signatures import Signature, SignatureGrid, band_counts, band_means
 from .theory import Increment
 
@@ -58,7 +62,7 @@ WELCH_VAR = 1.056
 #: uncorrelated with every quadratic one (ADEV, PSD, distribution), odd moments vanishing.
 LINEAR_KINDS = ("slope", "temperature")
 KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "tails2", "slope", "temperature",
-         "psd_low")
+         "psd_low", "walk")
 
 
 @dataclass(frozen=True)
@@ -70,6 +74,8 @@ class LinearMoments:
     slope_var: float | None
     temp_mean: float | None = None
     temp_var: float | None = None
+    #: the model's covariance of the record's slowest modes (:mod:`budget.gap.walk`)
+    walk_cov: np.ndarray | None = None
 
     def covers(self, with_temperature: bool) -> bool:
         ok = self.slope_mean is not None and self.slope_var is not None and self.slope_var > 0
@@ -106,6 +112,9 @@ class ModelSummary:
     #: (:class:`LinearMoments`), not the realizations' mean and scatter: the slope and
     #: temperature z are then normal, not Student t with S − 1 degrees of freedom
     linear_exact: bool = False
+    #: the model's exact covariance of the slowest modes (:mod:`budget.gap.walk`; ``None``:
+    #: no closed form for one of the channel's effects, or no modes)
+    walk_cov: np.ndarray | None = None
 
     @classmethod
     def from_signatures(cls, sigs: list[Signature], linear: "LinearMoments | None" = None) -> "ModelSummary":
@@ -136,6 +145,8 @@ class ModelSummary:
             if sigs[0].low is not None:
                 low = np.mean([s.low for s in sigs], axis=0)
                 kw.update(low=low, low_sim=low)
+            if linear is not None and linear.walk_cov is not None and sigs[0].walk is not None:
+                kw["walk_cov"] = linear.walk_cov
             if linear is not None and linear.covers(sigs[0].temp_coef is not None):
                 kw.update(slope=linear.slope_mean, slope_var=linear.slope_var, linear_exact=True)
                 if sigs[0].temp_coef is not None:
@@ -165,6 +176,8 @@ class ModelSummary:
                 kw["tails"], kw["tails2"] = inc.tails
             if self.low is not None and inc.low is not None:
                 kw["low"] = self.low + inc.low
+            if self.walk_cov is not None and inc.walk_cov is not None:
+                kw["walk_cov"] = self.walk_cov + inc.walk_cov
         return replace(self, **kw)
 
 
@@ -294,6 +307,11 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
             kinds.append("temperature")
             where.append("regression on temp_c")
             locus.append(np.array([np.nan]))
+        if meas.walk is not None and model.walk_cov is not None and grid.walk is not None:
+            z.append(np.array([walk.walk_z(meas.walk, model.walk_cov, grid.walk)]))
+            kinds.append("walk")
+            where.append(f"slow modes, periods ≥ {grid.walk.shortest_period_s:.0f} s")
+            locus.append(np.array([np.nan]))
         if meas.low is not None and model.low is not None and grid.has_low:
             st, counts = grid.low_starts, grid.low_counts
             zl = lowfreq.band_z(lowfreq.band_means(meas.low, st), lowfreq.band_means(model.low, st),
@@ -327,24 +345,6 @@ def _line_z(p_meas: np.ndarray, p_model: np.ndarray, grid: SignatureGrid, S: int
     z = float(-special.ndtri_exp(log_global - math.log(2.0)))
     freq = (lo + j) * grid.rate_hz / grid.nperseg
     return max(z, 0.0), freq
-
-
-def quadratic_form_quantile(eigenvalues: np.ndarray, alpha: float) -> float:
-    """Upper-α quantile of Q = Σ λ_i χ²_1,i (independent) by the Liu, Tang & Zhang (2009)
-    approximation (Comput. Stat. Data Anal. 53, 853–856): a noncentral χ² matched to the first
-    four cumulants of Q, exact for equal λ."""
-    lam = np.asarray(eigenvalues, float)
-    lam = lam[lam > 1e-12 * lam.max()]
-    c1, c2, c3, c4 = (float(np.sum(lam ** k)) for k in (1, 2, 3, 4))
-    s1, s2 = c3 / c2 ** 1.5, c4 / c2 ** 2
-    if s1 * s1 > s2:
-        a = 1.0 / (s1 - math.sqrt(s1 * s1 - s2))
-        delta = s1 * a ** 3 - a * a
-        dof = a * a - 2.0 * delta
-    else:
-        a, delta, dof = 1.0 / s1, 0.0, c2 ** 3 / c3 ** 2
-    q = stats.ncx2.isf(alpha, dof, delta) if delta > 0 else stats.chi2.isf(alpha, dof)
-    return float((q - (dof + delta)) / (math.sqrt(2.0) * a) * math.sqrt(2.0 * c2) + c1)
 
 
 def _eigenvalues(z: np.ndarray) -> np.ndarray:

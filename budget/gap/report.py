@@ -35,7 +35,8 @@ LOCAL_Z = 3.0
 GAP_DEFINITION = (
     "per channel: gap = mean of z^2 over its statistics (ADEV at octave tau, PSD octave bands, "
     "largest PSD line, kurtosis and tail count of first differences, time slope, temperature "
-    "coefficient; with low_frequency also the low-frequency bands of the detrended record's DCT "
+    "coefficient, slow power in the record's slowest modes (walk: against the model's exact "
+    "covariance of them); with low_frequency also the low-frequency bands of the detrended record's DCT "
     "below the first PSD band), z = standardized difference between the measured value and the "
     "mean of S simulated realizations of the model (≈ N(0,1) when the log follows the model); "
     "with decorrelate the spectral terms (ADEV, PSD bands, low-frequency bands) are summed as "
@@ -241,7 +242,8 @@ class GapReport:
                       "signatures": "adev" if self.kind == "adev_table" else
                       "adev, psd_band, psd_line, kurtosis, tails, slope"
                       + (", temperature" if any(c.measured.temp_coef is not None for c in self.channels.values()) else "")
-                      + (", psd_low" if any(c.measured.low is not None for c in self.channels.values()) else "")},
+                      + (", psd_low" if any(c.measured.low is not None for c in self.channels.values()) else "")
+                      + (", walk" if any(c.model_before.walk_cov is not None for c in self.channels.values()) else "")},
             "model": self.model_label, "seed": self.seed, "realizations": self.realizations,
             "alpha": self.alpha, "options": {k: bool(v) for k, v in self.options.items()},
             "gap_definition": GAP_DEFINITION,
@@ -252,10 +254,14 @@ class GapReport:
         }
 
     def options_text(self) -> str:
-        """The opt-in statistics that were on, in words ("" when none was)."""
+        """The statistics chosen against their default, in words ("" when none was): the
+        opt-in ones that were on, the slow modes when a log was run without them."""
         words = {"low_frequency": "low-frequency bands of the record (--low-frequency)",
                  "decorrelate": "spectral terms summed decorrelated (--decorrelate)"}
-        return "; ".join(w for k, w in words.items() if self.options.get(k))
+        out = [w for k, w in words.items() if self.options.get(k)]
+        if self.kind == "log" and self.options.get("slow_modes") is False:
+            out.append("slow modes left out (--no-slow-modes)")
+        return "; ".join(out)
 
     def save(self, path: str | Path) -> None:
         """Write the JSON report atomically (non-finite numbers become null)."""
@@ -281,7 +287,7 @@ class GapReport:
                  f"{min(thr.values()):.3g}–{max(thr.values()):.3g})"]
         on = self.options_text()
         if on:
-            lines.append(f"options: {on} (off by default)")
+            lines.append(f"options: {on} (not the default)")
         if not self.steps:
             lines.append("effects named: none")
         for i, s in enumerate(self.steps, 1):

@@ -29,7 +29,10 @@ x_k (rad/s or m/s²) at ``rate_hz``:
   workflow uses), else ordinary least squares;
 * ``low`` (grids built with ``low_frequency``): c_k² of the detrended record's DCT-II
   coefficients below the first Welch band (unit², :mod:`budget.gap.lowfreq`): periods from
-  ≈ 40 s to the record.
+  ≈ 40 s to the record;
+* ``walk``: the record's slowest modes (block sums projected on the slowest DCT modes,
+  orthogonal to bias, trend and temperature; :mod:`budget.gap.walk`), judged against the
+  model's exact covariance of them.
 
 A measured Allan-deviation table gives only ``avar`` (with its own EDF): the other fields are
 ``None`` and the comparison uses the ADEV signature alone.
@@ -46,7 +49,7 @@ from scipy import stats
 from ..errors import InputError
 from ..noise import welch_psd
 from ..noise.allan import AllanResult, overlapping_avar
-from . import lowfreq
+from . import lowfreq, walk as walk_modes
 from .gls import regression_weights
 from .whitening import Whitening
 
@@ -76,7 +79,8 @@ class SignatureGrid:
     DCT index of the low-frequency coefficients (0: none), ``low_starts``: where their octave
     bands start (:mod:`budget.gap.lowfreq`); ``whitening``: the metric's decorrelation of the
     spectral terms, set by the workflow once it has the model's realizations
-    (:mod:`budget.gap.whitening`; ``None``: plain Σz²).
+    (:mod:`budget.gap.whitening`; ``None``: plain Σz²); ``walk``: blocks and slowest modes of
+    the record (:mod:`budget.gap.walk`; ``None``: an Allan table or a record too short).
     """
 
     rate_hz: float
@@ -93,6 +97,7 @@ class SignatureGrid:
     low_k_max: int = 0
     low_starts: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     whitening: Whitening | None = None
+    walk: walk_modes.WalkLayout | None = None
 
     @property
     def dt_s(self) -> float:
@@ -138,9 +143,10 @@ class SignatureGrid:
 
     @classmethod
     def for_log(cls, n_samples: int, rate_hz: float, temp_c: np.ndarray | None = None,
-                low_frequency: bool = False, noise_psd=None) -> "SignatureGrid":
+                low_frequency: bool = False, noise_psd=None, slow_modes: bool = True) -> "SignatureGrid":
         """The grid of a log; ``low_frequency``: also the low-frequency bands
-        (:mod:`budget.gap.lowfreq`); ``noise_psd``: the channel model's two-sided PSD
+        (:mod:`budget.gap.lowfreq`); ``slow_modes``: the record's slowest modes
+        (:mod:`budget.gap.walk`, on by default); ``noise_psd``: the channel model's two-sided PSD
         S(f) (:func:`budget.gap.gls.model_spectrum`), which makes the temperature statistic a
         GLS coefficient weighted by 1/S (:mod:`budget.gap.gls`; ``None``: ordinary least
         squares given intercept and trend)."""
@@ -178,7 +184,8 @@ class SignatureGrid:
         return cls(float(rate_hz), int(n_samples), m.astype(np.int64), nperseg, n_seg,
                    np.array(starts, dtype=np.int64), stop, tail_k, time_w, temp_w,
                    None if temp_c is None else np.asarray(temp_c, float), k_max,
-                   lowfreq.band_starts(k_max))
+                   lowfreq.band_starts(k_max),
+                   walk=walk_modes.layout(n_samples, 1.0 / rate_hz, temp_c) if slow_modes else None)
 
     @classmethod
     def for_table(cls, allan: AllanResult) -> "SignatureGrid":
@@ -207,6 +214,7 @@ class Signature:
     edf: np.ndarray | None = None  # measured tables only: EDF behind the published interval
     lattice: float | None = None
     low: np.ndarray | None = None
+    walk: np.ndarray | None = None
 
 
 def series_signature(x: np.ndarray, grid: SignatureGrid, *, lattice: bool = False) -> Signature:
@@ -242,7 +250,8 @@ def series_signature(x: np.ndarray, grid: SignatureGrid, *, lattice: bool = Fals
     low = lowfreq.coefficients_sq(x, grid.low_k_max) if grid.has_low else None
     return Signature(avar, psd, kurt, m2, sigma_r, tails, int(np.count_nonzero(dev > 2.0 * limit)),
                      n_sp, mag, float(dev.max()), slope, temp,
-                     lattice=lattice_step(d) if lattice else None, low=low)
+                     lattice=lattice_step(d) if lattice else None, low=low,
+                     walk=walk_modes.modes(x, grid.walk) if grid.walk is not None else None)
 
 
 def grouped_median(v: np.ndarray, step: float) -> float:

@@ -70,7 +70,9 @@ class Increment:
     ``slope``/``temp``: shift of the time / temperature regression coefficients and
     ``slope_var``/``temp_var`` the variance they add (random walk only; 0 otherwise);
     ``outliers``: (rate, magnitude) for the tail-count prediction, else ``None``; ``low``:
-    ΔE c_k² of the low-frequency coefficients (:mod:`budget.gap.lowfreq`; ``None``: no change).
+    ΔE c_k² of the low-frequency coefficients (:mod:`budget.gap.lowfreq`; ``None``: no change);
+    ``walk_cov``: covariance added to the record's slowest modes (:mod:`budget.gap.walk`;
+    ``None``: not yet computed, :meth:`budget.gap.fitting.Candidate.full_increment` fills it).
     """
 
     avar: np.ndarray
@@ -84,6 +86,7 @@ class Increment:
     outliers: tuple[float, float] | None = None
     tails: tuple[float, float] | None = None   # predicted (tail count, tail2 count), if known
     low: np.ndarray | None = None
+    walk_cov: np.ndarray | None = None
 
 
 # --- Allan variance shapes (amplitude 1) --------------------------------------------------

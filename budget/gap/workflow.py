@@ -58,6 +58,7 @@ from .detectors import direct_proposals
 from .fitting import CandidateFit, FitContext
 from .gls import model_spectrum
 from .regression_var import model_weight_mean, model_weight_variance
+from .walk import model_cov as walk_model_cov
 from .inputs import check_compatible, load_measured, load_model
 from .effect_size import (DEFAULT_TOLERANCE_DB, EffectSizeBand, LooSizes, Sizes, db_terms,
                           kurtosis_size, loo_sizes)
@@ -120,7 +121,8 @@ def _linear_moments(model: NoiseModel, ch: str, grid: SignatureGrid) -> LinearMo
 
     sm, sv = moments(grid.time_w)
     tm, tv = moments(grid.temp_w) if grid.temp_w is not None else (None, None)
-    return LinearMoments(sm, sv, tm, tv)
+    wc = walk_model_cov(effects, grid.walk) if grid.walk is not None else None
+    return LinearMoments(sm, sv, tm, tv, wc)
 
 
 def _whitened(states: dict[str, _State]) -> dict[str, _State]:
@@ -139,9 +141,9 @@ def _whitened(states: dict[str, _State]) -> dict[str, _State]:
             st = states[ch]
             grid = replace(st.grid, whitening=white)
             out[ch] = replace(st, grid=grid, terms=gap_terms(st.meas, st.summary, grid),
-                              loo=loo_z(st.sims, grid, LinearMoments(st.summary.slope, st.summary.slope_var,
-                                                                     st.summary.temp_coef, st.summary.temp_var)
-                                        if st.summary.linear_exact else None))
+                              loo=loo_z(st.sims, grid, LinearMoments(
+                                  st.summary.slope if st.summary.linear_exact else None, st.summary.slope_var,
+                                  st.summary.temp_coef, st.summary.temp_var, st.summary.walk_cov)))
     return out
 
 
@@ -182,18 +184,21 @@ def _band(states: dict[str, _State], alpha: float, tolerance_db: float) -> Effec
 
 def _open(ch: str, st: _State, band: EffectSizeBand, trend_z: float) -> bool:
     """A channel is worked on while one of its effect sizes (peak spectral misfit P, kurtosis
-    difference D) is beyond its limit, or while its trend statistics (time slope, temperature
-    coefficient: what a ramp or a temperature sensitivity changes, and the long-τ Allan
-    deviation of a one-hour log barely shows) lie beyond ``trend_z`` of the model's own
-    distribution of them. Whether an effect is named there is up to the penalised test of
-    each candidate."""
-    trend = np.abs(st.terms.z[np.isin(st.terms.kind, ("slope", "temperature"))])
-    return band.beyond(ch, st.sizes(band, ch)) or bool(trend.size and trend.max() > trend_z)
+    difference D) is beyond its limit, or while its trend statistics lie beyond ``trend_z`` of
+    the model's own distribution of them (:func:`_trend_open`). Whether an effect is named
+    there is up to the penalised test of each candidate."""
+    return band.beyond(ch, st.sizes(band, ch)) or _trend_open(st, trend_z)
 
 
 def _trend_open(st: _State, trend_z: float) -> bool:
-    trend = np.abs(st.terms.z[np.isin(st.terms.kind, ("slope", "temperature"))])
-    return bool(trend.size and trend.max() > trend_z)
+    """The time slope or temperature coefficient beyond ±``trend_z`` (what a ramp or a
+    temperature sensitivity changes, and the long-τ Allan deviation of a one-hour log barely
+    shows), or more slow power in the record's slowest modes than the model's (z > ``trend_z``,
+    :mod:`budget.gap.walk`): all three judged against the model's exact distribution."""
+    kind, z = st.terms.kind, st.terms.z
+    trend = np.abs(z[np.isin(kind, ("slope", "temperature"))])
+    slow = z[kind == "walk"]
+    return bool((trend.size and trend.max() > trend_z) or (slow.size and slow.max() > trend_z))
 
 
 def _size_gain(old: Sizes, new: Sizes, band: EffectSizeBand, ch: str) -> tuple[float, bool]:
@@ -344,7 +349,7 @@ def run_gap(measured, model, *, seed: int = 0, realizations: int = DEFAULT_REALI
             check_tau_range: bool = True, tolerance_db: float = DEFAULT_TOLERANCE_DB,
             catalog_csv=None, mapping=None, repair: bool = False, max_rows: int | None = None,
             ci_level: float = 0.95, low_frequency: bool = False,
-            decorrelate: bool = False) -> GapReport:
+            decorrelate: bool = False, slow_modes: bool = True) -> GapReport:
     """Compare ``measured`` with ``model``, name the missing effects, return a :class:`GapReport`.
 
     ``measured``: log path, :class:`~budget.noise.ImuLog`, Allan-table path (with ``rate_hz``
@@ -359,8 +364,10 @@ def run_gap(measured, model, *, seed: int = 0, realizations: int = DEFAULT_REALI
     name a random walk on two more logs with a hidden ramp, and a ramp on one more
     model-following log (README, "Model gap"). CLI: ``--low-frequency``, ``--decorrelate``; the
     report records both in ``options``; both need a log (an Allan table with either is an
-    :class:`~budget.errors.InputError`). BLAS runs on one thread inside (small matrices; a shared
-    machine).
+    :class:`~budget.errors.InputError`). ``slow_modes`` (on by default; CLI ``--no-slow-modes``
+    turns it off): the record's slowest modes judged against the model's exact covariance
+    (:mod:`budget.gap.walk`), recorded in ``options`` too. BLAS runs on one thread inside (small
+    matrices; a shared machine).
     """
     with threadpool_limits(limits=1, user_api="blas"):
         return _run_gap(measured, model, seed=seed, realizations=realizations, channels=channels,
@@ -368,12 +375,13 @@ def run_gap(measured, model, *, seed: int = 0, realizations: int = DEFAULT_REALI
                         min_gain=min_gain, check_tau_range=check_tau_range,
                         tolerance_db=tolerance_db, catalog_csv=catalog_csv, mapping=mapping,
                         repair=repair, max_rows=max_rows, ci_level=ci_level,
-                        low_frequency=low_frequency, decorrelate=decorrelate)
+                        low_frequency=low_frequency, decorrelate=decorrelate,
+                        slow_modes=slow_modes)
 
 
 def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples, max_steps,
              alpha, min_gain, check_tau_range, tolerance_db, catalog_csv, mapping, repair,
-             max_rows, ci_level, low_frequency, decorrelate) -> GapReport:
+             max_rows, ci_level, low_frequency, decorrelate, slow_modes) -> GapReport:
     if not isinstance(realizations, (int, np.integer)) or realizations < 4:
         raise InputError("realizations must be an integer ≥ 4", field="realizations", value=realizations)
     if not 0 < alpha < 0.5:
@@ -404,7 +412,8 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     for ch in chans:
         if meas.kind == "log":
             grid = SignatureGrid.for_log(meas.n_samples, meas.rate_hz, meas.temp_c, low_frequency,
-                                         noise_psd=_spectrum(current, ch, meas))
+                                         noise_psd=_spectrum(current, ch, meas),
+                                         slow_modes=slow_modes)
             x = meas.series[ch]
             sig, mean = series_signature(x, grid, lattice=True), float(np.mean(x))
         else:
@@ -533,7 +542,8 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         notes=meas.notes + notes, stop_reason=stop, base_model=base,
         band_before=band_before, band_after=band,
         updated_model=_updated(base, current, steps, meas.rate_hz),
-        options={"low_frequency": bool(low_frequency), "decorrelate": bool(decorrelate)})
+        options={"low_frequency": bool(low_frequency), "decorrelate": bool(decorrelate),
+                 "slow_modes": bool(slow_modes) and meas.kind == "log"})
 
 
 def _updated(base: NoiseModel, current: NoiseModel, steps, rate_hz: float) -> NoiseModel:
