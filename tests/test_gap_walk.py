@@ -187,3 +187,16 @@ def test_every_registered_effect_has_a_mode_covariance():
         assert np.allclose(c, c.T, rtol=0, atol=1e-12 * max(np.abs(c).max(), 1e-300)), name
         assert np.linalg.eigvalsh(c).min() >= -1e-9 * max(np.abs(c).max(), 1e-300), name
     assert walk.effect_cov("not_an_effect", {}, lay) is None
+
+
+def test_a_model_without_noise_in_the_modes_has_no_statistic():
+    """Deterministic terms only (a ramp and a temperature term): the modes carry nothing under
+    the model, so no covariance is returned (the workflow then leaves the term out)."""
+    from budget.imu import Effect
+
+    lay = walk.layout(N_SHORT, DT)
+    only = [Effect(name="rate_ramp", channel="gyro_x", params={"R": 1e-6}),
+            Effect(name="temperature_sensitivity", channel="gyro_x", params={"coefficient": 1e-5})]
+    assert walk.model_cov(only, lay) is None
+    noisy = only + [Effect(name="white_noise", channel="gyro_x", params={"density": 1e-4})]
+    assert walk.model_cov(noisy, lay) is not None

@@ -9,7 +9,9 @@ Public API (SI inside: rad/s, m/s²):
   do not carry over to a second log of the same part are not named
 * :func:`log_from_arrays` — an :class:`~budget.noise.ImuLog` from SI arrays
 * :mod:`budget.gap.signatures`, :mod:`budget.gap.metric` (gap definition and null),
-  :mod:`budget.gap.candidates` (effect library); figures in :mod:`budget.plots.gap`
+  :mod:`budget.gap.walk` (the record's slowest modes against the model's exact covariance),
+  :mod:`budget.gap.quadform` (weighted-χ² tails), :mod:`budget.gap.candidates` (effect
+  library); figures in :mod:`budget.plots.gap`
 """
 
 from .candidates import LIBRARY, VOCABULARY

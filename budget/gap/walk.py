@@ -216,13 +216,17 @@ def effect_cov(name: str, params: dict, lay: WalkLayout) -> np.ndarray | None:
 
 def model_cov(effects, lay: WalkLayout) -> np.ndarray | None:
     """Covariance (K, K) of the modes under a channel's effects (SI); ``None`` when one of them
-    has no entry in :func:`effect_cov`."""
+    has no entry in :func:`effect_cov`, or when the model puts (almost) no noise in some mode
+    (a model of deterministic terms only: no slow-mode statistic can be formed against it)."""
     total = np.zeros((lay.n_modes, lay.n_modes))
     for f in effects:
         c = effect_cov(f.name, dict(f.params), lay)
         if c is None:
             return None
         total += c
+    lam = np.linalg.eigvalsh(total)
+    if not np.all(np.isfinite(lam)) or lam[-1] <= 0 or lam[0] <= 1e-10 * lam[-1]:
+        return None
     return total
 
 
