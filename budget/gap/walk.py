@@ -31,8 +31,8 @@ realizations:
 * whitened, y becomes ξ = Vᵀ·L⁻¹·y (C = L·Lᵀ, L⁻¹·U·L⁻ᵀ = V·Λ·Vᵀ with U the covariance a
   walk with K = 1 adds): under the model ξ ~ N(0, I), and a walk of K² = q adds q·λ_i to the
   variance of ξ_i. The statistic T = Σ w_i·ξ_i² with w_i = λ_i/(1 + q₀·λ_i), q₀·λ_max =
-  ``TEMPER`` = 3 — the Neyman–Pearson weights for a walk that triples the variance of the
-  slowest mode (q₀ = 0 would be the locally most powerful weights λ_i of Rao's score test,
+  ``TEMPER`` = 3 — the Neyman–Pearson weights for a walk that adds three times the model's
+  variance to the slowest mode (q₀ = 0 would be the locally most powerful weights λ_i of Rao's score test,
   which let the two or three slowest modes, a few degrees of freedom, carry it all) — is under
   the model a weighted sum of χ²₁, whose distribution follows from the four-cumulant match of
   Liu, Tang & Zhang (2009) (:func:`budget.gap.metric.quadratic_form_sf`); its z is the normal
@@ -62,7 +62,8 @@ N_BLOCKS = 256
 #: on the benchmark's one-hour walks 16 → 24 → 48 modes raise the weakest z 2.4 → 2.6 → 2.9
 #: at the same null spread, 64 adds nothing).
 N_MODES = 48
-#: q·λ_max of the alternative the weights are tempered for (:func:`weights`).
+#: q·λ_max of the alternative the weights are tempered for (:func:`weights`): a walk that adds
+#: three times the model's variance to the slowest mode.
 TEMPER = 3.0
 #: Fewest samples per block (shorter logs get no walk statistic).
 MIN_BLOCK = 16
