@@ -22,6 +22,7 @@ from budget.gap.regression_var import model_weight_mean, model_weight_variance
 from budget.gap.signatures import Signature, SignatureGrid
 from budget.imu import Effect, NoiseModel, generate_imu_errors
 from budget.imu.registry import REGISTRY
+from registry_examples import EXAMPLE_PARAMS
 
 RATE, N, TRIALS = 100.0, 4096, 2000
 TOL = 4.5 * math.sqrt(2.0 / (TRIALS - 1))
@@ -75,15 +76,7 @@ def test_exact_variance_matches_the_generator(case):
 
 def test_every_registered_effect_has_a_variance():
     _, weights = _weights()
-    params = {"white_noise": {"density": 1e-4}, "quantization": {"Q": 1e-6},
-              "rate_quantization": {"step": 1e-4}, "bias_instability": {"B": 1e-4},
-              "rate_random_walk": {"K": 1e-5}, "rate_ramp": {"R": 1e-6},
-              "sinusoid": {"frequency_hz": 1.0, "amplitude": 1e-4},
-              "gauss_markov": {"tau_s": 1.0, "sigma": 1e-4},
-              "temperature_sensitivity": {"coefficient": 1e-5},
-              "outliers": {"rate": 1e-3, "magnitude": 1e-2}, "lowpass": {"cutoff_hz": 10.0},
-              "vibration": {"center_hz": 5.0, "width_hz": 1.0, "sigma": 1e-4},
-              "heavy_tailed": {"density": 1e-4, "dof": 5.0}}
+    params = EXAMPLE_PARAMS
     assert set(params) == set(REGISTRY), "a registered effect is missing from this test"
     for name, p in params.items():
         v = model_weight_variance([WHITE, _e(name, **p)], weights["slope"], 1.0 / RATE)
