@@ -251,7 +251,7 @@ def walk_z(y: np.ndarray, cov: np.ndarray, lay: WalkLayout) -> float:
     key = (cov.tobytes(), y.tobytes())
     if key in _CACHE:
         return _CACHE[key]
-    if len(_CACHE) > 4096:
+    if len(_CACHE) > 256:  # ≈ 19 kB a key: a few MB at most
         _CACHE.clear()
     w, r = weights(cov, lay)
     xi = r @ y
