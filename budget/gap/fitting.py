@@ -57,6 +57,13 @@ class FitContext:
             linear += math.log(pred.temp_var / self.model.temp_var)
         return terms.sum_sq - terms.linear_sq + linear, linear
 
+    def walk_cov(self, name: str, params: dict) -> np.ndarray | None:
+        """Covariance an effect adds to the record's slowest modes
+        (:func:`budget.gap.walk.effect_cov`); ``None`` when the channel has no slow-mode term."""
+        if self.grid.walk is None or self.model.walk_cov is None:
+            return None
+        return walk.effect_cov(name, params, self.grid.walk)
+
     def freq(self) -> np.ndarray:
         if "freq" not in self.cache:
             self.cache["freq"] = self.grid.freq_hz
@@ -136,11 +143,9 @@ class Candidate(ABC):
         (:func:`budget.gap.walk.effect_cov`, from the effect's own parameters), when the
         channel has them and the increment does not carry it already."""
         inc = self.increment(theta, ctx)
-        lay = ctx.grid.walk
-        if inc.walk_cov is not None or lay is None or ctx.model.walk_cov is None:
+        if inc.walk_cov is not None:
             return inc
-        cov = walk.effect_cov(self.name, self.params(theta, ctx), lay)
-        return replace(inc, walk_cov=cov)
+        return replace(inc, walk_cov=ctx.walk_cov(self.name, self.params(theta, ctx)))
 
     def search(self, theta0: np.ndarray, ctx: FitContext) -> tuple[np.ndarray, float]:
         """Minimise the predicted Σz² from ``theta0`` (1-D bounded, else Nelder–Mead)."""
@@ -193,9 +198,9 @@ class LinearVariance(Candidate):
         key = ("unit", self.name)
         if key not in ctx.cache:
             unit = self.shapes(ctx)
-            if ctx.grid.walk is not None and ctx.model.walk_cov is not None and unit.walk_cov is None:
+            if unit.walk_cov is None:
                 # every parameter here is an amplitude: the modes' covariance scales with its square
-                unit = replace(unit, walk_cov=walk.effect_cov(self.name, {self.param: 1.0}, ctx.grid.walk))
+                unit = replace(unit, walk_cov=ctx.walk_cov(self.name, {self.param: 1.0}))
             ctx.cache[key] = unit
         return ctx.cache[key]
 

@@ -52,7 +52,7 @@ from scipy import special, stats
 
 from ..noise.allan import edf_simple, noise_type_from_slope
 from . import lowfreq, walk
-from .quadform import quadratic_form_quantile, quadratic_form_sf  # noqa: F401  (re-exported)
+from .quadform import quadratic_form_quantile
 from .signatures import Signature, SignatureGrid, band_counts, band_means
 from .theory import Increment
 
