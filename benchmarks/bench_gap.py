@@ -4,7 +4,8 @@ Logs come from the independent generators of ``tests/gap_truth.py`` (written wit
 of ``budget.imu`` or ``budget.gap``): one hour at 100 Hz, six channels, a tactical-grade base
 model, one hidden effect each, scaled so that the channel's Allan deviation is 3× the base
 model's at the τ where the effect shows most (quantization: at τ = dt; heavy tails: Student t
-ν = 4 at twice the white variance; outliers: 1 sample in 2000 at ±10 white σ). Printed:
+ν = 4 at twice the white variance; outliers: 1 sample in 2000 at ±10 white σ; thermal lag: its
+part beyond an instantaneous sensitivity, see ``gap_truth.calibrate``). Printed:
 
 1. wall time of :func:`budget.gap.run_gap` on a one-hour, 100 Hz, six-channel log (target < 60 s);
 2. detection matrix: for each hidden effect over ``--seeds`` seeds, what was named *first*

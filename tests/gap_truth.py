@@ -99,6 +99,27 @@ def _temp(n, rng, temp):
     return temp - temp[0], {"coefficient": 1.0}
 
 
+#: Time constant of the hidden thermal lag, s (a sensing element a few minutes behind its case).
+LAG_TAU_S = 300.0
+
+
+def lagged_temperature(n: int, tau_s: float) -> np.ndarray:
+    """T_e − T_e(0) of an element that follows :func:`temperature` (without the thermometer's
+    noise) through dT_e/dt = (T − T_e)/τ from equilibrium, in closed form: the warm-up
+    20(1 − e^(−t/a)), a = 900 s, becomes 20[1 − (a·e^(−t/a) − τ·e^(−t/τ))/(a − τ)]; the cycle
+    0.5 sin ωt becomes 0.5[sin ωt − ωτ cos ωt + ωτ e^(−t/τ)]/(1 + ω²τ²), °C."""
+    t = np.arange(n) / RATE
+    a, w = 900.0, 2 * math.pi / 720.0
+    warm = 20.0 * (1.0 - (a * np.exp(-t / a) - tau_s * np.exp(-t / tau_s)) / (a - tau_s))
+    wt = w * tau_s
+    cycle = 0.5 * (np.sin(w * t) - wt * np.cos(w * t) + wt * np.exp(-t / tau_s)) / (1.0 + wt * wt)
+    return warm + cycle
+
+
+def _temp_lag(n, rng, temp):
+    return lagged_temperature(n, LAG_TAU_S), {"coefficient": 1.0, "tau_s": LAG_TAU_S}
+
+
 def _sinusoid(n, rng, temp, f0=7.3):
     t = np.arange(n) / RATE
     return np.sin(2 * math.pi * f0 * t + rng.uniform(0, 2 * math.pi)), {"frequency_hz": f0, "amplitude": 1.0}
@@ -120,6 +141,7 @@ EFFECTS = {
     "rate_random_walk": ("gyro_x", _rrw),
     "rate_ramp": ("gyro_y", _ramp),
     "temperature_sensitivity": ("gyro_z", _temp),
+    "temperature_lag": ("gyro_z", _temp_lag),
     "sinusoid": ("accel_x", _sinusoid),
     "vibration": ("accel_y", _vibration),
 }
@@ -133,6 +155,13 @@ def calibrate(name: str, n: int = ONE_HOUR) -> float:
     tau = m / RATE
     rng = np.random.default_rng(12345)
     x, _ = gen(n, rng, temperature(n))
+    if name == "temperature_lag":
+        # sized by what sets a lag apart: its part beyond an instantaneous sensitivity, a
+        # constant and a trend (least squares on 1, t, T − T0); sized like every other effect
+        # on its whole series, a 300-s lag is 1/8 of this and at the detection limit
+        temp = temperature(n)
+        basis = np.column_stack([np.ones(n), np.arange(n) / RATE, temp - temp[0]])
+        x = x - basis @ np.linalg.lstsq(basis, x, rcond=None)[0]
     rho = adev(x, m) / base_adev(channel, tau)
     if name == "rate_random_walk":
         rho = np.sqrt(tau / 3.0) / base_adev(channel, tau)  # expected, not one realization
@@ -200,9 +229,9 @@ def make(name: str | None, n: int, seed: int) -> tuple[dict, np.ndarray | None, 
     elif name is not None:
         raise ValueError(f"no generator for {name!r}")
     logs["accel_z"] = logs["accel_z"] - G0  # gravity on z (z up: reads −g), removed by the mean
-    return logs, (temp if name == "temperature_sensitivity" else None), truth
+    return logs, (temp if name in ("temperature_sensitivity", "temperature_lag") else None), truth
 
 
 #: Every hidden effect the benchmark draws, in the order it prints them.
-ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "quantization", "sinusoid",
+ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "temperature_lag", "quantization", "sinusoid",
        "vibration", "heavy_tailed", "outliers")

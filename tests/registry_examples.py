@@ -9,6 +9,7 @@ EXAMPLE_PARAMS = {
     "sinusoid": {"frequency_hz": 1.0, "amplitude": 1e-4},
     "gauss_markov": {"tau_s": 1.0, "sigma": 1e-4},
     "temperature_sensitivity": {"coefficient": 1e-5},
+    "temperature_lag": {"coefficient": 1e-5, "tau_s": 300.0},
     "outliers": {"rate": 1e-3, "magnitude": 1e-2}, "lowpass": {"cutoff_hz": 10.0},
     "vibration": {"center_hz": 5.0, "width_hz": 1.0, "sigma": 1e-4},
     "heavy_tailed": {"density": 1e-4, "dof": 5.0},

@@ -25,6 +25,7 @@ EXAMPLES = {
     "sinusoid": {"frequency_hz": 3.0, "amplitude": 1e-3},
     "gauss_markov": {"tau_s": 1.0, "sigma": 1e-3},
     "temperature_sensitivity": {"coefficient": 1e-4},
+    "temperature_lag": {"coefficient": 1e-4, "tau_s": 60.0},
     "outliers": {"rate": 1e-2, "magnitude": 1e-2},
     "lowpass": {"cutoff_hz": 10.0},
     "vibration": {"center_hz": 12.0, "width_hz": 1.5, "sigma": 1e-3},

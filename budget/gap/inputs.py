@@ -31,6 +31,7 @@ import numpy as np
 from ..catalog.schema import FLICKER_FLOOR, PartSpec
 from ..errors import InputError
 from ..imu import NoiseModel
+from ..imu.registry import TEMPERATURE_EFFECTS
 from ..imu.resolve import resolve_noise_model
 from ..units import channel_si_unit
 from ..noise import ImuLog
@@ -191,7 +192,7 @@ def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,
                              f"but the model describes {model.rate_hz:g} Hz", field="rate_hz",
                              expected="a model for the log's rate (set rate_hz in MODEL.json, or "
                                       "resample the log)")
-    temp_fx = [f.channel for f in model.effects if f.name == "temperature_sensitivity" and f.channel in wanted]
+    temp_fx = [f.channel for f in model.effects if f.name in TEMPERATURE_EFFECTS and f.channel in wanted]
     if temp_fx and meas.temp_c is None:
         raise InputError(f"the model has a temperature effect on {', '.join(temp_fx)} but the "
                          "measurement has no temperature channel", field="temp_c",

@@ -76,6 +76,8 @@ class LinearMoments:
     temp_var: float | None = None
     #: the model's covariance of the record's slowest modes (:mod:`budget.gap.walk`)
     walk_cov: np.ndarray | None = None
+    #: their mean (a thermal lag's deterministic response; ``None``: zero)
+    walk_mean: np.ndarray | None = None
 
     def covers(self, with_temperature: bool) -> bool:
         ok = self.slope_mean is not None and self.slope_var is not None and self.slope_var > 0
@@ -115,6 +117,8 @@ class ModelSummary:
     #: the model's exact covariance of the slowest modes (:mod:`budget.gap.walk`; ``None``:
     #: no closed form for one of the channel's effects, or no modes)
     walk_cov: np.ndarray | None = None
+    #: the model's mean of the slowest modes (``None``: zero; :func:`budget.gap.walk.model_mean`)
+    walk_mean: np.ndarray | None = None
 
     @classmethod
     def from_signatures(cls, sigs: list[Signature], linear: "LinearMoments | None" = None) -> "ModelSummary":
@@ -147,6 +151,7 @@ class ModelSummary:
                 kw.update(low=low, low_sim=low)
             if linear is not None and linear.walk_cov is not None and sigs[0].walk is not None:
                 kw["walk_cov"] = linear.walk_cov
+                kw["walk_mean"] = linear.walk_mean
             if linear is not None and linear.covers(sigs[0].temp_coef is not None):
                 kw.update(slope=linear.slope_mean, slope_var=linear.slope_var, linear_exact=True)
                 if sigs[0].temp_coef is not None:
@@ -178,6 +183,8 @@ class ModelSummary:
                 kw["low"] = self.low + inc.low
             if self.walk_cov is not None and inc.walk_cov is not None:
                 kw["walk_cov"] = self.walk_cov + inc.walk_cov
+            if self.walk_cov is not None and inc.walk_mean is not None:
+                kw["walk_mean"] = inc.walk_mean if self.walk_mean is None else self.walk_mean + inc.walk_mean
         return replace(self, **kw)
 
 
@@ -308,7 +315,8 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
             where.append("regression on temp_c")
             locus.append(np.array([np.nan]))
         if meas.walk is not None and model.walk_cov is not None and grid.walk is not None:
-            z.append(np.array([walk.walk_z(meas.walk, model.walk_cov, grid.walk)]))
+            y = meas.walk if model.walk_mean is None else meas.walk - model.walk_mean
+            z.append(np.array([walk.walk_z(y, model.walk_cov, grid.walk)]))
             kinds.append("walk")
             where.append(f"slow modes, periods ≥ {grid.walk.shortest_period_s:.0f} s")
             locus.append(np.array([np.nan]))

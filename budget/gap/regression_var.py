@@ -31,7 +31,7 @@ from scipy import interpolate, signal
 from ..imu import Effect
 from ..imu import effects as fx
 from ..imu.flicker import flicker_bank
-from ..imu.registry import REGISTRY
+from ..imu.registry import REGISTRY, TEMPERATURE_EFFECTS
 
 #: Table points per decade of τc for :class:`GaussMarkovTable`.
 POINTS_PER_DECADE = 8
@@ -128,7 +128,7 @@ def model_weight_variance(effects: Iterable[Effect], weights: np.ndarray, dt_s: 
         elif name == "rate_random_walk":
             tail = np.cumsum(upstream[::-1])[::-1]
             total += p["K"] ** 2 * dt_s * float(np.dot(tail, tail))
-        elif name in ("rate_ramp", "temperature_sensitivity", "lowpass"):
+        elif name in ("rate_ramp", "lowpass") or name in TEMPERATURE_EFFECTS:
             continue
         elif name in ("quantization", "rate_quantization", "outliers"):
             if r_out is None:
@@ -148,7 +148,8 @@ def model_weight_variance(effects: Iterable[Effect], weights: np.ndarray, dt_s: 
 def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: float,
                       temp_c: np.ndarray | None) -> float | None:
     """E(Σ w_j x_j) under ``effects`` (SI) for weights with Σ w = 0: a ramp adds R·Σ w_j t_j, a
-    temperature sensitivity c·Σ w_j (T_j − T_0) with T the log's temperature (what the
+    temperature sensitivity c·Σ w_j (T_j − T_0) with T the log's temperature (a thermal lag:
+    the lagged T_e, :func:`budget.imu.effects.temperature_response`; what the
     generator is driven by); every other registered effect has zero mean (random phase,
     symmetric spikes, lattice offsets drawn per record). ``None`` for an unknown effect, or a
     temperature effect without a temperature column."""
@@ -157,11 +158,11 @@ def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: f
     for f in effects:
         if f.name == "rate_ramp":
             total += f.param("R") * float(np.dot(w, np.arange(w.size) / rate_hz))
-        elif f.name == "temperature_sensitivity":
+        elif f.name in TEMPERATURE_EFFECTS:
             if temp_c is None:
                 return None
-            temp = np.asarray(temp_c, float)
-            total += f.param("coefficient") * float(np.dot(w, temp - temp[0]))
+            resp = fx.temperature_response(f.name, dict(f.params), temp_c, 1.0 / rate_hz)
+            total += f.param("coefficient") * float(np.dot(w, resp))
         elif f.name not in REGISTRY:
             return None
     return total

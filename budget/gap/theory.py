@@ -72,7 +72,8 @@ class Increment:
     ``outliers``: (rate, magnitude) for the tail-count prediction, else ``None``; ``low``:
     ΔE c_k² of the low-frequency coefficients (:mod:`budget.gap.lowfreq`; ``None``: no change);
     ``walk_cov``: covariance added to the record's slowest modes (:mod:`budget.gap.walk`;
-    ``None``: not yet computed, :meth:`budget.gap.fitting.Candidate.full_increment` fills it).
+    ``None``: not yet computed, :meth:`budget.gap.fitting.Candidate.full_increment` fills it);
+    ``walk_mean``: mean added to those modes (a thermal lag's response; ``None``: zero).
     """
 
     avar: np.ndarray
@@ -87,6 +88,7 @@ class Increment:
     tails: tuple[float, float] | None = None   # predicted (tail count, tail2 count), if known
     low: np.ndarray | None = None
     walk_cov: np.ndarray | None = None
+    walk_mean: np.ndarray | None = None
 
 
 # --- Allan variance shapes (amplitude 1) --------------------------------------------------

@@ -26,7 +26,9 @@ realizations:
   2Q²/dt² on the diagonal and −Q²/dt² beside it; a vibration from its autocorrelation
   (:func:`budget.imu.effects.vibration_acov`) when its band reaches below 4× the block rate,
   otherwise nothing (its power sits far above the modes). Ramp and temperature terms are
-  projected out. The output low-pass filter is left out: at the modes' frequencies (below
+  projected out; a thermal lag is not (its response is not the temperature column): it is
+  deterministic and gives the modes a mean, D times the block sums of c·(T_e − T_0)
+  (:func:`model_mean`), which is subtracted before they are whitened. The output low-pass filter is left out: at the modes' frequencies (below
   N_MODES/(2N·dt), a few mHz for a one-hour log) its gain is 1 to within (f/f_c)²;
 * whitened, y becomes ξ = Vᵀ·L⁻¹·y (C = L·Lᵀ, L⁻¹·U·L⁻ᵀ = V·Λ·Vᵀ with U the covariance a
   walk with K = 1 adds): under the model ξ ~ N(0, I), and a walk of K² = q adds q·λ_i to the
@@ -54,6 +56,7 @@ from scipy import linalg, special
 
 from ..imu import effects as fx
 from ..imu.flicker import flicker_bank
+from ..imu.registry import TEMPERATURE_EFFECTS
 from .quadform import quadratic_form_sf
 
 #: Blocks the record is reduced to.
@@ -186,7 +189,7 @@ def effect_cov(name: str, params: dict, lay: WalkLayout) -> np.ndarray | None:
         return (params["step"] ** 2 / 12.0 * m) * np.eye(k)
     if name == "outliers":
         return (params["rate"] * params["magnitude"] ** 2 * m) * np.eye(k)
-    if name in ("rate_ramp", "temperature_sensitivity", "lowpass"):
+    if name in ("rate_ramp", "lowpass") or name in TEMPERATURE_EFFECTS:
         return np.zeros((k, k))
     if name == "rate_random_walk":
         return params["K"] ** 2 * lay.unit
@@ -228,6 +231,32 @@ def model_cov(effects, lay: WalkLayout) -> np.ndarray | None:
     lam = np.linalg.eigvalsh(total)
     if not np.all(np.isfinite(lam)) or lam[-1] <= 0 or lam[0] <= 1e-10 * lam[-1]:
         return None
+    return total
+
+
+def effect_mean(name: str, params: dict, lay: WalkLayout, temp_c: np.ndarray | None) -> np.ndarray | None:
+    """Mean (K,) that one deterministic effect (SI parameters) gives the modes: zero for every
+    effect but a thermal lag, whose response c·(T_e − T_0) is not the projected-out
+    temperature column; ``None`` for a temperature effect without a temperature column."""
+    if name not in TEMPERATURE_EFFECTS:
+        return np.zeros(lay.n_modes)
+    if temp_c is None:
+        return None
+    if name == "temperature_sensitivity":
+        return np.zeros(lay.n_modes)
+    resp = fx.temperature_response(name, params, temp_c, lay.dt_s)
+    return params["coefficient"] * modes(resp, lay)
+
+
+def model_mean(effects, lay: WalkLayout, temp_c: np.ndarray | None) -> np.ndarray | None:
+    """Mean (K,) of the modes under a channel's effects (:func:`effect_mean`); ``None`` when a
+    temperature effect has no temperature column."""
+    total = np.zeros(lay.n_modes)
+    for f in effects:
+        m = effect_mean(f.name, dict(f.params), lay, temp_c)
+        if m is None:
+            return None
+        total += m
     return total
 
 

@@ -59,6 +59,7 @@ from .fitting import CandidateFit, FitContext
 from .gls import model_spectrum
 from .regression_var import model_weight_mean, model_weight_variance
 from .walk import model_cov as walk_model_cov
+from .walk import model_mean as walk_model_mean
 from .inputs import check_compatible, load_measured, load_model
 from .effect_size import (DEFAULT_TOLERANCE_DB, EffectSizeBand, LooSizes, Sizes, db_terms,
                           kurtosis_size, loo_sizes)
@@ -122,7 +123,8 @@ def _linear_moments(model: NoiseModel, ch: str, grid: SignatureGrid) -> LinearMo
     sm, sv = moments(grid.time_w)
     tm, tv = moments(grid.temp_w) if grid.temp_w is not None else (None, None)
     wc = walk_model_cov(effects, grid.walk) if grid.walk is not None else None
-    return LinearMoments(sm, sv, tm, tv, wc)
+    wm = walk_model_mean(effects, grid.walk, grid.temp_c) if wc is not None else None
+    return LinearMoments(sm, sv, tm, tv, wc, wm)
 
 
 def _whitened(states: dict[str, _State]) -> dict[str, _State]:
@@ -143,7 +145,8 @@ def _whitened(states: dict[str, _State]) -> dict[str, _State]:
             out[ch] = replace(st, grid=grid, terms=gap_terms(st.meas, st.summary, grid),
                               loo=loo_z(st.sims, grid, LinearMoments(
                                   st.summary.slope if st.summary.linear_exact else None, st.summary.slope_var,
-                                  st.summary.temp_coef, st.summary.temp_var, st.summary.walk_cov)))
+                                  st.summary.temp_coef, st.summary.temp_var, st.summary.walk_cov,
+                                  st.summary.walk_mean)))
     return out
 
 

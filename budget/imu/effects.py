@@ -11,6 +11,8 @@ Each function draws only from the ``numpy.random.Generator`` it is given. Conven
   q = √12·Q, so the integrated error stays within one quantum and the ADEV is √3·Q/τ once the
   signal moves by more than q per sample;
 * temperature sensitivity c: c·(T(t) − T(0)) (the offset at switch-on belongs to the turn-on bias);
+* thermal lag τ_th: the same with the sensing element's temperature, which follows the logged
+  temperature through a first-order lag (:func:`thermal_lag`);
 * outliers: each sample is hit with probability ``rate`` by a spike of ±``magnitude``
   (random sign).
 """
@@ -30,6 +32,26 @@ DEFAULT_TEMP_RAMP_C_PER_S = 0.5 / 60.0
 def default_temperature(time_s: np.ndarray) -> np.ndarray:
     """Linear warm-up T(t) = 25 °C + 0.5 °C/min · t (documented default), shape (N,)."""
     return DEFAULT_TEMP_START_C + DEFAULT_TEMP_RAMP_C_PER_S * time_s
+
+
+def thermal_lag(temp_c: np.ndarray, tau_s: float, dt_s: float) -> np.ndarray:
+    """T_e − T(0) of a sensing element whose temperature follows the logged one through a first-
+    order lag: T_e,k = T_e,k−1 + a·(T_k − T_e,k−1), a = 1 − exp(−dt/τ), T_e,0 = T_0 (the log starts
+    in thermal equilibrium; the exact discretisation for T held over each step, as
+    ``lowpass``). ``temp_c`` (N,) or (T, N) in °C, along the last axis; °C."""
+    temp = np.asarray(temp_c, float)
+    a = -math.expm1(-dt_s / tau_s)
+    return signal.lfilter([a], [1.0, a - 1.0], temp - temp[..., :1], axis=-1)
+
+
+def temperature_response(name: str, params: dict, temp_c: np.ndarray, dt_s: float) -> np.ndarray:
+    """The series a temperature effect's ``coefficient`` multiplies (°C): T − T(0) for
+    ``temperature_sensitivity``, the lagged T_e − T(0) (:func:`thermal_lag`) for
+    ``temperature_lag``; ``temp_c`` (N,) or (T, N), along the last axis."""
+    if name == "temperature_lag":
+        return thermal_lag(temp_c, params["tau_s"], dt_s)
+    temp = np.asarray(temp_c, float)
+    return temp - temp[..., :1]
 
 
 def add_white(out: np.ndarray, density: np.ndarray, dt_s: float, rng: np.random.Generator,

@@ -18,6 +18,9 @@ rate_ramp                   ``R`` (channel unit/s; ADEV R·τ/√2), signed
 sinusoid                    ``frequency_hz``, ``amplitude`` (peak, channel unit)
 gauss_markov                ``tau_s`` (correlation time), ``sigma`` (steady-state 1σ)
 temperature_sensitivity     ``coefficient`` (channel unit/°C), signed
+temperature_lag             ``coefficient`` (channel unit/°C), signed; ``tau_s``: time
+                            constant of the first-order lag between the logged temperature
+                            and the sensing element's
 outliers                    ``rate`` (fraction of samples, 0–1), ``magnitude`` (channel unit)
 lowpass                     ``cutoff_hz``: first-order output filter (1 − a)·y + a·x,
                             a = 1 − exp(−2π·f_c·dt), on the channel's additive noise

@@ -63,7 +63,13 @@ def _ramp(p, n_trials, time_s, dt_s, rng, temp):
 
 
 def _temperature(p, n_trials, time_s, dt_s, rng, temp):
-    return np.broadcast_to(p["coefficient"] * (temp - temp[..., :1]), (n_trials, time_s.size))
+    return np.broadcast_to(p["coefficient"] * fx.temperature_response("temperature_sensitivity", p, temp, dt_s),
+                           (n_trials, time_s.size))
+
+
+def _temperature_lag(p, n_trials, time_s, dt_s, rng, temp):
+    return np.broadcast_to(p["coefficient"] * fx.temperature_response("temperature_lag", p, temp, dt_s),
+                           (n_trials, time_s.size))
 
 
 def _sinusoid(p, n_trials, time_s, dt_s, rng, temp):
@@ -97,6 +103,10 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
                "gaussian", "ADEV hump near τ ≈ 1.9·τc"),
     EffectSpec("temperature_sensitivity", {"coefficient": ParamSpec("/°C", None)}, "additive",
                "regression on the temperature column", _temperature),
+    EffectSpec("temperature_lag", {"coefficient": ParamSpec("/°C", None),
+                                   "tau_s": ParamSpec("s", 0.0, False, True)}, "additive",
+               "regression on the temperature column lagged by τ: a slow drift beside it that "
+               "follows the temperature's rate of change", _temperature_lag),
     EffectSpec("outliers", {"rate": ParamSpec("fraction of samples", 0.0, True, True, 1.0),
                             "magnitude": ParamSpec("")}, "glitch",
                "isolated spikes of one magnitude in the first differences"),
@@ -112,5 +122,7 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
 )}
 
 EFFECT_NAMES = tuple(REGISTRY)
+#: Effects driven by the log's temperature column.
+TEMPERATURE_EFFECTS = ("temperature_sensitivity", "temperature_lag")
 #: The output quantizers (stage ``output``): a channel has at most one of them.
 QUANTIZERS = tuple(n for n, s in REGISTRY.items() if s.stage == "output")
