@@ -94,17 +94,20 @@ def load_parts(parts=None, catalog: Mapping | None = None) -> list:
     return [load_part(p, cat) for p in parts]
 
 
-def check_parts(parts=None, scenarios="airborne_xband", mode: str = "paper", assumptions=None):
+def check_parts(parts=None, scenarios="airborne_xband", mode: str = "paper", assumptions=None,
+                platform_motion=None):
     """Analytic check of parts × scenarios against the seed 004 bounds (:func:`budget.check.check_parts`).
 
     ``parts``: ids or objects (``None`` = the whole catalog); ``scenarios``: one or several
-    scenarios, preset names or files.
+    scenarios, preset names or files; ``platform_motion``: the rotation the gyro scale factor and
+    misalignment are judged against (a ``PlatformMotion`` or its dict, e.g. ``{"kind":
+    "oscillation"}``; None: the bounds' own 1-rad attitude change).
     """
     from .check import check_parts as _check
 
     cat = load_catalog()
     plist = list(cat.values()) if parts is None else load_parts(parts, cat)
-    return _check(plist, load_scenarios(scenarios), mode, assumptions)
+    return _check(plist, load_scenarios(scenarios), mode, assumptions, platform_motion=platform_motion)
 
 
 def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED, **kwargs):

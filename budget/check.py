@@ -88,6 +88,10 @@ class CheckResult:
     #: per scenario, the limit (deg) on that combined rms: the PGA-limited verdict fails a part
     #: whose VRW and ARW each pass their own tightened bound but together exceed it
     fast_phase_limit_deg: tuple[float, ...] = ()
+    #: per scenario, the rotation the gyro scale factor and misalignment were judged against
+    #: (:meth:`budget.bounds.rotation.RotationExcursion.to_dict`) when a platform motion was given;
+    #: empty: the bounds' own assumption (seed 004: an attitude change of 1 rad)
+    rotation: tuple[dict, ...] = ()
 
     def fast_phase(self, i: int, s: int) -> float:
         """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
@@ -200,7 +204,8 @@ class CheckResult:
         ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`;
         ``fast_phase_residual_deg``: :meth:`fast_phase`)."""
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
-                "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s)}
+                "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s),
+                               "rotation": self.rotation[s] if self.rotation else None}
                               for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
 
     def to_frame(self) -> pd.DataFrame:
@@ -250,10 +255,24 @@ class CheckResult:
             lines.append(f"terms: datasheet terms the verdict rests on, of {n_par}; an unspecified term is not "
                          "checked (it neither passes nor fails: the JSON lists them under 'unspecified'), so a "
                          "'pass' on few terms says little — the Monte Carlo fills them from the grade by default")
+        if self.rotation:
+            lines.append(rotation_line(self.rotation[scenario_index]))
         if notes:
             lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
                       "its window, attitude error × lever arm); where the verdicts differ:"] + notes
         return "\n".join(lines)
+
+
+def rotation_line(rot: dict) -> str:
+    """One line: the rotation the gyro scale factor and misalignment were judged against."""
+    def term(name: str, key: str) -> str:
+        f = rot[key]
+        return f"{name} not exercised (bound infinite)" if not np.isfinite(f) else f"{name} bound × {f:.3g}"
+    return (f"rotation: gyro scale factor and misalignment judged against the motion flown — {rot['motion']} — "
+            f"equivalent excursion {rot['scale_factor_excursion_rad']:.3g} / {rot['misalignment_excursion_rad']:.3g} "
+            f"rad against the bounds' {rot['reference_excursion_rad']:g} rad: "
+            + "; ".join((term("gyro SF", "gyro_scale_factor_bound_factor"),
+                         term("gyro misalignment", "gyro_misalignment_bound_factor"))))
 
 
 def _number(value: float) -> str:
@@ -283,9 +302,47 @@ def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
     return out
 
 
+def _apply_rotation(bmat: np.ndarray, pmat: np.ndarray, scen: Sequence[Scenario], mode: str, assumptions,
+                    platform_motion, lever: Sequence) -> tuple[dict, ...]:
+    """Rescale, in place, the gyro scale-factor and gyro misalignment bounds of every scenario to
+    the rotation ``platform_motion`` flies (:mod:`budget.bounds.rotation`): the mode's γ bound,
+    written for an attitude change Θ_ref (seed 004: 1 rad; ``attitude_excursion_rad`` of the
+    derived and no-autofocus assumptions), times Θ_ref/Θ_eq; a gyro misalignment leaks rotation
+    into another axis as a scale factor does into its own, so its bound is the γ bound times
+    Θ_ref/Θ_eq(misalignment). In the PGA-limited matrix the lever-arm limit of both becomes
+    δr/(|d|·Θ_peak), Θ_peak the largest attitude change flown. Returns the excursions' dicts."""
+    from .bounds import paper_bounds, scenario_assumptions
+    from .bounds.rotation import motion_excursion
+
+    j_sf, j_gm = PARAM_NAMES.index("gyro_scale_factor_ppm"), PARAM_NAMES.index("gyro_misalignment_mrad")
+    out = []
+    for s, (sc, la) in enumerate(zip(scen, lever)):
+        used = scenario_assumptions(mode, sc, assumptions) if mode != "lever-arm" else None
+        ref = float(getattr(used, "attitude_excursion_rad", 1.0))
+        exc = motion_excursion(platform_motion, sc, reference_rad=ref)
+        lever_mode = mode in ("lever-arm", "lever_arm")
+        # the lever-arm mode's γ bound already holds its own 1-rad lever-arm limit: start from seed 004's
+        gamma = (float(paper_bounds(sc.tc_s, sc.range_resolution_m).gyro_scale_factor[0]) if lever_mode
+                 else bmat[s, j_sf])
+        d = la.lever_m
+        by_turn = sc.range_resolution_m / (d * exc.peak_tilt_rad) if d > 0 and exc.peak_tilt_rad > 0 else np.inf
+        for j, term in ((j_sf, "gyro_scale_factor"), (j_gm, "gyro_misalignment")):
+            bmat[s, j] = gamma * exc.factor(term)
+            pmat[s, j] = min(bmat[s, j], by_turn)
+            if lever_mode:
+                bmat[s, j] = pmat[s, j]
+        out.append(exc.to_dict())
+    return tuple(out)
+
+
 def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scenario,
-                mode: str = "paper", assumptions=None) -> CheckResult:
-    """Check parts against each scenario's bounds (Tc and δr from the scenario)."""
+                mode: str = "paper", assumptions=None, platform_motion=None) -> CheckResult:
+    """Check parts against each scenario's bounds (Tc and δr from the scenario).
+
+    ``platform_motion`` (a :class:`~budget.nav.manoeuvre.PlatformMotion` or its dict): judge the
+    gyro scale factor and gyro misalignment against the rotation the platform flies over each
+    aperture, as the Monte Carlo flies it (:func:`_apply_rotation`), instead of the bounds' own
+    1-rad attitude change; None keeps the bounds as they are."""
     parts = list(parts)
     scen = [scenarios] if isinstance(scenarios, Scenario) else list(scenarios)
     if not parts or not scen:
@@ -307,6 +364,13 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     assumed = [LeverArmAssumptions.from_scenario(s) for s in scen]
     limited = [pga_limited_bounds(s, a) for s, a in zip(scen, assumed)]
     pmat = np.array([bound_matrix(t)[0] for t, _ in limited])
+    rotation: tuple[dict, ...] = ()
+    if platform_motion is not None:
+        from .nav.manoeuvre import PlatformMotion
+        motion = (platform_motion if isinstance(platform_motion, PlatformMotion)
+                  else _platform_motion(platform_motion))
+        bmat = np.array(bmat, dtype=float)
+        rotation = _apply_rotation(bmat, pmat, scen, mode, assumptions, motion, assumed)
     specs = spec_matrix(parts)
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
@@ -314,7 +378,21 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        pga_margins=margins(specs, pmat), pga_rules=tuple(r for _, r in limited), mode=mode,
                        assumptions=_assumptions_dict(assumptions),
                        fast_phase_deg=_fast_phase_matrix(parts, scen, assumed),
-                       fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed))
+                       fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed),
+                       rotation=rotation)
+
+
+def _platform_motion(value):
+    """A :class:`~budget.nav.manoeuvre.PlatformMotion` from its dict; a bad one raises
+    :class:`InputError` naming the field."""
+    from pydantic import ValidationError
+
+    from .errors import from_validation_error
+    from .nav.manoeuvre import PlatformMotion
+    try:
+        return PlatformMotion.model_validate(value)
+    except ValidationError as err:
+        raise from_validation_error(err) from None
 
 
 def _assumptions_dict(assumptions) -> dict | None:

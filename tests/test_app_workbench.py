@@ -90,6 +90,18 @@ def test_check_page_shows_the_flag_and_exports(tmp_path):
     assert at.get("download_button")  # CSV, JSON and the report
 
 
+def test_check_page_judges_the_rotation_terms_on_the_chosen_motion():
+    at = _app("pages/check.py")
+    assert not any("judged against the motion flown" in cap.value for cap in at.caption)
+    at.selectbox(key="chk_platform_motion").set_value("attitude_change").run()
+    _ok(at)
+    line = [cap.value for cap in at.caption if "judged against the motion flown" in cap.value]
+    assert line and "gyro SF bound × 3.36" in line[0]
+    at.selectbox(key="chk_platform_motion").set_value("straight").run()
+    _ok(at)
+    assert any("not exercised" in cap.value for cap in at.caption)
+
+
 def test_allan_table_upload_reads_like_the_cli(shared_data):
     import upload_tables
 

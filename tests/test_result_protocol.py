@@ -165,6 +165,15 @@ def _build_fast_phase_residual():
         {"scenario": "automotive_77ghz", "pga_bandwidth_cycles": 2.05, "aperture_window": "rect", "limit_deg": 1.0}
 
 
+def _build_rotation():
+    from budget.bounds.rotation import motion_excursion
+    from budget.nav.manoeuvre import PlatformMotion
+    from budget.presets import get_preset
+    scen = get_preset(SCENARIO)
+    return (motion_excursion(PlatformMotion(kind="oscillation"), scen),
+            {"tc_s": scen.tc_s, "k_sigma": 2.0, "reference_excursion_rad": 1.0})
+
+
 def _build_check():
     from budget.catalog.io import load_catalog
     from budget.check import check_parts
@@ -430,6 +439,7 @@ BUILDERS = {
     "budget.bounds.table:BoundsTable": _build_bounds,
     "budget.bounds.fast_phase:FastPhaseLimits": _build_fast_phase,
     "budget.bounds.fast_phase:FastPhaseResidual": _build_fast_phase_residual,
+    "budget.bounds.rotation:RotationExcursion": _build_rotation,
     "budget.check:CheckResult": _build_check,
     "budget.check:GradeRecommendation": _build_grade,
     "budget.catalog.fill:Resolution": _build_resolution,

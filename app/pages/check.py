@@ -6,7 +6,7 @@ import streamlit as st
 
 from budget.bounds.lever_arm import pga_limited_bounds
 from budget.catalog.schema import GRADES
-from budget.check import check_parts, recommend_grade
+from budget.check import check_parts, recommend_grade, rotation_line
 from budget.fileio import frame_csv_text, json_text
 from budget.plots.check import margin_heatmap_figure
 from budget.report import build_report
@@ -45,7 +45,16 @@ def render() -> None:
     if not parts:
         st.info("No part of the selected grades in the catalog.")
         return
-    result = check_parts(parts, s, ctx.mode, ctx.assumptions())
+    motions = {"the bounds' own (an attitude change of 1 rad)": None, "straight": "straight",
+               "oscillation": "oscillation", "attitude_change": "attitude_change"}
+    motion = st.selectbox("platform motion the gyro scale factor and misalignment are judged on", list(motions),
+                          key="chk_platform_motion",
+                          help="seed 004 assumes an attitude change of 1 rad over the aperture; a motion here "
+                               "replaces it by that motion's equivalent excursion (as the Monte Carlo flies it)")
+    kind = motions[motion]
+    result = check_parts(parts, s, ctx.mode, ctx.assumptions(), platform_motion={"kind": kind} if kind else None)
+    if result.rotation:
+        st.caption(rotation_line(result.rotation[0]))
     frame = check_frame(result)
     n = verdict_counts(frame)
     st.markdown(f"Scenario **{s.name}**: Tc = **{s.tc_s:.4g} s**, δr = {s.range_resolution_m:.4g} m, "

@@ -112,7 +112,11 @@ def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict
     parts = [catalog[p] for p in results if p in catalog]
     if not parts:
         return
-    recs = {r["part_id"]: r for r in check_parts(parts, scenario, mode if mode != "no-autofocus" else "paper")
+    # a Monte Carlo that flew a rotation: the check judges the gyro SF and misalignment on it too
+    opts = next(iter(results.values())).options
+    motion = opts.platform_motion if opts is not None and opts.platform_motion.rotates else None
+    recs = {r["part_id"]: r for r in check_parts(parts, scenario, mode if mode != "no-autofocus" else "paper",
+                                                 platform_motion=motion)
             .to_dict()["scenarios"][0]["parts"]}
     rows = []
     for pid, r in results.items():

@@ -5,6 +5,8 @@
 * :mod:`.no_autofocus` — what each error may be when no autofocus runs.
 * :mod:`.fast_phase` — the limits on what autofocus cannot remove.
 * :mod:`.lever_arm` — seed 004's bounds together with attitude error × lever arm.
+* :mod:`.rotation` — the rotation a gyro scale factor and misalignment see in the motion flown
+  (the equivalent excursion that replaces seed 004's 1 rad).
 """
 
 from ..errors import InputError
@@ -15,12 +17,14 @@ from .no_autofocus import NoAutofocusAssumptions, no_autofocus_bounds
 from .fast_phase import fast_phase_limits, fast_phase_residual, FastPhaseLimits, FastPhaseResidual
 from .legendre import random_walk_constants
 from .lever_arm import LeverArmAssumptions, lever_arm_bounds, lever_arm_terms
+from .rotation import RotationExcursion, motion_excursion, rotation_excursion
 
 __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", "derived_bounds",
            "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
            "fast_phase_residual", "FastPhaseResidual",
            "random_walk_constants", "compute_bounds", "LeverArmAssumptions", "lever_arm_bounds",
-           "lever_arm_terms", "MODES", "scenario_assumptions"]
+           "lever_arm_terms", "MODES", "scenario_assumptions", "RotationExcursion", "motion_excursion",
+           "rotation_excursion"]
 
 #: Bound modes of :func:`compute_bounds` (and ``sar-budget bounds --mode``).
 MODES = ("paper", "derived", "no-autofocus", "lever-arm")

@@ -8,6 +8,7 @@ from ..bounds.lever_arm import pga_limited_bounds
 from ..catalog.io import load_catalog, load_grades
 from ..check import check_parts, recommend_grade
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
+from .mc_cmd import add_platform_motion_options, platform_motion_from_args
 from .output import add_json_option, write_json
 
 
@@ -18,6 +19,8 @@ def add_parser(sub) -> None:
     add_catalog_option(p)
     p.add_argument("--mode", choices=("paper", "derived", "no-autofocus"), default="paper")
     p.add_argument("--part", nargs="+", metavar="ID", help="only these parts")
+    add_platform_motion_options(p, unset="unset (default: the bounds' own attitude change of 1 rad), straight "
+                                         "(gyro scale factor and misalignment not exercised)")
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -26,7 +29,7 @@ def run(args) -> int:
     scen = scenario_from_args(args)
     catalog = load_catalog(args.catalog)
     parts = load_parts(args.part, catalog) if args.part else list(catalog.values())
-    res = check_parts(parts, scen, mode=args.mode)
+    res = check_parts(parts, scen, mode=args.mode, platform_motion=platform_motion_from_args(args))
     grades = list(load_grades().values())
     rec = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, mode=args.mode,
                           wavelength_m=scen.wavelength_m, assumptions=scenario_assumptions(args.mode, scen))
@@ -37,6 +40,7 @@ def run(args) -> int:
         write_json({"mode": args.mode, "scenario": scen.model_dump(mode="json"), "tc_s": float(scen.tc_s),
                     "catalog": str(args.catalog) if args.catalog else "shipped",
                     "assumptions": res.assumptions, "parts": res.to_dict()["scenarios"][0]["parts"],
+                    "rotation": res.rotation[0] if res.rotation else None,
                     "lowest_sufficient_grade": {args.mode: rec.grade[0], "pga_limited": rec_limited.grade[0]}},
                    args.json)
         return 0

@@ -139,13 +139,14 @@ def _add_verdict_options(p) -> None:
                         "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
 
 
-def add_platform_motion_options(p) -> None:
-    """``--platform-motion`` and its parameters (:func:`platform_motion_from_args` reads them)."""
+def add_platform_motion_options(p, *, unset: str = "straight (default; gyro scale factor and misalignment "
+                                                  "then have no effect)") -> None:
+    """``--platform-motion`` and its parameters (:func:`platform_motion_from_args` reads them);
+    ``unset`` says what the command does without the option."""
     p.add_argument("--platform-motion", choices=PLATFORM_MOTIONS, default=None,
-                   help="what the platform does over the aperture: straight (default; gyro scale factor and "
-                        "misalignment then have no effect), oscillation (roll/pitch/yaw at the scenario's "
-                        "platform_rate_deg_s), attitude_change (a roll through Θ over the aperture, the "
-                        "gyro-scale-factor bound's manoeuvre) or custom (--disturbance)")
+                   help=f"what the platform does over the aperture: {unset}, oscillation (roll/pitch/yaw at "
+                        "the scenario's platform_rate_deg_s), attitude_change (a roll through Θ over the "
+                        "aperture, the gyro-scale-factor bound's manoeuvre) or custom (--disturbance)")
     p.add_argument("--manoeuvre-rate", type=float, default=None, metavar="DEG_S",
                    help="oscillation: peak rate per axis in deg/s (default the scenario's platform_rate_deg_s)")
     p.add_argument("--manoeuvre-period", type=float, default=None, metavar="S",

@@ -205,10 +205,12 @@ def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence 
         raise InputError("unknown bounds mode", field="mode", value=mode, expected=", ".join(BOUND_MODES))
     cat = load_catalog()
     plist = list(cat.values()) if parts is None else load_parts(parts, cat)
-    check = check_parts(plist, s, mode, (assumptions or {}).get(mode))
+    options = options or McOptions()
+    # a Monte Carlo that flies a rotation: the check judges the gyro SF and misalignment on it too
+    motion = options.platform_motion if (mc_parts or mc_results) and options.platform_motion.rotates else None
+    check = check_parts(plist, s, mode, (assumptions or {}).get(mode), platform_motion=motion)
     trials = DEFAULT_TRIALS if trials is None else trials
     seed = DEFAULT_SEED if seed is None else seed
-    options = options or McOptions()
     mc = dict(mc_results or {})
     for p in mc_parts or ():
         part = load_part(p, cat)

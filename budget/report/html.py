@@ -13,6 +13,8 @@ import math
 
 import pandas as pd
 
+from ..check import rotation_line
+
 CSS = """
 body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;margin:2em auto;max-width:1200px;color:#222}
 h1{font-size:1.6em}h2{font-size:1.25em;margin-top:1.6em;border-bottom:1px solid #ddd}
@@ -91,6 +93,9 @@ def render_html(rep) -> str:
              "<h2>Bounds at this Tc (datasheet units)</h2>", table_html(bounds, table_id="bounds"),
              "<h2>Analytic check (margin = bound / datasheet value, ≥ 1 passes)</h2>",
              table_html(rep.check_frame(), table_id="check", verdict_col="verdict")]
+    if rep.check.rotation:
+        parts.append(f"<p class='judged' data-key='rotation'><small>{html.escape(rotation_line(rep.check.rotation[0]))}"
+                     "</small></p>")
     if rep.mc:
         parts += ["<h2>Monte Carlo verdict (P(pass) with 95 % Wilson intervals)</h2>",
                   table_html(rep.mc_frame(), table_id="mc")]
