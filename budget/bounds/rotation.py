@@ -25,10 +25,12 @@ A constant Θ from t = 0 gives E = Θt²/2, the bound's form; so Θ_eq = 2·max_
 * a component's deterministic and random parts add as |E_sin(t)| + k·σ(t) (a bound, not an rms).
 
 Only a roll error moves the antenna in range: it tilts gravity into the cross-track axis (y),
-whose error the line of sight sees (seed 004's bound takes the whole of it, as here, where the
-range error is its share cos ε at depression ε). A pitch error tilts gravity along the track (x),
-which moves the samples along the aperture and changes the range only to second order at
-broadside (the scenario refuses squint); a yaw error turns a horizontal specific force that a
+whose error the line of sight sees (cos ε of it at depression ε; seed 004's bound, and this
+module, take the whole cross-track error). A pitch error tilts gravity along the track (x),
+which moves the samples along the aperture: at broadside (the scenario refuses squint) the range
+to a target changes by (x − x_t)/R of it, at most ≈ λ/(4δℓ) at the aperture's ends (a few
+per cent; left out here, and the one candidate named where the Monte Carlo fails a misalignment
+earlier than this predicts); a yaw error turns a horizontal specific force that a
 straight track does not have. So a gyro scale factor acts through the roll gyro's own rotation:
 Θ_eq(SF) = Θ_eq(roll). A gyro misalignment leaks the rotation about one axis into the reading
 of another (E = diag(s) + M, :mod:`budget.imu.generator`, the six entries of M independent with
