@@ -91,21 +91,16 @@ def _transfer_sq(omega: np.ndarray, t: float) -> np.ndarray:
     return h.real ** 2 + h.imag ** 2
 
 
-def _random_sigma(comp, t: np.ndarray) -> np.ndarray:
-    """σ(t) of E(t) for a random component (``psd_rad2_per_hz`` table), one value per ``t``."""
+def _random_sigma(comp, t: np.ndarray, tilt: bool = False) -> np.ndarray:
+    """σ(t) of E(t) for a random component (``psd_rad2_per_hz`` table), one value per ``t``;
+    ``tilt=True``: σ_θ(t) of θ(t) − θ(0), |e^{jωt} − 1|² = 2(1 − cos ωt) in place of |H|²."""
     f = np.geomspace(comp.frequency_hz[0], comp.frequency_hz[-1], _N_FREQ)
     s = comp.psd_at(f)
     omega = 2.0 * math.pi * f
+    if tilt:
+        return np.sqrt(np.maximum(np.trapezoid(s * 2.0 * (1.0 - np.cos(np.outer(t, omega))), f, axis=1), 0.0))
     return np.array([math.sqrt(max(float(np.trapezoid(s * _transfer_sq(omega, float(ti)), f)), 0.0))
                      for ti in t])
-
-
-def _random_tilt_sigma(comp, t: np.ndarray) -> np.ndarray:
-    """σ_θ(t) of θ(t) − θ(0) for a random component, one value per ``t``."""
-    f = np.geomspace(comp.frequency_hz[0], comp.frequency_hz[-1], _N_FREQ)
-    s = comp.psd_at(f)
-    omega = 2.0 * math.pi * f
-    return np.sqrt(np.maximum(np.trapezoid(s * 2.0 * (1.0 - np.cos(np.outer(t, omega))), f, axis=1), 0.0))
 
 
 def axis_envelopes(disturbance: Disturbance | None, tc_s: float, k_sigma: float = 2.0,
@@ -125,7 +120,7 @@ def axis_envelopes(disturbance: Disturbance | None, tc_s: float, k_sigma: float 
     rand = {ax: np.zeros(t.size) for ax in env}
     for r in disturbance.random:
         if r.axis in rand:  # independent components: variances add
-            sig = _random_tilt_sigma(r, t) if tilt else _random_sigma(r, t)
+            sig = _random_sigma(r, t, tilt)
             rand[r.axis] = np.sqrt(rand[r.axis] ** 2 + sig ** 2)
     return t, {ax: np.abs(det[ax]) + k_sigma * rand[ax] for ax in env}
 
