@@ -315,12 +315,12 @@ def _apply_rotation(bmat: np.ndarray, pmat: np.ndarray, scen: Sequence[Scenario]
     from .bounds.rotation import motion_excursion
 
     j_sf, j_gm = PARAM_NAMES.index("gyro_scale_factor_ppm"), PARAM_NAMES.index("gyro_misalignment_mrad")
+    lever_mode = mode in ("lever-arm", "lever_arm")
     out = []
     for s, (sc, la) in enumerate(zip(scen, lever)):
-        used = scenario_assumptions(mode, sc, assumptions) if mode != "lever-arm" else None
+        used = None if lever_mode else scenario_assumptions(mode, sc, assumptions)
         ref = float(getattr(used, "attitude_excursion_rad", 1.0))
         exc = motion_excursion(platform_motion, sc, reference_rad=ref)
-        lever_mode = mode in ("lever-arm", "lever_arm")
         # the lever-arm mode's γ bound already holds its own 1-rad lever-arm limit: start from seed 004's
         gamma = (float(paper_bounds(sc.tc_s, sc.range_resolution_m).gyro_scale_factor[0]) if lever_mode
                  else bmat[s, j_sf])
@@ -366,11 +366,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     pmat = np.array([bound_matrix(t)[0] for t, _ in limited])
     rotation: tuple[dict, ...] = ()
     if platform_motion is not None:
-        from .nav.manoeuvre import PlatformMotion
-        motion = (platform_motion if isinstance(platform_motion, PlatformMotion)
-                  else _platform_motion(platform_motion))
-        bmat = np.array(bmat, dtype=float)
-        rotation = _apply_rotation(bmat, pmat, scen, mode, assumptions, motion, assumed)
+        rotation = _apply_rotation(bmat, pmat, scen, mode, assumptions, _platform_motion(platform_motion), assumed)
     specs = spec_matrix(parts)
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
@@ -383,7 +379,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
 
 
 def _platform_motion(value):
-    """A :class:`~budget.nav.manoeuvre.PlatformMotion` from its dict; a bad one raises
+    """A :class:`~budget.nav.manoeuvre.PlatformMotion` from itself or its dict; a bad one raises
     :class:`InputError` naming the field."""
     from pydantic import ValidationError
 
