@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..catalog.schema import FLICKER_FLOOR, PartSpec
+from ..catalog.schema import FLICKER_FLOOR
 from ..errors import InputError
 from ..imu import NoiseModel
 from ..imu.registry import TEMPERATURE_EFFECTS

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from functools import lru_cache
 
 import numpy as np
 from scipy import interpolate, signal
@@ -64,6 +65,28 @@ class GaussMarkovTable:
     def __call__(self, tau_c_s: float) -> float:
         x = float(np.clip(math.log(tau_c_s), math.log(self.tau[0]), math.log(self.tau[-1])))
         return float(math.exp(self._f(x)))
+
+
+def slope_weights(n_samples: int, rate_hz: float) -> np.ndarray:
+    """Weights w of the time-slope statistic, slope = w·x (1/s per sample; the signature grid's
+    ``time_w`` with no temperature column): the centred time over its sum of squares."""
+    tc = np.arange(n_samples) / rate_hz
+    tc = tc - tc.mean()
+    return tc / np.dot(tc, tc)
+
+
+@lru_cache(maxsize=4)
+def flicker_slope_variance(n_samples: int, rate_hz: float) -> float:
+    """Variance of the time slope from the bias-instability bank with B = 1 ((1/s)², per unit B²)."""
+    return flicker_weight_variance(slope_weights(n_samples, rate_hz), 1.0 / rate_hz, n_samples)
+
+
+@lru_cache(maxsize=4)
+def gauss_markov_slope_table(n_samples: int, rate_hz: float) -> GaussMarkovTable:
+    """Variance of the time slope from a unit Gauss–Markov term, tabulated over τc from 2·dt to
+    half the record (the range a Gauss–Markov candidate searches)."""
+    dt = 1.0 / rate_hz
+    return GaussMarkovTable(slope_weights(n_samples, rate_hz), dt, 2.0 * dt, 0.5 * n_samples * dt)
 
 
 def _lowpass_adjoint(w: np.ndarray, cutoff_hz: float, dt_s: float) -> np.ndarray:

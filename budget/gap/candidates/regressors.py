@@ -1,0 +1,190 @@
+"""Deterministic-regressor candidates: a rate ramp (drift linear in time), a temperature
+sensitivity (output linear in the temperature column) and a thermal lag (linear in the
+temperature seen through a first-order lag of time constant τ). Each is a known series times
+its coefficient: it moves the mean of the slope and temperature regression statistics, and adds
+that series' own Allan variance, PSD and slow-mode coefficients (no variance of its own).
+
+Parameters are SI channel units (see :mod:`budget.imu.noise_model`); θ is the search space.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import optimize
+
+from ...imu.effects import thermal_lag
+from .. import lowfreq, walk
+from .. import theory as th
+from ..fitting import Candidate, amp2_start
+from ..signatures import overlapping_avar
+
+
+class RateRamp(Candidate):
+    name = "rate_ramp"
+    log_param = False
+
+    def _unit(self, ctx):
+        key = ("unit", self.name)
+        if key not in ctx.cache:
+            g = ctx.grid
+            psd = th.psd_ramp(g.nperseg, g.dt_s, g.n_samples) if g.has_psd else None
+            temp = 0.0
+            if g.temp_w is not None:
+                temp = float(np.einsum("i,i->", g.temp_w, np.arange(g.n_samples) * g.dt_s))
+            ctx.cache[key] = th.Increment(g.tau_s ** 2 / 2.0, psd, slope=1.0, temp=temp)
+        return ctx.cache[key]
+
+    def starts(self, ctx):
+        unit = self._unit(ctx)
+        r_adev = math.sqrt(max(amp2_start(ctx, unit.avar), 0.0))
+        if ctx.meas.slope is not None:
+            r0 = ctx.meas.slope - ctx.model.slope
+            return [np.array([r0])] if (r0 != 0 or r_adev > 0) else []
+        return [np.array([r_adev])] if r_adev > 0 else []
+
+    def bracket(self, t0):
+        return -4.0 * abs(t0), 4.0 * abs(t0)
+
+    def increment(self, theta, ctx):
+        u, r = self._unit(ctx), float(theta[0])
+        return th.Increment(u.avar * r * r, None if u.psd is None else u.psd * r * r,
+                            slope=r, temp=u.temp * r)
+
+    def params(self, theta, ctx):
+        return {"R": float(theta[0])}
+
+
+class TemperatureSensitivity(Candidate):
+    name = "temperature_sensitivity"
+    log_param = False
+    needs_psd = needs_temp = True
+
+    def _unit(self, ctx):
+        key = ("unit", self.name)
+        if key not in ctx.cache:
+            g = ctx.grid
+            T = g.temp_c - g.temp_c[0]
+            avar = overlapping_avar(T, g.m)
+            d = np.diff(T)
+            c = d - d.mean()
+            v = float(np.einsum("i,i->", c, c)) / c.size
+            cum4 = float(np.mean(c ** 4)) - 3.0 * v * v
+            # deterministic: the coefficients of T itself (the cross term with the noise averages out)
+            low = lowfreq.coefficients_sq(T, g.low_k_max) if g.has_low else None
+            ctx.cache[key] = th.Increment(avar, th.psd_of_series(T, g.dt_s, g.nperseg), v, cum4,
+                                          slope=float(np.einsum("i,i->", g.time_w, T)), temp=1.0,
+                                          low=low)
+        return ctx.cache[key]
+
+    def starts(self, ctx):
+        c0 = ctx.meas.temp_coef - ctx.model.temp_coef
+        return [np.array([c0])] if c0 != 0 else []
+
+    def bracket(self, t0):
+        return -4.0 * abs(t0), 4.0 * abs(t0)
+
+    def increment(self, theta, ctx):
+        u, c = self._unit(ctx), float(theta[0])
+        return th.Increment(u.avar * c * c, u.psd * c * c, u.diff_var * c * c, u.diff_cum4 * c ** 4,
+                            slope=u.slope * c, temp=c, low=None if u.low is None else u.low * c * c)
+
+    def params(self, theta, ctx):
+        return {"coefficient": float(theta[0])}
+
+
+class TemperatureLag(Candidate):
+    """c·(T_e − T_0) with the sensing element's temperature T_e lagging the logged one by a
+    first-order time constant τ (:func:`budget.imu.effects.thermal_lag`): θ = (c/c₀, ln τ),
+    c₀ the coefficient the temperature regression reads. A lag of more than a few seconds
+    against a warm-up leaves a drift beside the regression on T — c·(T_e − T) ≈ −c·τ·dT/dt —
+    that a ramp or a random walk would otherwise take. Every statistic follows from the
+    deterministic series T_e − T_0 itself (its Allan variance, Welch PSD, differences,
+    regression weights and slowest modes), computed once per τ. The search profiles c at each
+    τ (bounded, the coefficient brackets as :class:`TemperatureSensitivity`'s) and runs a bounded
+    search over ln τ from the best of a grid; τ from 2 s to a quarter of the record (shorter
+    is the instantaneous sensitivity at any temperature rate a log shows, longer a trend)."""
+
+    name, n_params = "temperature_lag", 2
+    needs_psd = needs_temp = True
+    #: τ grid of the starts
+    N_TAU = 10
+
+    def _tau_range(self, ctx):
+        g = ctx.grid
+        return max(2.0, 4.0 * g.dt_s), 0.25 * g.n_samples * g.dt_s
+
+    def _unit(self, ctx, tau):
+        key = ("unit", self.name, round(math.log(tau), 9))
+        if key not in ctx.cache:
+            g = ctx.grid
+            T = thermal_lag(g.temp_c, tau, g.dt_s)
+            d = np.diff(T)
+            c = d - d.mean()
+            v = float(np.einsum("i,i->", c, c)) / c.size
+            low = lowfreq.coefficients_sq(T, g.low_k_max) if g.has_low else None
+            mean = walk.modes(T, g.walk) if g.walk is not None and ctx.model.walk_cov is not None else None
+            ctx.cache[key] = th.Increment(overlapping_avar(T, g.m), th.psd_of_series(T, g.dt_s, g.nperseg), v,
+                                          float(np.mean(c ** 4)) - 3.0 * v * v,
+                                          slope=float(np.einsum("i,i->", g.time_w, T)),
+                                          temp=float(np.einsum("i,i->", g.temp_w, T)), low=low,
+                                          walk_mean=mean)
+        return ctx.cache[key]
+
+    def _c0(self, ctx, tau):
+        u = self._unit(ctx, tau)
+        dc = ctx.meas.temp_coef - ctx.model.temp_coef
+        return dc / u.temp if u.temp != 0 else 0.0
+
+    def applicable(self, ctx):
+        return super().applicable(ctx) and ctx.grid.temp_w is not None and ctx.grid.temp_c is not None
+
+    def _scale(self, ctx):
+        if "lag_c_ref" not in ctx.cache:
+            ctx.cache["lag_c_ref"] = abs(ctx.meas.temp_coef - ctx.model.temp_coef)
+        return ctx.cache["lag_c_ref"]
+
+    def _profile(self, ctx, log_tau):
+        """(best c/c₀, Σz²) at τ = e^log_tau."""
+        ref = self._scale(ctx)
+        r0 = self._c0(ctx, math.exp(log_tau)) / ref
+        f = lambda r: ctx.sumsq(self.full_increment(np.array([r, log_tau]), ctx))
+        lo, hi = -4.0 * abs(r0), 4.0 * abs(r0)
+        grid = np.sort(np.append(np.linspace(lo, hi, 9), r0))
+        vals = [f(x) for x in grid]
+        i = int(np.argmin(vals))
+        a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+        res = optimize.minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": 1e-3 * abs(b - a)})
+        return (float(res.x), float(res.fun)) if res.fun <= vals[i] else (float(grid[i]), float(vals[i]))
+
+    def starts(self, ctx):
+        if self._scale(ctx) == 0:
+            return []
+        lo, hi = self._tau_range(ctx)
+        scored = [(self._profile(ctx, lt), lt) for lt in np.linspace(math.log(lo), math.log(hi), self.N_TAU)]
+        (r, val), lt = min(scored, key=lambda s: s[0][1])
+        return [np.array([r, lt])]
+
+    def search(self, theta0, ctx):
+        lo, hi = self._tau_range(ctx)
+        step = (math.log(hi) - math.log(lo)) / (self.N_TAU - 1)
+        a, b = max(math.log(lo), theta0[1] - step), min(math.log(hi), theta0[1] + step)
+        res = optimize.minimize_scalar(lambda lt: self._profile(ctx, lt)[1], bounds=(a, b), method="bounded",
+                                       options={"xatol": 0.01})
+        lt = float(res.x) if res.fun <= ctx.sumsq(self.full_increment(theta0, ctx)) else float(theta0[1])
+        r, val = self._profile(ctx, lt)
+        return np.array([r, lt]), val
+
+    def increment(self, theta, ctx):
+        lo, hi = self._tau_range(ctx)
+        tau = float(np.clip(math.exp(theta[1]), lo, hi))
+        u, c = self._unit(ctx, tau), float(theta[0]) * self._scale(ctx)
+        return th.Increment(u.avar * c * c, u.psd * c * c, u.diff_var * c * c, u.diff_cum4 * c ** 4,
+                            slope=u.slope * c, temp=u.temp * c, low=None if u.low is None else u.low * c * c,
+                            walk_mean=None if u.walk_mean is None else u.walk_mean * c)
+
+    def params(self, theta, ctx):
+        lo, hi = self._tau_range(ctx)
+        return {"coefficient": float(theta[0]) * self._scale(ctx),
+                "tau_s": float(np.clip(math.exp(theta[1]), lo, hi))}
