@@ -266,13 +266,16 @@ class CheckResult:
 def rotation_line(rot: dict) -> str:
     """One line: the rotation the gyro scale factor and misalignment were judged against."""
     def term(name: str, key: str) -> str:
-        f = rot[key]
+        f = rot.get(f"{key}_bound_change", rot[f"{key}_bound_factor"])
         return f"{name} not exercised (bound infinite)" if not np.isfinite(f) else f"{name} bound × {f:.3g}"
+    mis = rot["gyro_misalignment_bound_factor"]
+    how = (f" (= γ bound × {mis:.3g}: a gyro misalignment tilts the platform as a scale factor does)"
+           if np.isfinite(mis) and "gyro_misalignment_bound_change" in rot else "")
     return (f"rotation: gyro scale factor and misalignment judged against the motion flown — {rot['motion']} — "
             f"equivalent excursion {rot['scale_factor_excursion_rad']:.3g} / {rot['misalignment_excursion_rad']:.3g} "
             f"rad against the bounds' {rot['reference_excursion_rad']:g} rad: "
-            + "; ".join((term("gyro SF", "gyro_scale_factor_bound_factor"),
-                         term("gyro misalignment", "gyro_misalignment_bound_factor"))))
+            + "; ".join((term("gyro SF", "gyro_scale_factor"), term("gyro misalignment", "gyro_misalignment")))
+            + how)
 
 
 def _number(value: float) -> str:
@@ -305,12 +308,15 @@ def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
 def _apply_rotation(bmat: np.ndarray, pmat: np.ndarray, scen: Sequence[Scenario], mode: str, assumptions,
                     platform_motion, lever: Sequence) -> tuple[dict, ...]:
     """Rescale, in place, the gyro scale-factor and gyro misalignment bounds of every scenario to
-    the rotation ``platform_motion`` flies (:mod:`budget.bounds.rotation`): the mode's γ bound,
-    written for an attitude change Θ_ref (seed 004: 1 rad; ``attitude_excursion_rad`` of the
-    derived and no-autofocus assumptions), times Θ_ref/Θ_eq; a gyro misalignment leaks rotation
-    into another axis as a scale factor does into its own, so its bound is the γ bound times
-    Θ_ref/Θ_eq(misalignment). In the PGA-limited matrix the lever-arm limit of both becomes
-    δr/(|d|·Θ_peak), Θ_peak the largest attitude change flown. Returns the excursions' dicts."""
+    the rotation ``platform_motion`` flies (:meth:`budget.bounds.rotation.RotationExcursion.bounds`):
+    the mode's γ bound, written for an attitude change Θ_ref (seed 004: 1 rad;
+    ``attitude_excursion_rad`` of the derived and no-autofocus assumptions), times Θ_ref/Θ_eq; a
+    gyro misalignment leaks rotation into another axis as a scale factor does into its own, so its
+    bound is the γ bound times Θ_ref/Θ_eq(misalignment) — not the misalignment bound of the
+    straight-flight check (seed 004 (7), a full range cell where γ has half). In the PGA-limited
+    matrix the lever-arm limit of both becomes δr/(|d|·Θ_peak), Θ_peak the largest attitude change
+    flown. Returns the excursions' dicts, each with ``<term>_bound_change``: the factor by which
+    the check's bound of the term moved (new ÷ the mode's own)."""
     from .bounds import paper_bounds, scenario_assumptions
     from .bounds.rotation import motion_excursion
 
@@ -326,12 +332,15 @@ def _apply_rotation(bmat: np.ndarray, pmat: np.ndarray, scen: Sequence[Scenario]
                  else bmat[s, j_sf])
         d = la.lever_m
         by_turn = sc.range_resolution_m / (d * exc.peak_tilt_rad) if d > 0 and exc.peak_tilt_rad > 0 else np.inf
-        for j, term in ((j_sf, "gyro_scale_factor"), (j_gm, "gyro_misalignment")):
-            bmat[s, j] = gamma * exc.factor(term)
+        rec = exc.to_dict()
+        for j, (term, bound) in zip((j_sf, j_gm), exc.bounds(gamma).items()):
+            before = bmat[s, j]
+            bmat[s, j] = bound
             pmat[s, j] = min(bmat[s, j], by_turn)
             if lever_mode:
                 bmat[s, j] = pmat[s, j]
-        out.append(exc.to_dict())
+            rec[f"{term}_bound_change"] = float(bmat[s, j] / before) if before > 0 else np.inf
+        out.append(rec)
     return tuple(out)
 
 

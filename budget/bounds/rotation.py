@@ -29,15 +29,17 @@ whose error the line of sight sees (cos ε of it at depression ε; seed 004's bo
 module, take the whole cross-track error). A pitch error tilts gravity along the track (x),
 which moves the samples along the aperture: at broadside (the scenario refuses squint) the range
 to a target changes by (x − x_t)/R of it, at most ≈ λ/(4δℓ) at the aperture's ends (a few
-per cent; left out here, and the one candidate named where the Monte Carlo fails a misalignment
-earlier than this predicts); a yaw error turns a horizontal specific force that a
-straight track does not have. So a gyro scale factor acts through the roll gyro's own rotation:
+per cent; left out here); a yaw error turns a horizontal specific force that a straight track
+does not have. So a gyro scale factor acts through the roll gyro's own rotation:
 Θ_eq(SF) = Θ_eq(roll). A gyro misalignment leaks the rotation about one axis into the reading
 of another (E = diag(s) + M, :mod:`budget.imu.generator`, the six entries of M independent with
 the same 1σ): the roll reading takes m·θ_pitch and m·θ_yaw terms, each with its own random
 entry, so its envelope is √(E_pitch² + E_yaw²) at each t, and Θ_eq(misalignment) is its
 largest value. A roll manoeuvre alone leaks only into the pitch and yaw readings: it does not
-exercise the misalignment.
+exercise the misalignment. Both terms tilt the platform by (their value)·Θ_eq, so both take the
+γ bound's share of the range cell (:meth:`RotationExcursion.bounds`): one half in seed 004 (6),
+not the full cell of seed 004 (7), which is written for a misalignment that tilts the specific
+force itself.
 
 With Θ_eq = 0 (straight, level, unrotated flight, or a rotation about yaw only for the scale
 factor) the term has no effect and its bound is infinite.
@@ -146,15 +148,25 @@ class RotationExcursion:
     reference_rad: float = 1.0
 
     def factor(self, term: str) -> float:
-        """Bound multiplier Θ_ref/Θ_eq for ``term`` ("gyro_scale_factor" | "gyro_misalignment");
-        inf when the motion does not exercise the term."""
+        """Θ_ref/Θ_eq for ``term`` ("gyro_scale_factor" | "gyro_misalignment"): the multiplier on
+        the gyro scale-factor bound γ (written for Θ_ref) that gives the term's motion-aware
+        bound (:meth:`bounds`); inf when the motion does not exercise the term."""
         theta = self.scale_factor_rad if term == "gyro_scale_factor" else self.misalignment_rad
         return math.inf if theta <= 0 else self.reference_rad / theta
+
+    def bounds(self, gamma_bound: float) -> dict[str, float]:
+        """Motion-aware bounds (rad/rad) of the gyro scale factor and the gyro misalignment from
+        the γ bound of seed 004 (6) (or the derived mode's), written for an attitude change
+        Θ_ref: γ·Θ_ref/Θ_eq for both. A gyro misalignment tilts the platform by m·Θ_eq as a scale
+        factor does by γ·Θ_eq, so it takes γ's share of the range cell (one half in seed 004), not
+        the full cell of seed 004 (7), which bounds a misalignment that tilts the specific force
+        itself (the accelerometers')."""
+        return {term: gamma_bound * self.factor(term) for term in ("gyro_scale_factor", "gyro_misalignment")}
 
     def summary(self) -> str:
         def words(theta: float) -> str:
             return "not exercised (no tilting rotation)" if theta <= 0 else (
-                f"Θ_eq = {theta:.3g} rad, bound × {self.reference_rad / theta:.3g}")
+                f"Θ_eq = {theta:.3g} rad, bound = γ bound × {self.reference_rad / theta:.3g}")
         return (f"Rotation over Tc = {self.tc_s:.3g} s: {self.motion}\n"
                 f"  gyro scale factor: {words(self.scale_factor_rad)}\n"
                 f"  gyro misalignment: {words(self.misalignment_rad)}\n"
