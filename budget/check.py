@@ -266,11 +266,11 @@ class CheckResult:
 def rotation_line(rot: dict) -> str:
     """One line: the rotation the gyro scale factor and misalignment were judged against."""
     def term(name: str, key: str) -> str:
-        f = rot.get(f"{key}_bound_change", rot[f"{key}_bound_factor"])
+        f = rot[f"{key}_bound_change"]
         return f"{name} not exercised (bound infinite)" if not np.isfinite(f) else f"{name} bound × {f:.3g}"
     mis = rot["gyro_misalignment_bound_factor"]
-    how = (f" (= γ bound × {mis:.3g}: a gyro misalignment tilts the platform as a scale factor does)"
-           if np.isfinite(mis) and "gyro_misalignment_bound_change" in rot else "")
+    how = (f" (from the γ bound × {mis:.3g}: a gyro misalignment tilts the platform as a scale factor does)"
+           if np.isfinite(mis) else "")
     return (f"rotation: gyro scale factor and misalignment judged against the motion flown — {rot['motion']} — "
             f"equivalent excursion {rot['scale_factor_excursion_rad']:.3g} / {rot['misalignment_excursion_rad']:.3g} "
             f"rad against the bounds' {rot['reference_excursion_rad']:g} rad: "
