@@ -112,9 +112,8 @@ def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict
     parts = [catalog[p] for p in results if p in catalog]
     if not parts:
         return
-    # a Monte Carlo that flew a rotation: the check judges the gyro SF and misalignment on it too
     opts = next(iter(results.values())).options
-    motion = opts.platform_motion if opts is not None and opts.platform_motion.rotates else None
+    motion = opts.rotation_for_check if opts is not None else None
     recs = {r["part_id"]: r for r in check_parts(parts, scenario, mode if mode != "no-autofocus" else "paper",
                                                  platform_motion=motion)
             .to_dict()["scenarios"][0]["parts"]}

@@ -128,3 +128,10 @@ class McOptions(BaseModel):
     def window_for(self, scenario) -> Window:
         """The window the verdict images ``scenario`` with (:func:`budget.sar.windows.verdict_window`)."""
         return verdict_window(scenario, self.window)
+
+    @property
+    def rotation_for_check(self) -> PlatformMotion | None:
+        """The motion the analytic check should judge the gyro scale factor and misalignment on
+        beside this Monte Carlo: the one it flies when that rotates the body, else None (the
+        check keeps the bounds' own 1-rad attitude change)."""
+        return self.platform_motion if self.platform_motion.rotates else None

@@ -206,8 +206,7 @@ def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence 
     cat = load_catalog()
     plist = list(cat.values()) if parts is None else load_parts(parts, cat)
     options = options or McOptions()
-    # a Monte Carlo that flies a rotation: the check judges the gyro SF and misalignment on it too
-    motion = options.platform_motion if (mc_parts or mc_results) and options.platform_motion.rotates else None
+    motion = options.rotation_for_check if (mc_parts or mc_results) else None
     check = check_parts(plist, s, mode, (assumptions or {}).get(mode), platform_motion=motion)
     trials = DEFAULT_TRIALS if trials is None else trials
     seed = DEFAULT_SEED if seed is None else seed
