@@ -12,7 +12,9 @@ workflow simulates with) or ``budget.gap``, so a shared mistake cannot pass unse
   the integrated output).
 
 The base model is a tactical-grade row (gyro ARW 0.5 deg/√h, bias instability 5 deg/h as the
-ADEV floor; accel VRW 0.05 m/s/√h, 50 µg). Hidden effects are scaled so that the channel's
+ADEV floor; accel VRW 0.05 m/s/√h, 50 µg) at 100 Hz; :func:`use` switches to another grade of
+:data:`GRADES` or another rate, to check that the workflow holds beyond the logs it was built
+on. Hidden effects are scaled so that the channel's
 Allan deviation at the τ where the effect shows most is ``RATIO`` × the base model's (closed
 form N²/τ + floor², independent of the package's theory), except the distribution effects
 (outliers, heavy tails) whose size is stated per effect.
@@ -37,6 +39,27 @@ CHANNELS = ("gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
 #: Allan-deviation ratio (log / base model) at the effect's most telling τ.
 RATIO = 3.0
 ONE_HOUR = 360_000
+#: Base-model grades the generators can draw (datasheet units: gyro ARW deg/√h, gyro ADEV floor
+#: deg/h, accel VRW m/s/√h, accel ADEV floor µg): the benchmark's tactical row, a high-end
+#: tactical (FOG-class) row and a consumer MEMS row (MPU-6050 class: 0.005 °/s/√Hz, 400 µg/√Hz).
+GRADES = {"tactical": (0.5, 5.0, 0.05, 50.0),
+          "high_tactical": (0.15, 1.0, 0.03, 20.0),
+          "consumer": (0.3, 20.0, 0.24, 100.0)}
+GRADE = "tactical"
+
+
+def use(grade: str = "tactical", rate_hz: float = 100.0) -> None:
+    """Draw the base model of ``grade`` (:data:`GRADES`) at ``rate_hz``: sets the module's levels
+    and rate, which every generator reads when it runs (worker processes fork after the call)."""
+    global RATE, GYRO_N, GYRO_FLOOR, ACCEL_N, ACCEL_FLOOR, GRADE
+    if grade not in GRADES:
+        raise ValueError(f"no grade {grade!r}; one of {', '.join(GRADES)}")
+    if not rate_hz > 0:
+        raise ValueError("rate_hz must be positive")
+    arw, bi, vrw, abi = GRADES[grade]
+    GRADE, RATE = grade, float(rate_hz)
+    GYRO_N, GYRO_FLOOR = arw * DEG / 60.0, bi * DEG / 3600.0
+    ACCEL_N, ACCEL_FLOOR = vrw / 60.0, abi * 1e-6 * G0
 
 
 def base_levels(channel: str) -> tuple[float, float]:
@@ -180,8 +203,9 @@ def quantized(x: np.ndarray, q_coeff: float, true_rate: float, rng: np.random.Ge
 def base_model_dict() -> dict:
     """The base model as the package's noise-model JSON (datasheet units, bias instability as
     the ADEV floor: the catalog's ``adev_min`` convention)."""
-    return {"rate_hz": RATE, "gyro_arw_deg_rt_h": 0.5, "gyro_bias_instability_deg_h": 5.0,
-            "accel_vrw_m_s_rt_h": 0.05, "accel_bias_instability_ug": 50.0,
+    arw, bi, vrw, abi = GRADES[GRADE]
+    return {"rate_hz": RATE, "gyro_arw_deg_rt_h": arw, "gyro_bias_instability_deg_h": bi,
+            "accel_vrw_m_s_rt_h": vrw, "accel_bias_instability_ug": abi,
             "bias_instability_convention": "adev_min"}
 
 
