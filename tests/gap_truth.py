@@ -29,11 +29,6 @@ import numpy as np
 RATE = 100.0
 DEG = math.pi / 180.0
 G0 = 9.80665
-#: Base model in SI: white density (unit/√Hz) and ADEV floor (unit) per triad.
-GYRO_N = 0.5 * DEG / 60.0            # 0.5 deg/√h → rad/s/√Hz
-GYRO_FLOOR = 5.0 * DEG / 3600.0      # 5 deg/h → rad/s
-ACCEL_N = 0.05 / 60.0                # 0.05 m/s/√h → m/s²/√Hz
-ACCEL_FLOOR = 50e-6 * G0             # 50 µg → m/s²
 FLOOR_PER_B = math.sqrt(2.0 * math.log(2.0) / math.pi)  # ADEV floor = 0.664·B
 CHANNELS = ("gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
 #: Allan-deviation ratio (log / base model) at the effect's most telling τ.
@@ -58,8 +53,12 @@ def use(grade: str = "tactical", rate_hz: float = 100.0) -> None:
         raise ValueError("rate_hz must be positive")
     arw, bi, vrw, abi = GRADES[grade]
     GRADE, RATE = grade, float(rate_hz)
+    # base model in SI: white density (unit/√Hz) and ADEV floor (unit) per triad
     GYRO_N, GYRO_FLOOR = arw * DEG / 60.0, bi * DEG / 3600.0
     ACCEL_N, ACCEL_FLOOR = vrw / 60.0, abi * 1e-6 * G0
+
+
+use()
 
 
 def base_levels(channel: str) -> tuple[float, float]:
