@@ -26,7 +26,6 @@ import math
 
 import numpy as np
 
-RATE = 100.0
 DEG = math.pi / 180.0
 G0 = 9.80665
 FLOOR_PER_B = math.sqrt(2.0 * math.log(2.0) / math.pi)  # ADEV floor = 0.664·B
