@@ -116,6 +116,8 @@ def detection(results: list[dict], seeds: int) -> None:
 
 
 def false_positives(results: list[dict]) -> None:
+    if not results:
+        return
     named = [r for r in results if r["steps"]]
     lo, hi = wilson_interval(len(named), len(results))
     print(f"\nfalse positives: effects named on {len(named)}/{len(results)} model-following logs "
