@@ -18,7 +18,7 @@ from pydantic import BaseModel, ValidationError
 
 from budget.catalog.io import load_catalog, load_grades
 from budget.catalog.schema import GradeSpec, PartSpec
-from budget.errors import InputError, from_validation_error
+from budget.errors import from_validation_error
 
 log = logging.getLogger("sar_budget.dashboard")
 

@@ -96,11 +96,13 @@ def test_entropy_of_a_single_pixel_is_zero_and_of_a_flat_image_is_log_n():
 
 # --- reader -----------------------------------------------------------------------------------
 
-def _write_mat(path: Path, n=12, k=16, **override):
+def _write_mat(path: Path, n=12, k=16, y0=0.0, **override):
+    """An AFRL-layout file of ``n`` pulses along y from ``y0`` at 10/11 m per pulse (a following
+    file continues the track from y0 = 10/11 × the pulses before it)."""
     rng = np.random.default_rng(3)
     data = {"fp": (rng.standard_normal((k, n)) + 1j * rng.standard_normal((k, n))).astype(np.complex64),
             "freq": (9.3e9 + 1.5e6 * np.arange(k)).reshape(k, 1), "x": np.full((1, n), 7000.0),
-            "y": np.linspace(0, 10, n).reshape(1, n), "z": np.full((1, n), 7000.0),
+            "y": (y0 + 10.0 / 11.0 * np.arange(n)).reshape(1, n), "z": np.full((1, n), 7000.0),
             "r0": np.full((1, n), 9900.0), "th": np.zeros((1, n)), "phi": np.full((1, n), 45.0),
             "af": {"r_correct": np.zeros((1, n)), "ph_correct": np.zeros((1, n))}}
     for key, value in override.items():
@@ -114,7 +116,7 @@ def _write_mat(path: Path, n=12, k=16, **override):
 
 def test_reader_concatenates_files_in_order(tmp_path):
     a = _write_mat(tmp_path / "a.mat", n=12)
-    b = _write_mat(tmp_path / "b.mat", n=7)
+    b = _write_mat(tmp_path / "b.mat", n=7, y0=12 * 10.0 / 11.0)
     ph = read_afrl([a, b])
     assert ph.n_pulses == 19 and ph.n_frequencies == 16
     assert list(ph.pulse_source[[0, 11, 12, 18]]) == ["a.mat", "a.mat", "b.mat", "b.mat"]
@@ -145,6 +147,64 @@ def test_reader_rejects_non_finite_samples_and_mismatched_frequencies(tmp_path):
         read_afrl([good, shifted])
     with pytest.raises(InputError, match="file not found"):
         read_afrl([tmp_path / "missing.mat"])
+
+
+
+def test_reader_refuses_files_out_of_aperture_order_and_names_the_order(tmp_path):
+    """A track that jumps back between files (given out of order, e.g. az10 before az2 in a
+    lexical listing) is refused, naming both files and the order of their azimuths; a file given
+    twice is refused; pulses out of order inside a file are refused with their index."""
+    step = 10.0 / 11.0
+    th = lambda lo, n: (lo + 0.01 * np.arange(n)).reshape(1, n)  # noqa: E731 — azimuth rising along y
+    a = _write_mat(tmp_path / "az1.mat", n=12, th=th(0.0, 12))
+    b = _write_mat(tmp_path / "az2.mat", n=12, y0=12 * step, th=th(0.12, 12))
+    c = _write_mat(tmp_path / "az10.mat", n=12, y0=24 * step, th=th(0.24, 12))
+    assert read_afrl([a, b, c]).notes == []
+    with pytest.raises(InputError, match=r"az2\.mat.*FILE.*jumps back.*last pulse of az10\.mat.*first of az2\.mat"
+                                         r".*by their azimuth: az1\.mat az2\.mat az10\.mat"):
+        read_afrl([a, c, b])
+    with pytest.raises(InputError, match=r"az1\.mat.*given twice"):
+        read_afrl([a, b, a])
+    y = step * np.arange(12)
+    y[[5, 6]] = y[[6, 5]]
+    with pytest.raises(InputError, match=r"swapped\.mat.*data\.x/y/z.*between pulses 5 and 6 of this file"):
+        read_afrl([_write_mat(tmp_path / "swapped.mat", y=y.reshape(1, 12))])
+
+
+def test_reader_notes_an_aperture_gap(tmp_path):
+    """A missing file between two others leaves a gap the reader states (pulses missing, and
+    that the window and PGA assume even pulses); the data are still read."""
+    step = 10.0 / 11.0
+    a = _write_mat(tmp_path / "az1.mat", n=12)
+    c = _write_mat(tmp_path / "az3.mat", n=12, y0=24 * step)
+    ph = read_afrl([a, c])
+    assert ph.n_pulses == 24
+    assert len(ph.notes) == 1
+    assert "aperture gap after pulse 11 (az1.mat → az3.mat): 13.0× the median pulse spacing" in ph.notes[0]
+    assert "≈ 12 pulse(s) missing" in ph.notes[0] and "evenly spaced" in ph.notes[0]
+
+
+def test_track_order_on_curved_and_noisy_tracks():
+    """A whole circular pass (the direction turns 360°), a straight track with position noise of
+    10 % of the step and a stationary antenna are in order and without gaps; a reversed half and
+    a dropped pulse are found where they were made."""
+    from budget.sar.phase_history import track_order
+    t = np.linspace(0.0, 2 * np.pi, 2000, endpoint=False)
+    circle = np.stack([7000 * np.cos(t), 7000 * np.sin(t), np.full(t.size, 7000.0)], axis=1)
+    got = track_order(circle)
+    assert got.backward is None and got.gaps == ()
+    assert got.median_step_m == pytest.approx(2 * 7000 * np.sin(np.pi / 2000), rel=1e-9)
+    rng = np.random.default_rng(0)
+    line = np.stack([np.zeros(500), np.arange(500.0), np.zeros(500)], axis=1) + 0.1 * rng.standard_normal((500, 3))
+    assert track_order(line).backward is None and track_order(line).gaps == ()
+    assert track_order(np.ones((50, 3))) == track_order(np.ones((50, 3)))  # no motion: nothing to check
+    assert track_order(np.ones((50, 3))).backward is None
+    back = np.concatenate([line[:300], line[100:300]])  # pulses 100–299 again after 299
+    assert track_order(back).backward == 299
+    gap = np.delete(line, [200, 201, 202], axis=0)
+    got = track_order(gap)
+    assert got.backward is None and [i for i, _ in got.gaps] == [199]
+    assert got.gaps[0][1] == pytest.approx(4.0, abs=0.5)
 
 
 # --- real data --------------------------------------------------------------------------------

@@ -30,7 +30,7 @@ import pandas as pd
 
 from ..errors import InputError
 from ..parameters import PARAMETERS, Parameter, grade_value
-from .schema import CONSTANT_BIAS_CONVENTIONS, GradeSpec, PartSpec
+from .schema import GradeSpec, PartSpec
 
 POLICIES = ("fill_grade_typical", "refuse", "zero")
 DEFAULT_POLICY = "fill_grade_typical"

@@ -24,7 +24,7 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from ..errors import InputError, from_validation_error, refuse_bool_numbers
+from ..errors import from_validation_error, refuse_bool_numbers
 from ..fileio import read_structured
 from ..units import G0
 

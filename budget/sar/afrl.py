@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .phase_history import PhaseHistory
+from .phase_history import PhaseHistory, track_order
 
 _REQUIRED = ("fp", "freq", "x", "y", "z", "r0")
 MAX_FILE_BYTES = 2_000_000_000
@@ -107,14 +107,68 @@ def read_afrl_file(path: str | Path) -> dict:
     return out
 
 
+def _aperture_order(paths: list[Path], parts: list[dict]) -> str:
+    """The files sorted along the aperture by their first azimuth ``th`` (in the sense the azimuth
+    runs within the files; azimuths taken within ±180° of the first file's, so a pass across 0°
+    sorts right), or "" when a file has no azimuth or the sense is mixed."""
+    th = [part["azimuth_deg"] for part in parts]
+    if any(t is None for t in th):
+        return ""
+    senses = {float(np.sign(t[-1] - t[0])) for t in th if t.size > 1} - {0.0}
+    if len(senses) != 1:
+        return ""
+    sense = senses.pop()
+    start = [(t[0] - th[0][0] + 180.0) % 360.0 - 180.0 for t in th]
+    order = sorted(range(len(paths)), key=lambda i: sense * start[i])
+    return "; by their azimuth: " + " ".join(paths[i].name for i in order)
+
+
+def _track_notes(paths: list[Path], parts: list[dict]) -> list[str]:
+    """Refuse a track that goes back (files out of aperture order); a note per aperture gap
+    (:func:`~budget.sar.phase_history.track_order`)."""
+    track = np.concatenate([part["antenna_m"] for part in parts])
+    src = [f for f, part in enumerate(parts) for _ in range(part["antenna_m"].shape[0])]  # file of each pulse
+    order = track_order(track)
+    if order.backward is not None:
+        i = order.backward
+        a, b = paths[src[i]], paths[src[i + 1]]
+        if src[i] == src[i + 1]:
+            first = i - sum(part["antenna_m"].shape[0] for part in parts[:src[i]])
+            raise InputError(f"the antenna goes back along its track between pulses {first} and {first + 1} of this "
+                             "file (pulses out of order)", file=a, field="data.x/y/z",
+                             expected="antenna positions in aperture order")
+        raise InputError(f"the antenna jumps back along its track from the last pulse of {a.name} to the first of "
+                         f"{b.name}: the files are not in aperture order", file=b, field="FILE",
+                         expected="the files in aperture order" + _aperture_order(paths, parts))
+    notes = []
+    for i, steps in order.gaps:
+        a, b = paths[src[i]].name, paths[src[i + 1]].name
+        where = a if src[i] == src[i + 1] else f"{a} → {b}"
+        notes.append(f"aperture gap after pulse {i} ({where}): {steps:.1f}× the median pulse spacing "
+                     f"{order.median_step_m:.3g} m (≈ {max(1, round(steps) - 1)} pulse(s) missing); the azimuth "
+                     "window and PGA treat the pulses as evenly spaced, so the image and the autofocus across "
+                     "the gap are approximate")
+    return notes
+
+
 def read_afrl(paths) -> PhaseHistory:
     """Read and concatenate AFRL files along the aperture (order as given) into a :class:`PhaseHistory`.
 
-    The files must share the frequency axis (to 1 Hz). The recorded autofocus solution is kept only
+    The files must share the frequency axis (to 1 Hz), be given once each and in aperture order:
+    a track that goes back between two files is refused, naming them (and the order of their
+    azimuth ``th`` when they have one); each aperture gap (a step > 1.5 × the median pulse
+    spacing: a file or pulses missing) gets a note. The recorded autofocus solution is kept only
     when every file has one (a note says when it was dropped)."""
     paths = [Path(p) for p in ([paths] if isinstance(paths, (str, Path)) else list(paths))]
     if not paths:
         raise InputError("no phase-history file given", field="FILE", expected="one or more .mat files")
+    seen: dict[Path, Path] = {}
+    for p in paths:
+        key = p.resolve()
+        if key in seen:
+            raise InputError(f"given twice (also as {seen[key]})", file=p, field="FILE",
+                             expected="each phase-history file once, in aperture order")
+        seen[key] = p
     parts = [read_afrl_file(p) for p in paths]
     f0 = parts[0]["frequency_hz"]
     for p, part in zip(paths[1:], parts[1:]):
@@ -122,7 +176,7 @@ def read_afrl(paths) -> PhaseHistory:
         if f.size != f0.size or np.max(np.abs(f - f0)) > 1.0:
             raise InputError(f"frequency axis differs from that of {paths[0].name}", file=p, field="data.freq",
                              expected=f"the same {f0.size} frequencies in every file")
-    notes = []
+    notes = _track_notes(paths, parts)
     has_af = all(part["r_correct_m"] is not None for part in parts)
     if not has_af and any(part["r_correct_m"] is not None for part in parts):
         notes.append("recorded autofocus dropped: not every file has one")

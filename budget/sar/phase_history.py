@@ -223,3 +223,52 @@ class PhaseHistory:
     def to_dict(self) -> dict:
         """JSON-ready: :meth:`description` and one record per pulse (:meth:`to_frame`)."""
         return {**self.description(), "pulse_records": self.to_frame().reset_index().to_dict(orient="records")}
+
+
+#: A step between consecutive pulses longer than this many times the median step is an aperture
+#: gap (pulses missing: a file left out, dropped pulses), as a log's sample gap is > 1.5 periods.
+GAP_FACTOR = 1.5
+
+#: A step that goes back along the track by more than this fraction of the median step is the
+#: track reversing: pulses out of order (files given out of aperture order, or one file twice).
+BACKWARD_FRACTION = 0.5
+
+
+@dataclass(frozen=True)
+class TrackOrder:
+    """How the antenna advances from pulse to pulse (:func:`track_order`). ``backward``: the first
+    pulse index i whose step i → i+1 goes back along the track (None when none does); ``gaps``:
+    (i, steps) for every step i → i+1 that is a gap (:func:`track_order`), with its length in
+    median steps; ``median_step_m``: the median distance between consecutive pulses."""
+
+    median_step_m: float
+    backward: int | None
+    gaps: tuple[tuple[int, float], ...]
+
+
+def track_order(antenna_m) -> TrackOrder:
+    """Check that the antenna positions (n_pulses, 3), m, advance along one track in even steps.
+
+    The direction at pulse i is that of the previous step (a curved track, a circular pass, turns
+    slowly from step to step), so a step i → i+1 is *backward* when its component along the
+    previous step is below −:data:`BACKWARD_FRACTION` × the median step; it is a *gap* when its
+    length exceeds :data:`GAP_FACTOR` × the median step and the median step + 5 robust σ of the
+    steps (a noisy track's longest steps are not gaps). Image formation windows the aperture and
+    PGA estimates its phase over the pulse index, which both assume pulses in track order at an
+    even spacing."""
+    a = np.asarray(antenna_m, dtype=float)
+    d = np.diff(a, axis=0)
+    step = np.sqrt(np.einsum("ij,ij->i", d, d))
+    if step.size == 0:
+        return TrackOrder(0.0, None, ())
+    med = float(np.median(step))
+    if not med > 0:  # the antenna does not move (a turntable or a test): no track to check
+        return TrackOrder(med, None, ())
+    along = np.einsum("ij,ij->i", d[1:], d[:-1]) / np.maximum(step[:-1], 1e-300)
+    back = np.flatnonzero(along < -BACKWARD_FRACTION * med)
+    backward = int(back[0]) + 1 if back.size else None
+    # a noisy track (positions per pulse from raw GNSS) spreads the steps: a gap must also stand
+    # 5 robust σ out of that spread (1.4826 × the median absolute deviation)
+    sigma = 1.4826 * float(np.median(np.abs(step - med)))
+    long = np.flatnonzero(step > max(GAP_FACTOR * med, med + 5.0 * sigma))
+    return TrackOrder(med, backward, tuple((int(i), float(step[i] / med)) for i in long))
