@@ -171,6 +171,14 @@ def test_reader_refuses_files_out_of_aperture_order_and_names_the_order(tmp_path
         read_afrl([_write_mat(tmp_path / "swapped.mat", y=y.reshape(1, 12))])
 
 
+def test_name_order_puts_az2_before_az10():
+    """The dashboard's file order: numbers inside names compare as numbers."""
+    from budget.sar.afrl import name_order
+    names = ["data_az10_HH.mat", "data_az2_HH.mat", "data_az001_HH.mat", "data_az1_VV.mat"]
+    assert name_order(names) == ["data_az001_HH.mat", "data_az1_VV.mat", "data_az2_HH.mat", "data_az10_HH.mat"]
+    assert name_order([Path("/d/az10.mat"), Path("/c/az9.mat")]) == [Path("/c/az9.mat"), Path("/d/az10.mat")]
+
+
 def test_reader_notes_an_aperture_gap(tmp_path):
     """A missing file between two others leaves a gap the reader states (pulses missing, and
     that the window and PGA assume even pulses); the data are still read."""

@@ -14,7 +14,7 @@ import streamlit as st
 from budget.errors import InputError
 from budget.fileio import json_safe
 from budget.plots.focus import image_pair_figure, phase_figure
-from budget.sar.afrl import read_afrl
+from budget.sar.afrl import name_order, read_afrl
 from budget.sar.focus import FocusOptions
 from budget.sar.focus_pga import AUTOFOCUS_MODES, focus
 
@@ -30,7 +30,7 @@ def _files_in(directory: str) -> list[Path]:
     d = Path(directory).expanduser()
     if not d.is_dir():
         raise InputError("directory not found", file=d, expected="a directory holding AFRL .mat files")
-    files = sorted(d.glob("*.mat"))
+    files = name_order(d.glob("*.mat"))
     if not files:
         raise InputError("no .mat files", file=d, expected="AFRL phase-history .mat files")
     return files
@@ -123,12 +123,13 @@ def render() -> None:
         ups = st.file_uploader(f"AFRL .mat files (at most {MAX_UPLOAD_MB} MB each)", type=["mat"],
                                accept_multiple_files=True, key="focus_upload", max_upload_size=MAX_UPLOAD_MB)
         if not ups:
-            st.info("Upload one or more AFRL .mat files (they are concatenated in name order).")
+            st.info("Upload one or more AFRL .mat files (they are concatenated in name order, az2 before az10).")
             return
         run = st.button("Focus", type="primary", key="focus_run")
         if not run and "focus_last" not in st.session_state:
             return
-        blobs = tuple(sorted((u.name, u.getvalue()) for u in ups))
+        by_name = {u.name: u for u in ups}
+        blobs = tuple((n, by_name[n].getvalue()) for n in name_order(by_name))
         result = _run_uploads(blobs, options.model_dump_json(), autofocus, inject)
     st.session_state["focus_last"] = True
     s = result.scalars()

@@ -13,6 +13,7 @@ frequency axis. Every problem raises :class:`~budget.errors.InputError` naming t
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -105,6 +106,16 @@ def read_afrl_file(path: str | Path) -> dict:
         out["r_correct_m"] = _row(a0["r_correct"], n, "af.r_correct", path)
         out["ph_correct_rad"] = _row(a0["ph_correct"], n, "af.ph_correct", path)
     return out
+
+
+def name_order(names):
+    """``names`` (paths or strings) in natural order: runs of digits compare as numbers, so
+    ``az2`` comes before ``az10`` (a lexical sort puts it after, and :func:`read_afrl` refuses
+    files out of aperture order)."""
+    def key(name):
+        text = Path(name).name if isinstance(name, Path) else str(name)
+        return [(0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.split(r"(\d+)", text) if t]
+    return sorted(names, key=key)
 
 
 def _aperture_order(paths: list[Path], parts: list[dict]) -> str:
