@@ -40,6 +40,11 @@ GRADES = {"tactical": (0.5, 5.0, 0.05, 50.0),
           "high_tactical": (0.15, 1.0, 0.03, 20.0),
           "consumer": (0.3, 20.0, 0.24, 100.0)}
 GRADE = "tactical"
+#: The base flicker's generator: "spectral" (:func:`flicker`: stationary, with the frequencies
+#: below 1/T that make a slow drift) or "kasdin" (:func:`kasdin_flicker`: a fractional
+#: integrator started at the first sample, flicker with no history before the log). A second,
+#: differently built flicker, to check the workflow on logs no generator of it was tuned on.
+FLICKER = "spectral"
 
 
 def use(grade: str = "tactical", rate_hz: float = 100.0) -> None:
@@ -94,9 +99,23 @@ def flicker(n: int, b_coeff: float, rng: np.random.Generator) -> np.ndarray:
     return np.fft.irfft(spec * gain, size)[:n]
 
 
+def kasdin_flicker(n: int, b_coeff: float, rng: np.random.Generator) -> np.ndarray:
+    """Flicker by the fractional integrator (1 − z⁻¹)^(−1/2) of white noise (Kasdin & Walter,
+    IEEE FCS 1992): impulse response h₀ = 1, h_k = h_{k−1}·(k − ½)/k, applied as a linear
+    convolution (FFT over ≥ 2n samples) from the first sample on. With white samples of σ its
+    two-sided PSD is σ²·dt/|2 sin(π f dt)| → σ²/(2π f) at low f, IEEE Std 952's B²/(2π f) for
+    σ = B (independent of the rate)."""
+    k = np.arange(1, n, dtype=float)
+    h = np.concatenate([[1.0], np.cumprod((k - 0.5) / k)])
+    w = b_coeff * rng.standard_normal(n)
+    size = 1 << int(math.ceil(math.log2(2 * n)))
+    return np.fft.irfft(np.fft.rfft(w, size) * np.fft.rfft(h, size), size)[:n]
+
+
 def base_channel(channel: str, n: int, rng: np.random.Generator) -> np.ndarray:
     dens, floor = base_levels(channel)
-    return dens * math.sqrt(RATE) * rng.standard_normal(n) + flicker(n, floor / FLOOR_PER_B, rng)
+    make_flicker = {"spectral": flicker, "kasdin": kasdin_flicker}[FLICKER]
+    return dens * math.sqrt(RATE) * rng.standard_normal(n) + make_flicker(n, floor / FLOOR_PER_B, rng)
 
 
 def temperature(n: int) -> np.ndarray:
