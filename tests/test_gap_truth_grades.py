@@ -44,3 +44,17 @@ def test_unknown_grade_and_bad_rate_are_refused(restore_grade):
     with pytest.raises(ValueError, match="positive"):
         gt.use("tactical", 0.0)
     assert gt.GRADE == "tactical" and gt.RATE == 100.0
+
+
+@pytest.mark.parametrize("flicker", ["spectral", "kasdin"])
+def test_both_flicker_generators_give_the_ieee_floor(flicker):
+    """Either base flicker (spectral shaping; Kasdin & Walter's fractional integrator) of
+    coefficient B has the IEEE Std 952 Allan floor 0.664·B from τ = 16 to 1024 samples: the mean
+    of 8 draws of 10⁵ samples within 5 % (measured 0.656–0.666 for both). Longer τ is left out:
+    at τ = 4096 (≈ 24 averaging times per record) one draw scatters by ≈ 20 %, too much for a
+    5 % check of a mean of 8 (this seed's read 8–11 % low)."""
+    make = {"spectral": gt.flicker, "kasdin": gt.kasdin_flicker}[flicker]
+    rng = np.random.default_rng(11)
+    m = np.array([16, 64, 256, 1024])
+    floor = np.mean([gt.adev(make(100_000, 2.0, rng), m) for _ in range(8)], axis=0)
+    assert np.all(np.abs(floor / (2.0 * gt.FLOOR_PER_B) - 1.0) < 0.05), floor / 2.0
