@@ -8,7 +8,7 @@ workflow simulates with) or ``budget.gap``, so a shared mistake cannot pass unse
   frequency domain over a record 8× longer than the log (so the frequencies below 1/T that make
   a slow drift are present), first N samples kept;
 * every hidden effect below is drawn by its own few lines (random walk by a cumulative sum,
-  vibration by a second-order resonator, heavy tails by Student t, quantization by flooring
+  a turn-on transient by e^(−t/τ), vibration by a second-order resonator, heavy tails by Student t, quantization by flooring
   the integrated output).
 
 The base model is a tactical-grade row (gyro ARW 0.5 deg/√h, bias instability 5 deg/h as the
@@ -160,6 +160,15 @@ def _temp_lag(n, rng, temp):
     return lagged_temperature(n, LAG_TAU_S), {"coefficient": 1.0, "tau_s": LAG_TAU_S}
 
 
+#: Time constant of the hidden turn-on transient, s.
+WARMUP_TAU_S = 600.0
+
+
+def _warmup(n, rng, temp):
+    """A bias settling after power-up: e^(−t/τ) from the first sample (no temperature column)."""
+    return np.exp(-np.arange(n) / RATE / WARMUP_TAU_S), {"amplitude": 1.0, "tau_s": WARMUP_TAU_S}
+
+
 def _sinusoid(n, rng, temp, f0=7.3):
     t = np.arange(n) / RATE
     return np.sin(2 * math.pi * f0 * t + rng.uniform(0, 2 * math.pi)), {"frequency_hz": f0, "amplitude": 1.0}
@@ -182,6 +191,7 @@ EFFECTS = {
     "rate_ramp": ("gyro_y", _ramp),
     "temperature_sensitivity": ("gyro_z", _temp),
     "temperature_lag": ("gyro_z", _temp_lag),
+    "warmup_transient": ("accel_z", _warmup),
     "sinusoid": ("accel_x", _sinusoid),
     "vibration": ("accel_y", _vibration),
 }
@@ -274,5 +284,5 @@ def make(name: str | None, n: int, seed: int) -> tuple[dict, np.ndarray | None, 
 
 
 #: Every hidden effect the benchmark draws, in the order it prints them.
-ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "temperature_lag", "quantization", "sinusoid",
-       "vibration", "heavy_tailed", "outliers")
+ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "temperature_lag", "warmup_transient",
+       "quantization", "sinusoid", "vibration", "heavy_tailed", "outliers")

@@ -76,7 +76,7 @@ class LinearMoments:
     temp_var: float | None = None
     #: the model's covariance of the record's slowest modes (:mod:`budget.gap.walk`)
     walk_cov: np.ndarray | None = None
-    #: their mean (a thermal lag's deterministic response; ``None``: zero)
+    #: their mean (a thermal lag's or a warm-up transient's deterministic response; ``None``: zero)
     walk_mean: np.ndarray | None = None
 
     def covers(self, with_temperature: bool) -> bool:

@@ -32,7 +32,7 @@ from scipy import interpolate, signal
 from ..imu import Effect
 from ..imu import effects as fx
 from ..imu.flicker import flicker_bank
-from ..imu.registry import REGISTRY, TEMPERATURE_EFFECTS
+from ..imu.registry import DETERMINISTIC_EFFECTS, REGISTRY, TEMPERATURE_EFFECTS
 
 #: Table points per decade of τc for :class:`GaussMarkovTable`.
 POINTS_PER_DECADE = 8
@@ -151,7 +151,7 @@ def model_weight_variance(effects: Iterable[Effect], weights: np.ndarray, dt_s: 
         elif name == "rate_random_walk":
             tail = np.cumsum(upstream[::-1])[::-1]
             total += p["K"] ** 2 * dt_s * float(np.dot(tail, tail))
-        elif name in ("rate_ramp", "lowpass") or name in TEMPERATURE_EFFECTS:
+        elif name == "lowpass" or name in DETERMINISTIC_EFFECTS:
             continue
         elif name in ("quantization", "rate_quantization", "outliers"):
             if r_out is None:
@@ -171,6 +171,7 @@ def model_weight_variance(effects: Iterable[Effect], weights: np.ndarray, dt_s: 
 def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: float,
                       temp_c: np.ndarray | None) -> float | None:
     """E(Σ w_j x_j) under ``effects`` (SI) for weights with Σ w = 0: a ramp adds R·Σ w_j t_j, a
+    warm-up transient A·Σ w_j e^(−t_j/τ), a
     temperature sensitivity c·Σ w_j (T_j − T_0) with T the log's temperature (a thermal lag:
     the lagged T_e, :func:`budget.imu.effects.temperature_response`; what the
     generator is driven by); every other registered effect has zero mean (random phase,
@@ -181,6 +182,9 @@ def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: f
     for f in effects:
         if f.name == "rate_ramp":
             total += f.param("R") * float(np.dot(w, np.arange(w.size) / rate_hz))
+        elif f.name == "warmup_transient":
+            resp = fx.warmup_response(f.param("tau_s"), np.arange(w.size) / rate_hz)
+            total += f.param("amplitude") * float(np.dot(w, resp))
         elif f.name in TEMPERATURE_EFFECTS:
             if temp_c is None:
                 return None

@@ -73,7 +73,8 @@ class Increment:
     ΔE c_k² of the low-frequency coefficients (:mod:`budget.gap.lowfreq`; ``None``: no change);
     ``walk_cov``: covariance added to the record's slowest modes (:mod:`budget.gap.walk`;
     ``None``: not yet computed, :meth:`budget.gap.fitting.Candidate.full_increment` fills it);
-    ``walk_mean``: mean added to those modes (a thermal lag's response; ``None``: zero).
+    ``walk_mean``: mean added to those modes (a thermal lag's or a warm-up transient's response;
+    ``None``: zero).
     """
 
     avar: np.ndarray

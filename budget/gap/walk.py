@@ -26,9 +26,10 @@ realizations:
   2Q²/dt² on the diagonal and −Q²/dt² beside it; a vibration from its autocorrelation
   (:func:`budget.imu.effects.vibration_acov`) when its band reaches below 4× the block rate,
   otherwise nothing (its power sits far above the modes). Ramp and temperature terms are
-  projected out; a thermal lag is not (its response is not the temperature column): it is
-  deterministic and gives the modes a mean, D times the block sums of c·(T_e − T_0)
-  (:func:`model_mean`), which is subtracted before they are whitened. The output low-pass filter is left out: at the modes' frequencies (below
+  projected out; a thermal lag is not (its response is not the temperature column), nor a
+  warm-up transient (e^(−t/τ) is not a trend): each is deterministic and gives the modes a
+  mean, D times the block sums of c·(T_e − T_0) or A·e^(−t/τ) (:func:`model_mean`), which is
+  subtracted before they are whitened. The output low-pass filter is left out: at the modes' frequencies (below
   N_MODES/(2N·dt), a few mHz for a one-hour log) its gain is 1 to within (f/f_c)²;
 * whitened, y becomes ξ = Vᵀ·L⁻¹·y (C = L·Lᵀ, L⁻¹·U·L⁻ᵀ = V·Λ·Vᵀ with U the covariance a
   walk with K = 1 adds): under the model ξ ~ N(0, I), and a walk of K² = q adds q·λ_i to the
@@ -56,7 +57,7 @@ from scipy import linalg, special
 
 from ..imu import effects as fx
 from ..imu.flicker import flicker_bank
-from ..imu.registry import TEMPERATURE_EFFECTS
+from ..imu.registry import DETERMINISTIC_EFFECTS, TEMPERATURE_EFFECTS
 from .quadform import quadratic_form_sf
 
 #: Blocks the record is reduced to.
@@ -189,7 +190,7 @@ def effect_cov(name: str, params: dict, lay: WalkLayout) -> np.ndarray | None:
         return (params["step"] ** 2 / 12.0 * m) * np.eye(k)
     if name == "outliers":
         return (params["rate"] * params["magnitude"] ** 2 * m) * np.eye(k)
-    if name in ("rate_ramp", "lowpass") or name in TEMPERATURE_EFFECTS:
+    if name == "lowpass" or name in DETERMINISTIC_EFFECTS:
         return np.zeros((k, k))
     if name == "rate_random_walk":
         return params["K"] ** 2 * lay.unit
@@ -237,7 +238,11 @@ def model_cov(effects, lay: WalkLayout) -> np.ndarray | None:
 def effect_mean(name: str, params: dict, lay: WalkLayout, temp_c: np.ndarray | None) -> np.ndarray | None:
     """Mean (K,) that one deterministic effect (SI parameters) gives the modes: zero for every
     effect but a thermal lag, whose response c·(T_e − T_0) is not the projected-out
-    temperature column; ``None`` for a temperature effect without a temperature column."""
+    temperature column, and a warm-up transient A·e^(−t/τ), which is not a trend; ``None`` for
+    a temperature effect without a temperature column."""
+    if name == "warmup_transient":
+        t = np.arange(lay.n_samples) * lay.dt_s
+        return params["amplitude"] * modes(fx.warmup_response(params["tau_s"], t), lay)
     if name not in TEMPERATURE_EFFECTS:
         return np.zeros(lay.n_modes)
     if temp_c is None:

@@ -44,6 +44,11 @@ def thermal_lag(temp_c: np.ndarray, tau_s: float, dt_s: float) -> np.ndarray:
     return signal.lfilter([a], [1.0, a - 1.0], temp - temp[..., :1], axis=-1)
 
 
+def warmup_response(tau_s: float, time_s: np.ndarray) -> np.ndarray:
+    """e^(−t/τ) of a turn-on transient, t from the record's (or simulation's) first sample, s."""
+    return np.exp(-np.asarray(time_s, float) / tau_s)
+
+
 def temperature_response(name: str, params: dict, temp_c: np.ndarray, dt_s: float) -> np.ndarray:
     """The series a temperature effect's ``coefficient`` multiplies (°C): T − T(0) for
     ``temperature_sensitivity``, the lagged T_e − T(0) (:func:`thermal_lag`) for

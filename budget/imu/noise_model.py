@@ -15,6 +15,10 @@ rate_quantization           ``step`` (channel unit): the output rate rounded to 
 bias_instability            ``B`` (IEEE-952 flicker coefficient; ADEV floor 0.664·B)
 rate_random_walk            ``K`` (channel unit/√s; ADEV K·√(τ/3))
 rate_ramp                   ``R`` (channel unit/s; ADEV R·τ/√2), signed
+warmup_transient            ``amplitude`` (channel unit, signed: the bias at the first sample
+                            above its settled value), ``tau_s``: A·e^(−t/τ), t from the first
+                            sample of the log (of the aperture in a Monte Carlo: the IMU
+                            switched on with it, the worst case)
 sinusoid                    ``frequency_hz``, ``amplitude`` (peak, channel unit)
 gauss_markov                ``tau_s`` (correlation time), ``sigma`` (steady-state 1σ)
 temperature_sensitivity     ``coefficient`` (channel unit/°C), signed

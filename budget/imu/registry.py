@@ -72,6 +72,11 @@ def _temperature_lag(p, n_trials, time_s, dt_s, rng, temp):
                            (n_trials, time_s.size))
 
 
+def _warmup(p, n_trials, time_s, dt_s, rng, temp):
+    return np.broadcast_to(p["amplitude"] * fx.warmup_response(p["tau_s"], time_s - time_s[0]),
+                           (n_trials, time_s.size))
+
+
 def _sinusoid(p, n_trials, time_s, dt_s, rng, temp):
     return fx.sinusoid(n_trials, time_s, p["frequency_hz"], p["amplitude"], rng)
 
@@ -97,6 +102,9 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
     EffectSpec("rate_random_walk", {"K": ParamSpec("/√s")}, "gaussian", "ADEV K·√(τ/3)"),
     EffectSpec("rate_ramp", {"R": ParamSpec("/s", None)}, "additive", "ADEV R·τ/√2; slope R",
                _ramp),
+    EffectSpec("warmup_transient", {"amplitude": ParamSpec("", None), "tau_s": ParamSpec("s", 0.0, False, True)},
+               "additive", "turn-on transient A·e^(−t/τ) from the first sample: a slope and a slow-mode "
+               "pattern concentrated at the start, no variance of its own", _warmup),
     EffectSpec("sinusoid", {"frequency_hz": _HZ, "amplitude": ParamSpec("")}, "additive",
                "PSD line A²/2 at f; ADEV A·sin²(πfτ)/(πfτ)", _sinusoid),
     EffectSpec("gauss_markov", {"tau_s": ParamSpec("s", 0.0, False, True), "sigma": ParamSpec("")},
@@ -124,5 +132,8 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
 EFFECT_NAMES = tuple(REGISTRY)
 #: Effects driven by the log's temperature column.
 TEMPERATURE_EFFECTS = ("temperature_sensitivity", "temperature_lag")
+#: Deterministic additive series (the same in every realization): they move the mean of the
+#: slope, temperature and slow-mode statistics and add no variance to them.
+DETERMINISTIC_EFFECTS = ("rate_ramp", "warmup_transient", *TEMPERATURE_EFFECTS)
 #: The output quantizers (stage ``output``): a channel has at most one of them.
 QUANTIZERS = tuple(n for n, s in REGISTRY.items() if s.stage == "output")

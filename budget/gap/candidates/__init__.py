@@ -21,7 +21,7 @@ One module per family, each candidate class named after its effect:
 * :mod:`~budget.gap.candidates.floor` — the Allan-floor terms, linear in one variance: white
   noise, quantization, rate quantization, bias instability, rate random walk;
 * :mod:`~budget.gap.candidates.regressors` — deterministic series times a coefficient: rate
-  ramp, temperature sensitivity, thermal lag;
+  ramp, temperature sensitivity, thermal lag, warm-up transient;
 * :mod:`~budget.gap.candidates.spectral` — shapes in the spectrum: sinusoid, Gauss–Markov, the
   output low-pass, vibration;
 * :mod:`~budget.gap.candidates.impulsive` — the distribution's tails: outliers, heavy tails.
@@ -34,12 +34,13 @@ from ...imu.registry import EFFECT_NAMES
 from ..fitting import Candidate
 from .floor import BiasInstability, Quantization, RateQuantization, RateRandomWalk, WhiteNoise
 from .impulsive import HeavyTailed, Outliers
-from .regressors import RateRamp, TemperatureLag, TemperatureSensitivity
+from .regressors import RateRamp, TemperatureLag, TemperatureSensitivity, WarmupTransient
 from .spectral import GaussMarkov, Lowpass, Sinusoid, Vibration
 
 #: Effects the workflow can name: the effect registry, in its order.
 VOCABULARY = EFFECT_NAMES
 
 LIBRARY: dict[str, Candidate] = {c.name: c for c in (
-    WhiteNoise(), Quantization(), RateQuantization(), BiasInstability(), RateRandomWalk(), RateRamp(), Sinusoid(),
-    GaussMarkov(), TemperatureSensitivity(), TemperatureLag(), Outliers(), Lowpass(), Vibration(), HeavyTailed())}
+    WhiteNoise(), Quantization(), RateQuantization(), BiasInstability(), RateRandomWalk(), RateRamp(),
+    WarmupTransient(), Sinusoid(), GaussMarkov(), TemperatureSensitivity(), TemperatureLag(), Outliers(), Lowpass(),
+    Vibration(), HeavyTailed())}

@@ -1,6 +1,7 @@
 """Deterministic-regressor candidates: a rate ramp (drift linear in time), a temperature
-sensitivity (output linear in the temperature column) and a thermal lag (linear in the
-temperature seen through a first-order lag of time constant τ). Each is a known series times
+sensitivity (output linear in the temperature column), a thermal lag (linear in the
+temperature seen through a first-order lag of time constant τ) and a warm-up transient
+(a bias settling as e^(−t/τ) from the log's start). Each is a known series times
 its coefficient: it moves the mean of the slope and temperature regression statistics, and adds
 that series' own Allan variance, PSD and slow-mode coefficients (no variance of its own).
 
@@ -14,7 +15,7 @@ import math
 import numpy as np
 from scipy import optimize
 
-from ...imu.effects import thermal_lag
+from ...imu.effects import thermal_lag, warmup_response
 from .. import lowfreq, walk
 from .. import theory as th
 from ..fitting import Candidate, amp2_start
@@ -187,4 +188,102 @@ class TemperatureLag(Candidate):
     def params(self, theta, ctx):
         lo, hi = self._tau_range(ctx)
         return {"coefficient": float(theta[0]) * self._scale(ctx),
+                "tau_s": float(np.clip(math.exp(theta[1]), lo, hi))}
+
+
+class WarmupTransient(Candidate):
+    """A turn-on transient A·e^(−t/τ), t from the log's first sample (a bias settling after
+    power-up, with or without a temperature column): θ = (A/A₀, ln τ), A₀ = |Δslope|·T, the
+    amplitude scale the slope regression reads (Δslope = measured − model time slope, T the
+    record's length). Over an hour a transient of a few minutes tilts the slope regression and
+    puts a pattern in the slowest modes concentrated at the record's start — which a rate random
+    walk, a ramp or a slow Gauss–Markov term would otherwise take; a bias step is not this
+    effect (it is named as whichever of those fits it best). Every statistic follows from the
+    deterministic series e^(−t/τ) (Allan variance, Welch PSD, differences, regression weights,
+    low-frequency coefficients, slow modes), computed once per τ, as for the thermal lag. The
+    search profiles A at each τ and runs a bounded search over ln τ from the best of a grid;
+    τ from 2 s to a quarter of the record (longer is a trend)."""
+
+    name, n_params = "warmup_transient", 2
+    N_TAU = 10
+
+    def _tau_range(self, ctx):
+        g = ctx.grid
+        return max(2.0, 4.0 * g.dt_s), 0.25 * g.n_samples * g.dt_s
+
+    def applicable(self, ctx):
+        return (super().applicable(ctx) and ctx.grid.time_w is not None and ctx.meas.slope is not None
+                and ctx.model.slope is not None)
+
+    def _unit(self, ctx, tau):
+        key = ("unit", self.name, round(math.log(tau), 9))
+        if key not in ctx.cache:
+            g = ctx.grid
+            e = warmup_response(tau, np.arange(g.n_samples) * g.dt_s)
+            d = np.diff(e)
+            c = d - d.mean()
+            v = float(np.einsum("i,i->", c, c)) / c.size
+            low = lowfreq.coefficients_sq(e, g.low_k_max) if g.has_low else None
+            mean = walk.modes(e, g.walk) if g.walk is not None and ctx.model.walk_cov is not None else None
+            temp = float(np.einsum("i,i->", g.temp_w, e)) if g.temp_w is not None else 0.0
+            ctx.cache[key] = th.Increment(overlapping_avar(e, g.m),
+                                          th.psd_of_series(e, g.dt_s, g.nperseg) if g.has_psd else None, v,
+                                          float(np.mean(c ** 4)) - 3.0 * v * v,
+                                          slope=float(np.einsum("i,i->", g.time_w, e)), temp=temp, low=low,
+                                          walk_mean=mean)
+        return ctx.cache[key]
+
+    def _scale(self, ctx):
+        if "warmup_a_ref" not in ctx.cache:
+            g = ctx.grid
+            ctx.cache["warmup_a_ref"] = abs(ctx.meas.slope - ctx.model.slope) * g.n_samples * g.dt_s
+        return ctx.cache["warmup_a_ref"]
+
+    def _a0(self, ctx, tau):
+        u = self._unit(ctx, tau)
+        return (ctx.meas.slope - ctx.model.slope) / u.slope if u.slope != 0 else 0.0
+
+    def _profile(self, ctx, log_tau):
+        """(best A/A₀, Σz²) at τ = e^log_tau."""
+        ref = self._scale(ctx)
+        r0 = self._a0(ctx, math.exp(log_tau)) / ref
+        f = lambda r: ctx.sumsq(self.full_increment(np.array([r, log_tau]), ctx))  # noqa: E731
+        lo, hi = -4.0 * abs(r0), 4.0 * abs(r0)
+        grid = np.sort(np.append(np.linspace(lo, hi, 9), r0))
+        vals = [f(x) for x in grid]
+        i = int(np.argmin(vals))
+        a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+        res = optimize.minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": 1e-3 * abs(b - a)})
+        return (float(res.x), float(res.fun)) if res.fun <= vals[i] else (float(grid[i]), float(vals[i]))
+
+    def starts(self, ctx):
+        if self._scale(ctx) == 0:
+            return []
+        lo, hi = self._tau_range(ctx)
+        scored = [(self._profile(ctx, lt), lt) for lt in np.linspace(math.log(lo), math.log(hi), self.N_TAU)]
+        (r, _), lt = min(scored, key=lambda s: s[0][1])
+        return [np.array([r, lt])]
+
+    def search(self, theta0, ctx):
+        lo, hi = self._tau_range(ctx)
+        step = (math.log(hi) - math.log(lo)) / (self.N_TAU - 1)
+        a, b = max(math.log(lo), theta0[1] - step), min(math.log(hi), theta0[1] + step)
+        res = optimize.minimize_scalar(lambda lt: self._profile(ctx, lt)[1], bounds=(a, b), method="bounded",
+                                       options={"xatol": 0.01})
+        lt = float(res.x) if res.fun <= ctx.sumsq(self.full_increment(theta0, ctx)) else float(theta0[1])
+        r, val = self._profile(ctx, lt)
+        return np.array([r, lt]), val
+
+    def increment(self, theta, ctx):
+        lo, hi = self._tau_range(ctx)
+        tau = float(np.clip(math.exp(theta[1]), lo, hi))
+        u, a = self._unit(ctx, tau), float(theta[0]) * self._scale(ctx)
+        return th.Increment(u.avar * a * a, None if u.psd is None else u.psd * a * a, u.diff_var * a * a,
+                            u.diff_cum4 * a ** 4, slope=u.slope * a, temp=u.temp * a,
+                            low=None if u.low is None else u.low * a * a,
+                            walk_mean=None if u.walk_mean is None else u.walk_mean * a)
+
+    def params(self, theta, ctx):
+        lo, hi = self._tau_range(ctx)
+        return {"amplitude": float(theta[0]) * self._scale(ctx),
                 "tau_s": float(np.clip(math.exp(theta[1]), lo, hi))}
