@@ -297,7 +297,7 @@ def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
     for i, p in enumerate(parts):
         if p.accel_vrw_m_s_rt_h is None or p.gyro_arw_deg_rt_h is None:
             continue
-        si = p.to_si()
+        si = PartSpec.to_si(p)  # the catalog row's SI errors (a NoiseModel's to_si adds its effects)
         for s, (sc, a) in enumerate(zip(scen, limited_assumptions)):
             out[i, s] = fast_phase_residual(sc, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
                                             aperture_window=a.aperture_window,

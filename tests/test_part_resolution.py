@@ -139,3 +139,29 @@ def test_an_uploaded_model_is_read_as_the_cli_reads_it(tmp_path):
         read(b'{"part_id": "X", "gyro_arw_deg_rt_h": "fast"}', "mine.json")
     assert "mine.json" in str(err.value) and "gyro_arw_deg_rt_h" in str(err.value)
     assert err.value.file == "mine.json"  # not the temporary copy
+
+
+def test_mc_runs_on_a_full_noise_model_json(tmp_path, capsys):
+    """A model JSON with both ARW and VRW (and an effect) runs through ``mc``: the analytic
+    check beside the verdict is for catalog parts only (a NoiseModel is a PartSpec too; its
+    ``to_si`` adds the effects, which the check once read as the part's SI errors and crashed)."""
+    model = tmp_path / "m.json"
+    model.write_text(json.dumps({"rate_hz": 200.0, "gyro_arw_deg_rt_h": 0.15, "gyro_bias_instability_deg_h": 0.5,
+                                 "accel_vrw_m_s_rt_h": 0.03, "accel_bias_instability_ug": 20.0,
+                                 "effects": [{"name": "warmup_transient", "channel": "accel_z",
+                                              "params": {"amplitude": 1e-3, "tau_s": 600.0}}]}))
+    assert main(["mc", "--preset", "airborne_xband", "--model", str(model), "--trials", "2", "-q"]) == 0
+    out = capsys.readouterr().out
+    assert "P(pass)" in out and "check vs Monte Carlo" not in out
+
+
+def test_check_of_a_noise_model_is_that_of_its_catalog_row():
+    from budget.check import check_parts
+
+    part, scen = get_part("STIM300"), get_preset("airborne_xband")
+    model = NoiseModel.from_part(part).with_effect({"name": "rate_ramp", "channel": "gyro_x", "params": {"R": 1e-7}})
+    a = check_parts([part], scen).to_dict()["scenarios"][0]["parts"][0]
+    b = check_parts([model], scen).to_dict()["scenarios"][0]["parts"][0]
+    # the analytic check reads the catalog row only: every field the same, the fast-phase
+    # residual included (the term that read the SI errors)
+    assert a == b and a["fast_phase_residual_deg"] > 0

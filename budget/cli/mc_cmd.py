@@ -202,12 +202,14 @@ def run(args) -> int:
 
 
 def _check_vs_mc(scen, model, res):
-    """The analytic check of a catalog part beside its Monte Carlo verdict (None for a noise model)."""
+    """The analytic check of a catalog part beside its Monte Carlo verdict (None for a noise model:
+    a NoiseModel is a PartSpec too, but its effects are not in the analytic check)."""
     from ..catalog.schema import PartSpec
     from ..check import check_parts
+    from ..imu import NoiseModel
     from ..report import check_vs_mc
 
-    if not isinstance(model, PartSpec):
+    if not isinstance(model, PartSpec) or isinstance(model, NoiseModel):
         return None
     return check_vs_mc(check_parts([model], scen).to_dict()["scenarios"][0]["parts"][0], res)
 
