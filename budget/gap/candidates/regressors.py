@@ -11,6 +11,7 @@ Parameters are SI channel units (see :mod:`budget.imu.noise_model`); θ is the s
 from __future__ import annotations
 
 import math
+from abc import abstractmethod
 
 import numpy as np
 from scipy import optimize
@@ -95,22 +96,35 @@ class TemperatureSensitivity(Candidate):
         return {"coefficient": float(theta[0])}
 
 
-class TemperatureLag(Candidate):
-    """c·(T_e − T_0) with the sensing element's temperature T_e lagging the logged one by a
-    first-order time constant τ (:func:`budget.imu.effects.thermal_lag`): θ = (c/c₀, ln τ),
-    c₀ the coefficient the temperature regression reads. A lag of more than a few seconds
-    against a warm-up leaves a drift beside the regression on T — c·(T_e − T) ≈ −c·τ·dT/dt —
-    that a ramp or a random walk would otherwise take. Every statistic follows from the
-    deterministic series T_e − T_0 itself (its Allan variance, Welch PSD, differences,
-    regression weights and slowest modes), computed once per τ. The search profiles c at each
-    τ (bounded, the coefficient brackets as :class:`TemperatureSensitivity`'s) and runs a bounded
-    search over ln τ from the best of a grid; τ from 2 s to a quarter of the record (shorter
-    is the instantaneous sensitivity at any temperature rate a log shows, longer a trend)."""
+class _ScaledSeries(Candidate):
+    """A deterministic series y_τ(t) with a time constant τ, times a signed coefficient: θ =
+    (coefficient/c_ref, ln τ). Every statistic follows from y_τ itself (its Allan variance,
+    Welch PSD, differences, regression weights, low-frequency coefficients and slowest modes),
+    computed once per τ. The search profiles the coefficient at each τ — bracketed around the
+    value that explains the regression statistic the subclass reads (``_delta``) — and runs a
+    bounded search over ln τ from the best of a grid; τ from 2 s to a quarter of the record."""
 
-    name, n_params = "temperature_lag", 2
-    needs_psd = needs_temp = True
+    n_params = 2
     #: τ grid of the starts
     N_TAU = 10
+    #: name of the coefficient in the effect's parameters
+    coefficient = ""
+
+    @abstractmethod
+    def _series(self, ctx, tau: float) -> np.ndarray:
+        """y_τ over the record's samples."""
+
+    @abstractmethod
+    def _delta(self, ctx) -> float:
+        """Measured − model value of the regression statistic the coefficient must explain."""
+
+    @abstractmethod
+    def _unit_stat(self, unit: th.Increment) -> float:
+        """That statistic for the coefficient 1."""
+
+    def _ref_factor(self, ctx) -> float:
+        """c_ref = |Δ| × this (1 by default)."""
+        return 1.0
 
     def _tau_range(self, ctx):
         g = ctx.grid
@@ -120,133 +134,34 @@ class TemperatureLag(Candidate):
         key = ("unit", self.name, round(math.log(tau), 9))
         if key not in ctx.cache:
             g = ctx.grid
-            T = thermal_lag(g.temp_c, tau, g.dt_s)
-            d = np.diff(T)
+            y = self._series(ctx, tau)
+            d = np.diff(y)
             c = d - d.mean()
             v = float(np.einsum("i,i->", c, c)) / c.size
-            low = lowfreq.coefficients_sq(T, g.low_k_max) if g.has_low else None
-            mean = walk.modes(T, g.walk) if g.walk is not None and ctx.model.walk_cov is not None else None
-            ctx.cache[key] = th.Increment(overlapping_avar(T, g.m), th.psd_of_series(T, g.dt_s, g.nperseg), v,
+            low = lowfreq.coefficients_sq(y, g.low_k_max) if g.has_low else None
+            mean = walk.modes(y, g.walk) if g.walk is not None and ctx.model.walk_cov is not None else None
+            temp = float(np.einsum("i,i->", g.temp_w, y)) if g.temp_w is not None else 0.0
+            ctx.cache[key] = th.Increment(overlapping_avar(y, g.m),
+                                          th.psd_of_series(y, g.dt_s, g.nperseg) if g.has_psd else None, v,
                                           float(np.mean(c ** 4)) - 3.0 * v * v,
-                                          slope=float(np.einsum("i,i->", g.time_w, T)),
-                                          temp=float(np.einsum("i,i->", g.temp_w, T)), low=low,
+                                          slope=float(np.einsum("i,i->", g.time_w, y)), temp=temp, low=low,
                                           walk_mean=mean)
         return ctx.cache[key]
 
     def _c0(self, ctx, tau):
-        u = self._unit(ctx, tau)
-        dc = ctx.meas.temp_coef - ctx.model.temp_coef
-        return dc / u.temp if u.temp != 0 else 0.0
-
-    def applicable(self, ctx):
-        return super().applicable(ctx) and ctx.grid.temp_w is not None and ctx.grid.temp_c is not None
+        stat = self._unit_stat(self._unit(ctx, tau))
+        return self._delta(ctx) / stat if stat != 0 else 0.0
 
     def _scale(self, ctx):
-        if "lag_c_ref" not in ctx.cache:
-            ctx.cache["lag_c_ref"] = abs(ctx.meas.temp_coef - ctx.model.temp_coef)
-        return ctx.cache["lag_c_ref"]
-
-    def _profile(self, ctx, log_tau):
-        """(best c/c₀, Σz²) at τ = e^log_tau."""
-        ref = self._scale(ctx)
-        r0 = self._c0(ctx, math.exp(log_tau)) / ref
-        f = lambda r: ctx.sumsq(self.full_increment(np.array([r, log_tau]), ctx))
-        lo, hi = -4.0 * abs(r0), 4.0 * abs(r0)
-        grid = np.sort(np.append(np.linspace(lo, hi, 9), r0))
-        vals = [f(x) for x in grid]
-        i = int(np.argmin(vals))
-        a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-        res = optimize.minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": 1e-3 * abs(b - a)})
-        return (float(res.x), float(res.fun)) if res.fun <= vals[i] else (float(grid[i]), float(vals[i]))
-
-    def starts(self, ctx):
-        if self._scale(ctx) == 0:
-            return []
-        lo, hi = self._tau_range(ctx)
-        scored = [(self._profile(ctx, lt), lt) for lt in np.linspace(math.log(lo), math.log(hi), self.N_TAU)]
-        (r, val), lt = min(scored, key=lambda s: s[0][1])
-        return [np.array([r, lt])]
-
-    def search(self, theta0, ctx):
-        lo, hi = self._tau_range(ctx)
-        step = (math.log(hi) - math.log(lo)) / (self.N_TAU - 1)
-        a, b = max(math.log(lo), theta0[1] - step), min(math.log(hi), theta0[1] + step)
-        res = optimize.minimize_scalar(lambda lt: self._profile(ctx, lt)[1], bounds=(a, b), method="bounded",
-                                       options={"xatol": 0.01})
-        lt = float(res.x) if res.fun <= ctx.sumsq(self.full_increment(theta0, ctx)) else float(theta0[1])
-        r, val = self._profile(ctx, lt)
-        return np.array([r, lt]), val
-
-    def increment(self, theta, ctx):
-        lo, hi = self._tau_range(ctx)
-        tau = float(np.clip(math.exp(theta[1]), lo, hi))
-        u, c = self._unit(ctx, tau), float(theta[0]) * self._scale(ctx)
-        return th.Increment(u.avar * c * c, u.psd * c * c, u.diff_var * c * c, u.diff_cum4 * c ** 4,
-                            slope=u.slope * c, temp=u.temp * c, low=None if u.low is None else u.low * c * c,
-                            walk_mean=None if u.walk_mean is None else u.walk_mean * c)
-
-    def params(self, theta, ctx):
-        lo, hi = self._tau_range(ctx)
-        return {"coefficient": float(theta[0]) * self._scale(ctx),
-                "tau_s": float(np.clip(math.exp(theta[1]), lo, hi))}
-
-
-class WarmupTransient(Candidate):
-    """A turn-on transient A·e^(−t/τ), t from the log's first sample (a bias settling after
-    power-up, with or without a temperature column): θ = (A/A₀, ln τ), A₀ = |Δslope|·T, the
-    amplitude scale the slope regression reads (Δslope = measured − model time slope, T the
-    record's length). Over an hour a transient of a few minutes tilts the slope regression and
-    puts a pattern in the slowest modes concentrated at the record's start — which a rate random
-    walk, a ramp or a slow Gauss–Markov term would otherwise take; a bias step is not this
-    effect (it is named as whichever of those fits it best). Every statistic follows from the
-    deterministic series e^(−t/τ) (Allan variance, Welch PSD, differences, regression weights,
-    low-frequency coefficients, slow modes), computed once per τ, as for the thermal lag. The
-    search profiles A at each τ and runs a bounded search over ln τ from the best of a grid;
-    τ from 2 s to a quarter of the record (longer is a trend)."""
-
-    name, n_params = "warmup_transient", 2
-    N_TAU = 10
-
-    def _tau_range(self, ctx):
-        g = ctx.grid
-        return max(2.0, 4.0 * g.dt_s), 0.25 * g.n_samples * g.dt_s
-
-    def applicable(self, ctx):
-        return (super().applicable(ctx) and ctx.grid.time_w is not None and ctx.meas.slope is not None
-                and ctx.model.slope is not None)
-
-    def _unit(self, ctx, tau):
-        key = ("unit", self.name, round(math.log(tau), 9))
+        key = (self.name, "c_ref")
         if key not in ctx.cache:
-            g = ctx.grid
-            e = warmup_response(tau, np.arange(g.n_samples) * g.dt_s)
-            d = np.diff(e)
-            c = d - d.mean()
-            v = float(np.einsum("i,i->", c, c)) / c.size
-            low = lowfreq.coefficients_sq(e, g.low_k_max) if g.has_low else None
-            mean = walk.modes(e, g.walk) if g.walk is not None and ctx.model.walk_cov is not None else None
-            temp = float(np.einsum("i,i->", g.temp_w, e)) if g.temp_w is not None else 0.0
-            ctx.cache[key] = th.Increment(overlapping_avar(e, g.m),
-                                          th.psd_of_series(e, g.dt_s, g.nperseg) if g.has_psd else None, v,
-                                          float(np.mean(c ** 4)) - 3.0 * v * v,
-                                          slope=float(np.einsum("i,i->", g.time_w, e)), temp=temp, low=low,
-                                          walk_mean=mean)
+            ctx.cache[key] = abs(self._delta(ctx)) * self._ref_factor(ctx)
         return ctx.cache[key]
 
-    def _scale(self, ctx):
-        if "warmup_a_ref" not in ctx.cache:
-            g = ctx.grid
-            ctx.cache["warmup_a_ref"] = abs(ctx.meas.slope - ctx.model.slope) * g.n_samples * g.dt_s
-        return ctx.cache["warmup_a_ref"]
-
-    def _a0(self, ctx, tau):
-        u = self._unit(ctx, tau)
-        return (ctx.meas.slope - ctx.model.slope) / u.slope if u.slope != 0 else 0.0
-
     def _profile(self, ctx, log_tau):
-        """(best A/A₀, Σz²) at τ = e^log_tau."""
+        """(best coefficient/c_ref, Σz²) at τ = e^log_tau."""
         ref = self._scale(ctx)
-        r0 = self._a0(ctx, math.exp(log_tau)) / ref
+        r0 = self._c0(ctx, math.exp(log_tau)) / ref
         f = lambda r: ctx.sumsq(self.full_increment(np.array([r, log_tau]), ctx))  # noqa: E731
         lo, hi = -4.0 * abs(r0), 4.0 * abs(r0)
         grid = np.sort(np.append(np.linspace(lo, hi, 9), r0))
@@ -277,13 +192,67 @@ class WarmupTransient(Candidate):
     def increment(self, theta, ctx):
         lo, hi = self._tau_range(ctx)
         tau = float(np.clip(math.exp(theta[1]), lo, hi))
-        u, a = self._unit(ctx, tau), float(theta[0]) * self._scale(ctx)
-        return th.Increment(u.avar * a * a, None if u.psd is None else u.psd * a * a, u.diff_var * a * a,
-                            u.diff_cum4 * a ** 4, slope=u.slope * a, temp=u.temp * a,
-                            low=None if u.low is None else u.low * a * a,
-                            walk_mean=None if u.walk_mean is None else u.walk_mean * a)
+        u, c = self._unit(ctx, tau), float(theta[0]) * self._scale(ctx)
+        return th.Increment(u.avar * c * c, None if u.psd is None else u.psd * c * c, u.diff_var * c * c,
+                            u.diff_cum4 * c ** 4, slope=u.slope * c, temp=u.temp * c,
+                            low=None if u.low is None else u.low * c * c,
+                            walk_mean=None if u.walk_mean is None else u.walk_mean * c)
 
     def params(self, theta, ctx):
         lo, hi = self._tau_range(ctx)
-        return {"amplitude": float(theta[0]) * self._scale(ctx),
+        return {self.coefficient: float(theta[0]) * self._scale(ctx),
                 "tau_s": float(np.clip(math.exp(theta[1]), lo, hi))}
+
+
+class TemperatureLag(_ScaledSeries):
+    """c·(T_e − T_0) with the sensing element's temperature T_e lagging the logged one by a
+    first-order time constant τ (:func:`budget.imu.effects.thermal_lag`): θ = (c/c₀, ln τ),
+    c₀ the coefficient the temperature regression reads. A lag of more than a few seconds
+    against a warm-up leaves a drift beside the regression on T — c·(T_e − T) ≈ −c·τ·dT/dt —
+    that a ramp or a random walk would otherwise take. The coefficient brackets as
+    :class:`TemperatureSensitivity`'s; τ from 2 s to a quarter of the record (shorter is the
+    instantaneous sensitivity at any temperature rate a log shows, longer a trend)."""
+
+    name, coefficient = "temperature_lag", "coefficient"
+    needs_psd = needs_temp = True
+
+    def _series(self, ctx, tau):
+        return thermal_lag(ctx.grid.temp_c, tau, ctx.grid.dt_s)
+
+    def _delta(self, ctx):
+        return ctx.meas.temp_coef - ctx.model.temp_coef
+
+    def _unit_stat(self, unit):
+        return unit.temp
+
+    def applicable(self, ctx):
+        return super().applicable(ctx) and ctx.grid.temp_w is not None and ctx.grid.temp_c is not None
+
+
+class WarmupTransient(_ScaledSeries):
+    """A turn-on transient A·e^(−t/τ), t from the log's first sample (a bias settling after
+    power-up, with or without a temperature column): θ = (A/A₀, ln τ), A₀ = |Δslope|·T, the
+    amplitude scale the slope regression reads (Δslope = measured − model time slope, T the
+    record's length). Over an hour a transient of a few minutes tilts the slope regression and
+    puts a pattern in the slowest modes concentrated at the record's start — which a rate random
+    walk, a ramp or a slow Gauss–Markov term would otherwise take; a bias step is not this
+    effect (it is named as whichever of those fits it best). τ from 2 s to a quarter of the
+    record (longer is a trend)."""
+
+    name, coefficient = "warmup_transient", "amplitude"
+
+    def _series(self, ctx, tau):
+        return warmup_response(tau, np.arange(ctx.grid.n_samples) * ctx.grid.dt_s)
+
+    def _delta(self, ctx):
+        return ctx.meas.slope - ctx.model.slope
+
+    def _unit_stat(self, unit):
+        return unit.slope
+
+    def _ref_factor(self, ctx):
+        return ctx.grid.n_samples * ctx.grid.dt_s
+
+    def applicable(self, ctx):
+        return (super().applicable(ctx) and ctx.grid.time_w is not None and ctx.meas.slope is not None
+                and ctx.model.slope is not None)
