@@ -183,7 +183,7 @@ def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: f
         if f.name == "rate_ramp":
             total += f.param("R") * float(np.dot(w, np.arange(w.size) / rate_hz))
         elif f.name == "warmup_transient":
-            resp = fx.warmup_response(f.param("tau_s"), np.arange(w.size) / rate_hz)
+            resp = fx.warmup_response(f.param("tau_s"), w.size, 1.0 / rate_hz)
             total += f.param("amplitude") * float(np.dot(w, resp))
         elif f.name in TEMPERATURE_EFFECTS:
             if temp_c is None:

@@ -241,8 +241,7 @@ def effect_mean(name: str, params: dict, lay: WalkLayout, temp_c: np.ndarray | N
     temperature column, and a warm-up transient A·e^(−t/τ), which is not a trend; ``None`` for
     a temperature effect without a temperature column."""
     if name == "warmup_transient":
-        t = np.arange(lay.n_samples) * lay.dt_s
-        return params["amplitude"] * modes(fx.warmup_response(params["tau_s"], t), lay)
+        return params["amplitude"] * modes(fx.warmup_response(params["tau_s"], lay.n_samples, lay.dt_s), lay)
     if name not in TEMPERATURE_EFFECTS:
         return np.zeros(lay.n_modes)
     if temp_c is None:

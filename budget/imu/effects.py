@@ -44,9 +44,10 @@ def thermal_lag(temp_c: np.ndarray, tau_s: float, dt_s: float) -> np.ndarray:
     return signal.lfilter([a], [1.0, a - 1.0], temp - temp[..., :1], axis=-1)
 
 
-def warmup_response(tau_s: float, time_s: np.ndarray) -> np.ndarray:
-    """e^(−t/τ) of a turn-on transient, t from the record's (or simulation's) first sample, s."""
-    return np.exp(-np.asarray(time_s, float) / tau_s)
+def warmup_response(tau_s: float, n_samples: int, dt_s: float) -> np.ndarray:
+    """e^(−t/τ) of a turn-on transient at t = k·dt, k = 0 … n−1 from the record's (or the
+    simulation's) first sample, shape (n,)."""
+    return np.exp(-(np.arange(n_samples) * dt_s) / tau_s)
 
 
 def temperature_response(name: str, params: dict, temp_c: np.ndarray, dt_s: float) -> np.ndarray:

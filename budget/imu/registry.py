@@ -73,7 +73,7 @@ def _temperature_lag(p, n_trials, time_s, dt_s, rng, temp):
 
 
 def _warmup(p, n_trials, time_s, dt_s, rng, temp):
-    return np.broadcast_to(p["amplitude"] * fx.warmup_response(p["tau_s"], time_s - time_s[0]),
+    return np.broadcast_to(p["amplitude"] * fx.warmup_response(p["tau_s"], time_s.size, dt_s),
                            (n_trials, time_s.size))
 
 

@@ -242,7 +242,7 @@ class WarmupTransient(_ScaledSeries):
     name, coefficient = "warmup_transient", "amplitude"
 
     def _series(self, ctx, tau):
-        return warmup_response(tau, np.arange(ctx.grid.n_samples) * ctx.grid.dt_s)
+        return warmup_response(tau, ctx.grid.n_samples, ctx.grid.dt_s)
 
     def _delta(self, ctx):
         return ctx.meas.slope - ctx.model.slope
