@@ -123,17 +123,19 @@ def test_both_options_together(files, tmp_path, capsys):
     assert "psd_low" in set(py.channels["gyro_x"].terms_before.kind)
 
 
-def test_no_slow_modes_removes_the_walk_term_only(files, tmp_path, capsys, default_py):
+def test_no_slow_modes_removes_the_slow_mode_terms_only(files, tmp_path, capsys, default_py):
+    """--no-slow-modes leaves out the slow-mode statistic and the early statistic (both read the
+    record's slowest modes) and nothing else."""
     out, text = _cli(files, tmp_path, "nsm", "--no-slow-modes", capsys=capsys)
     assert out["options"] == {"low_frequency": False, "decorrelate": False, "slow_modes": False}
-    assert "walk" not in out["input"]["signatures"]
+    assert "walk" not in out["input"]["signatures"] and "early" not in out["input"]["signatures"]
     assert "options: slow modes left out (--no-slow-modes)" in text
     py = _py(files, slow_modes=False)
     assert out["gap_before"] == pytest.approx(py.gap_before, rel=1e-12)
     for ch in CHANS:
         t0, t1 = default_py.channels[ch].terms_before, py.channels[ch].terms_before
-        keep = t0.kind != "walk"
-        assert np.count_nonzero(~keep) == 1 and "walk" not in set(t1.kind)
+        keep = ~np.isin(t0.kind, ("walk", "early"))
+        assert np.count_nonzero(~keep) == 2 and not {"walk", "early"} & set(t1.kind)
         # the other statistics as with them: the same realizations (same seed)
         np.testing.assert_array_equal(t1.z, t0.z[keep])
 

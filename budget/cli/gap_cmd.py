@@ -78,7 +78,8 @@ def add_parser(sub) -> None:
     p.add_argument("--no-slow-modes", action="store_true",
                    help="leave out the record's slowest modes (block sums on the slowest DCT modes, "
                         "judged against the model's exact covariance: where a rate random walk shows "
-                        "best over one hour). On by default: on the benchmark it names a hidden walk "
+                        "best over one hour; with them their projection on a start-of-record pattern, "
+                        "which tells a turn-on transient from slow noise). On by default: on the benchmark it names a hidden walk "
                         "at 3× 8/10 instead of 6/10, at the cost of one hidden ramp read as a walk at "
                         "2× and at 5× (README, Model gap)")
     add_quiet_option(p)

@@ -46,7 +46,8 @@ class FitContext:
 
     def sumsq_parts(self, inc: th.Increment) -> tuple[float, float]:
         """(predicted Σz², its linear part) with the effect added. A candidate that widens the
-        scatter of the slope or temperature coefficient (random walk) also pays ln(var'/var),
+        scatter of the slope, the temperature coefficient or the early statistic (random walk,
+        flicker, Gauss–Markov) also pays ln(var'/var),
         the Gaussian log-likelihood term that Σz² alone would leave out (in the linear part)."""
         pred = self.model.predict(inc, self.grid)
         terms = gap_terms(self.meas, pred, self.grid)
@@ -55,6 +56,12 @@ class FitContext:
             linear += math.log(pred.slope_var / self.model.slope_var)
         if inc.temp_var > 0 and self.model.temp_var > 0 and self.meas.temp_coef is not None:
             linear += math.log(pred.temp_var / self.model.temp_var)
+        if (inc.walk_cov is not None and self.model.walk_cov is not None and pred.walk_cov is not None
+                and self.grid.walk is not None and self.grid.walk.early is not None and self.meas.walk is not None):
+            v0 = walk.early_var(self.model.walk_cov, self.grid.walk)
+            v1 = walk.early_var(pred.walk_cov, self.grid.walk)
+            if v0 > 0 and v1 > 0:
+                linear += math.log(v1 / v0)
         return terms.sum_sq - terms.linear_sq + linear, linear
 
     def walk_cov(self, name: str, params: dict) -> np.ndarray | None:

@@ -23,7 +23,10 @@ with the mean over the realizations through a standardized difference z:
   score (with S = 12 a 5σ trend would read ≈ 3.4σ);
 * slow modes (:mod:`budget.gap.walk`): the normal score of a weighted sum of the record's
   slowest whitened modes under the model's exact covariance of them (more slow power than the
-  model: z > 0);
+  model: z > 0), and beside it the early statistic, the linear projection of the same modes on
+  the start-of-record pattern e^(−t/τ₀) (τ₀ = 1/8 of the record), (vᵀy − mean)/√(vᵀCv), which
+  tells a turn-on transient (a mean) from slow noise (a spread) (:func:`budget.gap.walk.early_z`;
+  a linear statistic, in :data:`LINEAR_KINDS`);
 * low-frequency bands (below the first Welch band; when the grid has them): mean c̄² of the
   detrended record's DCT coefficients in octave bands, z = normal score of c̄²_meas/c̄²_model under F(n, S·n)
   (:mod:`budget.gap.lowfreq`).
@@ -60,9 +63,9 @@ from .theory import Increment
 WELCH_VAR = 1.056
 #: Statistics linear in the series (regression coefficients): under a Gaussian null they are
 #: uncorrelated with every quadratic one (ADEV, PSD, distribution), odd moments vanishing.
-LINEAR_KINDS = ("slope", "temperature")
+LINEAR_KINDS = ("slope", "temperature", "early")
 KINDS = ("adev", "psd_band", "psd_line", "kurtosis", "tails", "tails2", "slope", "temperature",
-         "psd_low", "walk")
+         "psd_low", "walk", "early")
 
 
 @dataclass(frozen=True)
@@ -320,6 +323,12 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
             kinds.append("walk")
             where.append(f"slow modes, periods ≥ {grid.walk.shortest_period_s:.0f} s")
             locus.append(np.array([np.nan]))
+            if grid.walk.early is not None:
+                z.append(np.array([walk.early_z(y, model.walk_cov, grid.walk)]))
+                kinds.append("early")
+                where.append("start of the record (e^(−t/τ₀), τ₀ = "
+                             f"{walk.EARLY_TAU_FRACTION * grid.n_samples * grid.dt_s:.0f} s)")
+                locus.append(np.array([np.nan]))
         if meas.low is not None and model.low is not None and grid.has_low:
             st, counts = grid.low_starts, grid.low_counts
             zl = lowfreq.band_z(lowfreq.band_means(meas.low, st), lowfreq.band_means(model.low, st),

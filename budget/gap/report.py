@@ -36,7 +36,8 @@ GAP_DEFINITION = (
     "per channel: gap = mean of z^2 over its statistics (ADEV at octave tau, PSD octave bands, "
     "largest PSD line, kurtosis and tail count of first differences, time slope, temperature "
     "coefficient, slow power in the record's slowest modes (walk: against the model's exact "
-    "covariance of them); with low_frequency also the low-frequency bands of the detrended record's DCT "
+    "covariance of them) and their projection on a start-of-record pattern e^(-t/tau0), tau0 = 1/8 "
+    "of the record (early: a turn-on transient); with low_frequency also the low-frequency bands of the detrended record's DCT "
     "below the first PSD band), z = standardized difference between the measured value and the "
     "mean of S simulated realizations of the model (≈ N(0,1) when the log follows the model); "
     "with decorrelate the spectral terms (ADEV, PSD bands, low-frequency bands) are summed as "
@@ -243,7 +244,7 @@ class GapReport:
                       "adev, psd_band, psd_line, kurtosis, tails, slope"
                       + (", temperature" if any(c.measured.temp_coef is not None for c in self.channels.values()) else "")
                       + (", psd_low" if any(c.measured.low is not None for c in self.channels.values()) else "")
-                      + (", walk" if any(c.model_before.walk_cov is not None for c in self.channels.values()) else "")},
+                      + (", walk, early" if any(c.model_before.walk_cov is not None for c in self.channels.values()) else "")},
             "model": self.model_label, "seed": self.seed, "realizations": self.realizations,
             "alpha": self.alpha, "options": {k: bool(v) for k, v in self.options.items()},
             "gap_definition": GAP_DEFINITION,

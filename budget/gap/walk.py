@@ -45,6 +45,12 @@ The statistic is the same for a bias instability, a long Gauss–Markov term or 
 measures slow power, and a candidate effect that adds slow power changes C and so its own
 predicted z (:meth:`budget.gap.fitting.FitContext.sumsq`), which is how a walk and a flicker
 term of the same long-τ excess are told apart.
+
+Beside T, the **early statistic** (:func:`early_z`) is linear in the same modes: their projection
+s = vᵀy on the unit vector v of the modes of e^(−t/τ₀), τ₀ = ``EARLY_TAU_FRACTION`` × the record
+length, scored as (s − vᵀμ)/√(vᵀCv) under the model's exact mean μ and covariance C. T says how
+much slow power there is, not where; a turn-on transient (a mean) shifts s, a walk or a flicker
+term (a spread) only widens it — and pays ln(var'/var) for that in the candidate fits.
 """
 
 from __future__ import annotations
@@ -71,6 +77,9 @@ N_MODES = 48
 TEMPER = 3.0
 #: Fewest samples per block (shorter logs get no walk statistic).
 MIN_BLOCK = 16
+#: Decay time of the start-of-record pattern e^(−t/τ₀) of the early statistic, as a fraction of
+#: the record length (:func:`early_z`).
+EARLY_TAU_FRACTION = 1.0 / 8.0
 
 
 @dataclass(frozen=True)
@@ -86,6 +95,9 @@ class WalkLayout:
     n_samples: int
     basis: np.ndarray
     unit: np.ndarray
+    #: unit vector in mode space: the modes of e^(−t/τ₀), τ₀ = ``EARLY_TAU_FRACTION`` × the
+    #: record length (:func:`early_z`)
+    early: np.ndarray | None = None
 
     @property
     def n_modes(self) -> int:
@@ -126,7 +138,11 @@ def layout(n_samples: int, dt_s: float, temp_c: np.ndarray | None = None) -> Wal
     basis, _ = np.linalg.qr(dct[keep].T)
     basis = basis[:, :N_MODES].T
     unit = basis @ walk_block_cov(nb, m, dt_s) @ basis.T
-    return WalkLayout(nb, m, float(dt_s), int(n_samples), basis, unit)
+    t = np.arange(nb * m) * dt_s
+    early = basis @ block_sums(np.exp(-t / (EARLY_TAU_FRACTION * n_samples * dt_s)), nb, m)
+    norm = float(np.linalg.norm(early))
+    return WalkLayout(nb, m, float(dt_s), int(n_samples), basis, unit,
+                      early / norm if norm > 0 else None)
 
 
 def block_sums(x: np.ndarray, n_blocks: int, block: int) -> np.ndarray:
@@ -293,6 +309,29 @@ def walk_z(y: np.ndarray, cov: np.ndarray, lay: WalkLayout) -> float:
     z = float(special.ndtri(max(1.0 - sf, 1e-300)) if sf >= 0.5 else -special.ndtri(max(sf, 1e-300)))
     _CACHE[key] = z
     return z
+
+
+def early_var(cov: np.ndarray, lay: WalkLayout) -> float:
+    """Variance of the early statistic vᵀy under the covariance ``cov`` of the modes."""
+    v = lay.early
+    return float(v @ cov @ v)
+
+
+def early_z(y: np.ndarray, cov: np.ndarray, lay: WalkLayout) -> float:
+    """Normal score of the early statistic vᵀy (v = ``lay.early``, y the modes less the model's
+    mean) under the covariance ``cov``: how much the record's start stands above or below the
+    rest, beyond what a constant and a trend (and a temperature column) explain.
+
+    The slow-mode statistic T (:func:`walk_z`) is quadratic: it says how much slow power there
+    is, not where it lies, so a warm-up transient A·e^(−t/τ) (a deterministic mean) and a rate
+    random walk (slow power in every mode) can explain it equally well. This linear statistic
+    separates them: a transient shifts its mean, which the transient's fit removes, while a walk
+    or a flicker term only widens its spread — and a candidate that widens it pays
+    ln(var'/var) beside z² (:meth:`budget.gap.fitting.FitContext.sumsq_parts`), as for the
+    time slope. The pattern is fixed by the record's length alone (τ₀ = 1/8 of it): any
+    transient from a few minutes to about a third of a one-hour record projects on it; its
+    distribution under the model is exact (y is Gaussian with covariance ``cov``)."""
+    return float(lay.early @ y) / math.sqrt(early_var(cov, lay))
 
 
 #: (covariance, modes) → z: a candidate that adds no slow power leaves both unchanged, and

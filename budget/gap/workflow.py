@@ -199,7 +199,7 @@ def _trend_open(st: _State, trend_z: float) -> bool:
     shows), or more slow power in the record's slowest modes than the model's (z > ``trend_z``,
     :mod:`budget.gap.walk`): all three judged against the model's exact distribution."""
     kind, z = st.terms.kind, st.terms.z
-    trend = np.abs(z[np.isin(kind, ("slope", "temperature"))])
+    trend = np.abs(z[np.isin(kind, ("slope", "temperature", "early"))])
     slow = z[kind == "walk"]
     return bool((trend.size and trend.max() > trend_z) or (slow.size and slow.max() > trend_z))
 
