@@ -163,6 +163,10 @@ CHANNEL_UNIT_TO_SI: dict[str, float] = {
     "mg": 1e-3 * G0,
 }
 
+#: The package's own unit-suffix spelling (``gyro_arw_deg_rt_h``, ``accel_vrw_m_s_rt_h``) for the
+#: same units: a column ``gyro_x_rad_s`` or ``accel_z_m_s2`` reads as ``gyro_x_rps``/``accel_z_mps2``.
+CHANNEL_UNIT_ALIASES: dict[str, str] = {"rad_s": "rps", "deg_s": "dps", "deg_h": "dph", "m_s2": "mps2"}
+
 GYRO_CHANNELS = ("gyro_x", "gyro_y", "gyro_z")
 ACCEL_CHANNELS = ("accel_x", "accel_y", "accel_z")
 CHANNELS = GYRO_CHANNELS + ACCEL_CHANNELS
@@ -174,10 +178,13 @@ def channel_si_unit(channel: str) -> str:
 
 
 def split_channel_column(name: str) -> tuple[str, str]:
-    """``'gyro_x_dps'`` → ``('gyro_x', 'dps')``; raises ``ValueError`` naming what is expected."""
+    """``'gyro_x_dps'`` → ``('gyro_x', 'dps')``; the package's suffix spelling is read as the
+    same unit (``'gyro_x_rad_s'`` → ``('gyro_x', 'rps')``, :data:`CHANNEL_UNIT_ALIASES`); raises
+    ``ValueError`` naming what is expected."""
     for ch in CHANNELS:
         if name.startswith(ch + "_"):
             unit = name[len(ch) + 1 :]
+            unit = CHANNEL_UNIT_ALIASES.get(unit, unit)
             if unit in CHANNEL_UNIT_TO_SI:
                 if ch.startswith("gyro") and unit not in ("dps", "rps", "dph"):
                     break
@@ -187,7 +194,8 @@ def split_channel_column(name: str) -> tuple[str, str]:
             break
     raise ValueError(
         f"channel column {name!r} not understood: expected <channel>_<unit> with channel in "
-        f"{', '.join(CHANNELS)} and unit dps|rps|dph (gyro) or mps2|g|mg (accel)"
+        f"{', '.join(CHANNELS)} and unit dps|rps|dph (or deg_s|rad_s|deg_h) for a gyro, "
+        "mps2|g|mg (or m_s2) for an accelerometer"
     )
 
 

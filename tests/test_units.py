@@ -80,12 +80,18 @@ def test_range_to_phase_is_the_simulators_sign(quarter_turns):
 
 @pytest.mark.parametrize("name,expected", [("gyro_x_dps", ("gyro_x", "dps")),
                                            ("accel_z_g", ("accel_z", "g")),
-                                           ("gyro_y_rps", ("gyro_y", "rps"))])
+                                           ("gyro_y_rps", ("gyro_y", "rps")),
+                                           # the package's own suffix spelling, as in its field names
+                                           ("gyro_x_rad_s", ("gyro_x", "rps")),
+                                           ("gyro_z_deg_s", ("gyro_z", "dps")),
+                                           ("gyro_y_deg_h", ("gyro_y", "dph")),
+                                           ("accel_x_m_s2", ("accel_x", "mps2"))])
 def test_channel_columns(name, expected):
     assert u.split_channel_column(name) == expected
 
 
-@pytest.mark.parametrize("bad", ["gyro_x_mps2", "accel_x_dps", "gyro_q_dps", "temp_c", "gyro_x"])
+@pytest.mark.parametrize("bad", ["gyro_x_mps2", "accel_x_dps", "gyro_q_dps", "temp_c", "gyro_x",
+                                 "gyro_x_m_s2", "accel_y_rad_s", "gyro_x_rad"])
 def test_channel_columns_bad(bad):
     with pytest.raises(ValueError, match="expected"):
         u.split_channel_column(bad)

@@ -176,8 +176,11 @@ def _excess(ch: str, st: _State, null: NullModel) -> float:
     return max(st.terms.sum_sq - null.mean(ch) * st.terms.n_terms, 0.0)
 
 
-def _null(states: dict[str, _State], alpha: float) -> NullModel:
-    return NullModel.fit({ch: (s.loo, s.layout) for ch, s in states.items()}, alpha)
+def _null(states: dict[str, _State], alpha: float, apart=()) -> NullModel:
+    """The null of the channels' gaps, pooled over channels with the same statistics; the
+    channels ``apart`` (those quieter than the model, not worked on) form pools of their own, so
+    that their unchanged models do not set the thresholds of the channels being fitted."""
+    return NullModel.fit({ch: (s.loo, s.layout + (ch in apart,)) for ch, s in states.items()}, alpha)
 
 
 def _band(states: dict[str, _State], alpha: float, tolerance_db: float) -> EffectSizeBand:
@@ -232,6 +235,32 @@ def _size_gain(old: Sizes, new: Sizes, band: EffectSizeBand, ch: str) -> tuple[f
     # progress; a peak near its band moving across it by the term's scatter is not
     pushed = old.kurtosis <= klim < new.kurtosis and new.kurtosis - old.kurtosis > klim
     return gain, gain <= 0.0 or pushed
+
+
+#: A channel whose Allan-deviation and PSD misfits lie mostly below the model (median below
+#: this, dB, and at least ``_QUIET_SHARE`` of them negative) is reported as quieter than it.
+_QUIET_DB = -1.0
+_QUIET_SHARE = 0.75
+
+
+def _quieter(st: _State, threshold: float) -> float | None:
+    """The median misfit (dB, < 0) of a channel that is beyond its null ``threshold`` because the
+    log is *quieter* than the model (Allan deviation and PSD: median below ``_QUIET_DB`` and at
+    least ``_QUIET_SHARE`` of them below); ``None`` otherwise."""
+    d = np.asarray(st.d_db, float)
+    d = d[np.isfinite(d)]
+    if d.size == 0 or st.terms.gap <= threshold:
+        return None
+    med = float(np.median(d))
+    return med if med < _QUIET_DB and float(np.mean(d < 0)) >= _QUIET_SHARE else None
+
+
+def _quieter_note(ch: str, median_db: float) -> str:
+    return (f"{ch}: the log is quieter than the model (Allan deviation and PSD a median "
+            f"{-median_db:.1f} dB below it): every candidate effect adds noise, so none can close this "
+            "gap and none is named on this channel (a filter or a quantizer fitted to pull the "
+            "model down would be an artefact) — the model's values are conservative for this unit; "
+            "characterise the log on its own (`sar-budget noise`, `budget.noise`) for a model of it")
 
 
 def _fits(model: NoiseModel, ch: str, st: _State) -> list[CandidateFit]:
@@ -428,6 +457,12 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     null = _null(states, alpha)
     band = _band(states, alpha, tolerance_db)
     trend_z = float(stats.norm.isf(alpha / (2.0 * len(chans))))
+    # a channel quieter than the model is not worked on: every candidate adds noise
+    quiet = {ch: q for ch, st in states.items()
+             if (q := _quieter(st, null.channel_threshold(ch))) is not None}
+    notes += [_quieter_note(ch, q) for ch, q in quiet.items()]
+    if quiet:
+        null = _null(states, alpha, quiet)
     start = {ch: (st.terms, st.summary, st.sizes(band, ch)) for ch, st in states.items()}
     null_before, overall_before, band_before = null, _overall(states), band
     steps: list[GapStep] = []
@@ -442,11 +477,15 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         # a channel is worked on while its effect size exceeds its band; whether an effect is
         # named there is then up to the penalised test of each candidate (a targeted test:
         # far more power than the omnibus gap for a misfit confined to a few τ)
-        over = [ch for ch in chans if _open(ch, states[ch], band, trend_z)]
+        over = [ch for ch in chans if ch not in quiet and _open(ch, states[ch], band, trend_z)]
         if not over:
             stop = ("every channel is close enough: its peak misfit beyond the model's own spread is "
                     f"within {tolerance_db:g} dB, its kurtosis within its band and its trend "
                     "statistics within the model's")
+            if quiet:
+                stop = ("every other channel is close enough" if len(quiet) < len(chans) else
+                        "nothing to name") + (f"; {', '.join(quiet)}: quieter than the model "
+                                              "(notes), where no added effect can help")
             break
         direct = [(ch, eff) for ch in over for eff in direct_proposals(current, ch, states[ch].meas,
                                                                          states[ch].grid)
@@ -521,7 +560,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         states[ch] = new
         current = trial
         cache.pop(ch, None)
-        null = _null(states, alpha)
+        null = _null(states, alpha, quiet)
         band_step, band = band, _band(states, alpha, tolerance_db)
         steps.append(GapStep(effect.name, ch, dict(effect.params), old.terms.gap,
                              new.terms.gap, before_all, _overall(states),
@@ -534,6 +573,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                          "as 'a few per record at most'; the magnitude is what the record shows")
     if len(steps) < max_steps and stop.startswith("stopped after max_steps"):
         stop = "every candidate that could be fitted was tried and rejected"
+
     channels_out = {ch: ChannelResult(ch, st.grid, st.meas, start[ch][0], st.terms, start[ch][1],
                                       st.summary, start[ch][2], st.sizes(band, ch))
                     for ch, st in states.items()}

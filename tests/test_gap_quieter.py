@@ -1,0 +1,44 @@
+"""A log quieter than its model: every candidate of the model gap adds noise, so such a gap cannot
+close. Before this check the workflow named a low-pass filter and a quantizer on such a log (it
+pulled the model's short-τ power down towards the log's); now the channel is not worked on and
+the report says why (budget.gap.workflow._quieter). Logs from the independent generator
+(tests/gap_truth.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import gap_truth as gt
+from budget.gap import log_from_arrays, run_gap
+from budget.imu import NoiseModel
+
+N = 60_000  # 10 min at 100 Hz
+
+
+def _run(scale: float, seed: int):
+    x, _, _ = gt.make(None, N, 3300 + seed)
+    logs = {ch: scale * np.asarray(x[ch]) for ch in ("gyro_x", "accel_y")}
+    return run_gap(log_from_arrays(logs, gt.RATE, source=f"scaled {scale}"),
+                   NoiseModel.model_validate(gt.base_model_dict()), seed=seed, max_steps=2,
+                   check_tau_range=False)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_log_at_a_third_of_the_model_is_reported_quieter(seed):
+    """The base model's own noise at 1/3 of its amplitude (−9.5 dB): both channels stay beyond
+    their threshold, nothing is named (before: `lowpass` then `quantization` on one of them), and
+    each gets the note with its median misfit."""
+    rep = _run(1.0 / 3.0, seed)
+    assert rep.steps == []
+    quiet = [n for n in rep.notes if "quieter than the model" in n]
+    assert sorted(n.split(":")[0] for n in quiet) == ["accel_y", "gyro_x"]
+    for n in quiet:
+        median = float(n.split("a median ")[1].split(" dB")[0])
+        assert 7.0 < median < 12.0  # 20·log10(3) = 9.5 dB on deviations
+    assert "quieter than the model" in rep.stop_reason
+
+
+def test_a_model_following_log_gets_no_such_note():
+    rep = _run(1.0, 0)
+    assert not [n for n in rep.notes if "quieter than the model" in n]
