@@ -42,3 +42,20 @@ def test_a_log_at_a_third_of_the_model_is_reported_quieter(seed):
 def test_a_model_following_log_gets_no_such_note():
     rep = _run(1.0, 0)
     assert not [n for n in rep.notes if "quieter than the model" in n]
+
+
+def test_a_line_standing_out_of_a_quieter_floor_is_still_named():
+    """The same third-amplitude log with a 5 Hz tone on gyro_x (amplitude 10 × the white noise's
+    per-sample σ of the quieter log: a PSD line far above the model): gyro_x stays open and the
+    tone is named there at its frequency; accel_y, quiet and without it, gets the note."""
+    x, _, _ = gt.make(None, N, 3300)
+    logs = {ch: np.asarray(x[ch]) / 3.0 for ch in ("gyro_x", "accel_y")}
+    sigma = float(np.std(np.diff(logs["gyro_x"]))) / np.sqrt(2.0)
+    t = np.arange(N) / gt.RATE
+    logs["gyro_x"] = logs["gyro_x"] + 10.0 * sigma * np.sin(2 * np.pi * 5.0 * t + 0.3)
+    rep = run_gap(log_from_arrays(logs, gt.RATE, source="quiet + tone"),
+                  NoiseModel.model_validate(gt.base_model_dict()), seed=0, max_steps=2,
+                  check_tau_range=False)
+    tones = [s for s in rep.steps if s.name == "sinusoid" and s.channel == "gyro_x"]
+    assert tones and tones[0].params["frequency_hz"] == pytest.approx(5.0, rel=1e-3)
+    assert [n.split(":")[0] for n in rep.notes if "quieter than the model" in n] == ["accel_y"]

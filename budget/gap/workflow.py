@@ -241,18 +241,23 @@ def _size_gain(old: Sizes, new: Sizes, band: EffectSizeBand, ch: str) -> tuple[f
 #: this, dB, and at least ``_QUIET_SHARE`` of them negative) is reported as quieter than it.
 _QUIET_DB = -1.0
 _QUIET_SHARE = 0.75
+#: ... and none of them above the model by more than this (dB): a line, a vibration or a slow
+#: drift standing out of a quieter floor keeps the channel open for its effect.
+_QUIET_MAX_DB = 1.0
 
 
 def _quieter(st: _State, threshold: float) -> float | None:
     """The median misfit (dB, < 0) of a channel that is beyond its null ``threshold`` because the
-    log is *quieter* than the model (Allan deviation and PSD: median below ``_QUIET_DB`` and at
-    least ``_QUIET_SHARE`` of them below); ``None`` otherwise."""
+    log is *quieter* than the model (Allan deviation and PSD: median below ``_QUIET_DB``, at
+    least ``_QUIET_SHARE`` of them below and none above ``_QUIET_MAX_DB``); ``None`` otherwise.
+    The caller also keeps a channel whose trend statistics are open (:func:`_trend_open`)."""
     d = np.asarray(st.d_db, float)
     d = d[np.isfinite(d)]
     if d.size == 0 or st.terms.gap <= threshold:
         return None
     med = float(np.median(d))
-    return med if med < _QUIET_DB and float(np.mean(d < 0)) >= _QUIET_SHARE else None
+    quiet = med < _QUIET_DB and float(np.mean(d < 0)) >= _QUIET_SHARE and float(d.max()) <= _QUIET_MAX_DB
+    return med if quiet else None
 
 
 def _quieter_note(ch: str, median_db: float) -> str:
@@ -459,7 +464,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     trend_z = float(stats.norm.isf(alpha / (2.0 * len(chans))))
     # a channel quieter than the model is not worked on: every candidate adds noise
     quiet = {ch: q for ch, st in states.items()
-             if (q := _quieter(st, null.channel_threshold(ch))) is not None}
+             if (q := _quieter(st, null.channel_threshold(ch))) is not None and not _trend_open(st, trend_z)}
     notes += [_quieter_note(ch, q) for ch, q in quiet.items()]
     if quiet:
         null = _null(states, alpha, quiet)
