@@ -1,7 +1,7 @@
 """A log quieter than its model: every candidate of the model gap adds noise, so such a gap cannot
 close. Before this check the workflow named a low-pass filter and a quantizer on such a log (it
 pulled the model's short-τ power down towards the log's); now the channel is not worked on and
-the report says why (budget.gap.workflow._quieter). Logs from the independent generator
+the report says why (budget.gap.quieter). Logs from the independent generator
 (tests/gap_truth.py)."""
 
 from __future__ import annotations

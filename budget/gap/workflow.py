@@ -63,7 +63,8 @@ from .walk import model_mean as walk_model_mean
 from .inputs import check_compatible, load_measured, load_model
 from .effect_size import (DEFAULT_TOLERANCE_DB, EffectSizeBand, LooSizes, Sizes, db_terms,
                           kurtosis_size, loo_sizes)
-from .metric import GapTerms, LinearMoments, ModelSummary, NullModel, gap_terms, loo_z
+from . import quieter
+from .metric import LINEAR_KINDS, GapTerms, LinearMoments, ModelSummary, NullModel, gap_terms, loo_z
 from .report import ChannelResult, GapReport, GapStep
 from .signatures import Signature, SignatureGrid, series_signature, table_signature
 from .simulate import simulate_signatures
@@ -202,7 +203,7 @@ def _trend_open(st: _State, trend_z: float) -> bool:
     shows), or more slow power in the record's slowest modes than the model's (z > ``trend_z``,
     :mod:`budget.gap.walk`): all three judged against the model's exact distribution."""
     kind, z = st.terms.kind, st.terms.z
-    trend = np.abs(z[np.isin(kind, ("slope", "temperature", "early"))])
+    trend = np.abs(z[np.isin(kind, LINEAR_KINDS)])
     slow = z[kind == "walk"]
     return bool((trend.size and trend.max() > trend_z) or (slow.size and slow.max() > trend_z))
 
@@ -235,37 +236,6 @@ def _size_gain(old: Sizes, new: Sizes, band: EffectSizeBand, ch: str) -> tuple[f
     # progress; a peak near its band moving across it by the term's scatter is not
     pushed = old.kurtosis <= klim < new.kurtosis and new.kurtosis - old.kurtosis > klim
     return gain, gain <= 0.0 or pushed
-
-
-#: A channel whose Allan-deviation and PSD misfits lie mostly below the model (median below
-#: this, dB, and at least ``_QUIET_SHARE`` of them negative) is reported as quieter than it.
-_QUIET_DB = -1.0
-_QUIET_SHARE = 0.75
-#: ... and none of them above the model by more than this (dB): a line, a vibration or a slow
-#: drift standing out of a quieter floor keeps the channel open for its effect.
-_QUIET_MAX_DB = 1.0
-
-
-def _quieter(st: _State, threshold: float) -> float | None:
-    """The median misfit (dB, < 0) of a channel that is beyond its null ``threshold`` because the
-    log is *quieter* than the model (Allan deviation and PSD: median below ``_QUIET_DB``, at
-    least ``_QUIET_SHARE`` of them below and none above ``_QUIET_MAX_DB``); ``None`` otherwise.
-    The caller also keeps a channel whose trend statistics are open (:func:`_trend_open`)."""
-    d = np.asarray(st.d_db, float)
-    d = d[np.isfinite(d)]
-    if d.size == 0 or st.terms.gap <= threshold:
-        return None
-    med = float(np.median(d))
-    quiet = med < _QUIET_DB and float(np.mean(d < 0)) >= _QUIET_SHARE and float(d.max()) <= _QUIET_MAX_DB
-    return med if quiet else None
-
-
-def _quieter_note(ch: str, median_db: float) -> str:
-    return (f"{ch}: the log is quieter than the model (Allan deviation and PSD a median "
-            f"{-median_db:.1f} dB below it): every candidate effect adds noise, so none can close this "
-            "gap and none is named on this channel (a filter or a quantizer fitted to pull the "
-            "model down would be an artefact) — the model's values are conservative for this unit; "
-            "characterise the log on its own (`sar-budget noise`, `budget.noise`) for a model of it")
 
 
 def _fits(model: NoiseModel, ch: str, st: _State) -> list[CandidateFit]:
@@ -464,8 +434,9 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     trend_z = float(stats.norm.isf(alpha / (2.0 * len(chans))))
     # a channel quieter than the model is not worked on: every candidate adds noise
     quiet = {ch: q for ch, st in states.items()
-             if (q := _quieter(st, null.channel_threshold(ch))) is not None and not _trend_open(st, trend_z)}
-    notes += [_quieter_note(ch, q) for ch, q in quiet.items()]
+             if (q := quieter.median_db(st.d_db, st.terms.gap, null.channel_threshold(ch))) is not None
+             and not _trend_open(st, trend_z)}
+    notes += [quieter.note(ch, q) for ch, q in quiet.items()]
     if quiet:
         null = _null(states, alpha, quiet)
     start = {ch: (st.terms, st.summary, st.sizes(band, ch)) for ch, st in states.items()}
@@ -578,7 +549,6 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                          "as 'a few per record at most'; the magnitude is what the record shows")
     if len(steps) < max_steps and stop.startswith("stopped after max_steps"):
         stop = "every candidate that could be fitted was tried and rejected"
-
     channels_out = {ch: ChannelResult(ch, st.grid, st.meas, start[ch][0], st.terms, start[ch][1],
                                       st.summary, start[ch][2], st.sizes(band, ch))
                     for ch, st in states.items()}
