@@ -74,11 +74,11 @@ def _first(seed: int, ratio: float, monkeypatch):
 @pytest.mark.parametrize("seed", [0, 1])
 def test_a_clear_transient_is_named_with_its_time_constant(seed, monkeypatch):
     """accel_z alone, 1 h, a 600-s transient sized to 3× the base Allan deviation at its most
-    telling τ (the benchmark's magnitude): named first, A within 30 % and τ within 50 % (the
-    issue's parameter band). Before the early statistic (budget.gap.walk.early_z) the record
+    telling τ (the benchmark's magnitude, below the 5× this test used before): named first, A
+    and τ within 30 % (measured: A 6 % / 11 %, τ 22 % / 7 % on seeds 0 / 1). Before the early statistic (budget.gap.walk.early_z) the record
     could not tell it from a rate random walk at 3× (8/10 named first on the benchmark's seeds,
     the walk twice); with it 10/10 (``benchmarks/bench_gap.py``)."""
     first, truth = _first(seed, 3.0, monkeypatch)
     assert first is not None and first.name == "warmup_transient", first
     assert first.params["amplitude"] == pytest.approx(truth["params"]["amplitude"], rel=0.3)
-    assert first.params["tau_s"] == pytest.approx(truth["params"]["tau_s"], rel=0.5)
+    assert first.params["tau_s"] == pytest.approx(truth["params"]["tau_s"], rel=0.3)
