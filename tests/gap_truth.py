@@ -8,7 +8,7 @@ workflow simulates with) or ``budget.gap``, so a shared mistake cannot pass unse
   frequency domain over a record 8× longer than the log (so the frequencies below 1/T that make
   a slow drift are present), first N samples kept;
 * every hidden effect below is drawn by its own few lines (random walk by a cumulative sum,
-  a turn-on transient by e^(−t/τ), vibration by a second-order resonator, heavy tails by Student t, quantization by flooring
+  a turn-on transient by e^(−t/τ), a bias step by a comparison of the time with a drawn t₀, vibration by a second-order resonator, heavy tails by Student t, quantization by flooring
   the integrated output).
 
 The base model is a tactical-grade row (gyro ARW 0.5 deg/√h, bias instability 5 deg/h as the
@@ -169,6 +169,12 @@ def _warmup(n, rng, temp):
     return np.exp(-np.arange(n) / RATE / WARMUP_TAU_S), {"amplitude": 1.0, "tau_s": WARMUP_TAU_S}
 
 
+def _bias_step(n, rng, temp):
+    """The bias jumps once, at a time drawn uniformly over the middle 80 % of the log."""
+    t0 = rng.uniform(0.1, 0.9) * n / RATE
+    return (np.arange(n) / RATE >= t0).astype(float), {"amplitude": 1.0, "time_s": t0}
+
+
 def _sinusoid(n, rng, temp, f0=7.3):
     t = np.arange(n) / RATE
     return np.sin(2 * math.pi * f0 * t + rng.uniform(0, 2 * math.pi)), {"frequency_hz": f0, "amplitude": 1.0}
@@ -192,6 +198,7 @@ EFFECTS = {
     "temperature_sensitivity": ("gyro_z", _temp),
     "temperature_lag": ("gyro_z", _temp_lag),
     "warmup_transient": ("accel_z", _warmup),
+    "bias_step": ("accel_x", _bias_step),
     "sinusoid": ("accel_x", _sinusoid),
     "vibration": ("accel_y", _vibration),
 }
@@ -284,5 +291,5 @@ def make(name: str | None, n: int, seed: int) -> tuple[dict, np.ndarray | None, 
 
 
 #: Every hidden effect the benchmark draws, in the order it prints them.
-ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "temperature_lag", "warmup_transient",
+ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "temperature_lag", "warmup_transient", "bias_step",
        "quantization", "sinusoid", "vibration", "heavy_tailed", "outliers")

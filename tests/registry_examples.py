@@ -7,6 +7,7 @@ EXAMPLE_PARAMS = {
     "rate_quantization": {"step": 1e-4}, "bias_instability": {"B": 1e-4},
     "rate_random_walk": {"K": 1e-5}, "rate_ramp": {"R": 1e-6},
     "warmup_transient": {"amplitude": 1e-4, "tau_s": 300.0},
+    "bias_step": {"amplitude": 1e-4, "time_s": 60.0},
     "sinusoid": {"frequency_hz": 1.0, "amplitude": 1e-4},
     "gauss_markov": {"tau_s": 1.0, "sigma": 1e-4},
     "temperature_sensitivity": {"coefficient": 1e-5},

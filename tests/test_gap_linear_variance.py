@@ -55,6 +55,8 @@ CASES = {
     "quantization": [WHITE, _e("quantization", Q=2e-5)],
     "rate_quantization": [WHITE, _e("rate_quantization", step=5e-4)],
     "deterministic": [WHITE, _e("rate_ramp", R=1e-5), _e("temperature_sensitivity", coefficient=1e-4)],
+    "transient_and_step": [WHITE, _e("warmup_transient", amplitude=1e-3, tau_s=5.0),
+                           _e("bias_step", amplitude=-2e-3, time_s=17.3)],
 }
 
 

@@ -21,14 +21,15 @@ def _part() -> PartSpec:
                     accel_misalignment_mrad=0.5)
 
 
-def test_vocabulary_is_the_shared_one_plus_lowpass_vibration_heavy_tails_thermal_lag_warmup():
+def test_vocabulary_is_the_shared_one_plus_lowpass_vibration_heavy_tails_thermal_lag_warmup_step():
     """The effect/parameter table is pinned: changing it is a deliberate act."""
     assert set(EFFECT_NAMES) == {"white_noise", "quantization", "rate_quantization", "bias_instability",
-                                 "rate_random_walk", "rate_ramp", "warmup_transient", "sinusoid", "gauss_markov",
+                                 "rate_random_walk", "rate_ramp", "warmup_transient", "bias_step", "sinusoid", "gauss_markov",
                                  "temperature_sensitivity", "temperature_lag", "outliers", "lowpass", "vibration",
                                  "heavy_tailed"}
     assert EFFECT_PARAMS["temperature_lag"].keys() == {"coefficient", "tau_s"}
     assert EFFECT_PARAMS["warmup_transient"].keys() == {"amplitude", "tau_s"}
+    assert EFFECT_PARAMS["bias_step"].keys() == {"amplitude", "time_s"}
     assert EFFECT_PARAMS["rate_quantization"].keys() == {"step"}
     assert EFFECT_PARAMS["vibration"].keys() == {"center_hz", "width_hz", "sigma"}
     assert EFFECT_PARAMS["heavy_tailed"].keys() == {"density", "dof"}

@@ -23,6 +23,7 @@ EXAMPLES = {
     "rate_random_walk": {"K": 1e-4},
     "rate_ramp": {"R": 1e-4},
     "warmup_transient": {"amplitude": 1e-3, "tau_s": 20.0},
+    "bias_step": {"amplitude": 1e-3, "time_s": 15.0},
     "sinusoid": {"frequency_hz": 3.0, "amplitude": 1e-3},
     "gauss_markov": {"tau_s": 1.0, "sigma": 1e-3},
     "temperature_sensitivity": {"coefficient": 1e-4},

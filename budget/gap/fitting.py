@@ -52,16 +52,14 @@ class FitContext:
         pred = self.model.predict(inc, self.grid)
         terms = gap_terms(self.meas, pred, self.grid)
         linear = terms.linear_sq
-        if inc.slope_var > 0 and self.model.slope_var > 0:
-            linear += math.log(pred.slope_var / self.model.slope_var)
-        if inc.temp_var > 0 and self.model.temp_var > 0 and self.meas.temp_coef is not None:
-            linear += math.log(pred.temp_var / self.model.temp_var)
+        if inc.slope_var > 0:
+            linear += _widening(pred.slope_var, self.model.slope_var)
+        if inc.temp_var > 0 and self.meas.temp_coef is not None:
+            linear += _widening(pred.temp_var, self.model.temp_var)
         if (inc.walk_cov is not None and self.model.walk_cov is not None and pred.walk_cov is not None
                 and self.grid.walk is not None and self.grid.walk.early is not None and self.meas.walk is not None):
-            v0 = walk.early_var(self.model.walk_cov, self.grid.walk)
-            v1 = walk.early_var(pred.walk_cov, self.grid.walk)
-            if v0 > 0 and v1 > 0:
-                linear += math.log(v1 / v0)
+            linear += _widening(walk.early_var(pred.walk_cov, self.grid.walk),
+                                walk.early_var(self.model.walk_cov, self.grid.walk))
         return terms.sum_sq - terms.linear_sq + linear, linear
 
     def walk_cov(self, name: str, params: dict) -> np.ndarray | None:
@@ -94,6 +92,13 @@ class FitContext:
         v_meas = 0.5 / self.meas.edf if self.meas.edf is not None else v
         w = 1.0 / ((2.0 * self.model.avar) ** 2 * (v_meas + v / self.model.n_real))
         return y, w
+
+
+def _widening(var_new: float, var_old: float) -> float:
+    """ln(var'/var): what a candidate that widens a linear statistic's scatter pays beside its
+    z² (the Gaussian log-likelihood's −2·ln of the density's scale); 0 when either is not
+    positive."""
+    return math.log(var_new / var_old) if var_new > 0 and var_old > 0 else 0.0
 
 
 @dataclass

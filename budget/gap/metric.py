@@ -216,6 +216,10 @@ class GapTerms:
     #: z with the spectral block decorrelated (:mod:`budget.gap.whitening`), what Σz² sums;
     #: ``None``: the z themselves
     zw: np.ndarray | None = None
+    #: the slow-mode statistic on all the modes, the early direction included
+    #: (:func:`budget.gap.walk.walk_z` with ``whole``): what opens a channel for slow power;
+    #: not a term of Σz² (the split form and the early statistic are)
+    slow_whole_z: float | None = None
 
     @property
     def objective_z(self) -> np.ndarray:
@@ -277,6 +281,7 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
     where = [f"τ = {t:.4g} s" for t in tau]
     locus = [tau]
     line_hz = None
+    slow_whole = None
     if meas.psd is not None and model.psd is not None:
         counts = band_counts(grid)
         K = grid.n_segments
@@ -320,6 +325,7 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
         if meas.walk is not None and model.walk_cov is not None and grid.walk is not None:
             y = meas.walk if model.walk_mean is None else meas.walk - model.walk_mean
             z.append(np.array([walk.walk_z(y, model.walk_cov, grid.walk)]))
+            slow_whole = walk.walk_z(y, model.walk_cov, grid.walk, whole=True)
             kinds.append("walk")
             where.append(f"slow modes, periods ≥ {grid.walk.shortest_period_s:.0f} s")
             locus.append(np.array([np.nan]))
@@ -340,7 +346,7 @@ def gap_terms(meas: Signature, model: ModelSummary, grid: SignatureGrid) -> GapT
             locus.append(np.sqrt(edges[:-1] * edges[1:]))
     z = np.concatenate(z)
     zw = grid.whitening.apply(z) if grid.whitening is not None else None
-    return GapTerms(z, np.array(kinds), where, np.concatenate(locus), line_hz, zw)
+    return GapTerms(z, np.array(kinds), where, np.concatenate(locus), line_hz, zw, slow_whole)
 
 
 def _line_z(p_meas: np.ndarray, p_model: np.ndarray, grid: SignatureGrid, S: int) -> tuple[float, float]:

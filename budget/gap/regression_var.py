@@ -32,7 +32,7 @@ from scipy import interpolate, signal
 from ..imu import Effect
 from ..imu import effects as fx
 from ..imu.flicker import flicker_bank
-from ..imu.registry import DETERMINISTIC_EFFECTS, REGISTRY, TEMPERATURE_EFFECTS
+from ..imu.registry import DETERMINISTIC_EFFECTS, REGISTRY
 
 #: Table points per decade of τc for :class:`GaussMarkovTable`.
 POINTS_PER_DECADE = 8
@@ -171,7 +171,7 @@ def model_weight_variance(effects: Iterable[Effect], weights: np.ndarray, dt_s: 
 def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: float,
                       temp_c: np.ndarray | None) -> float | None:
     """E(Σ w_j x_j) under ``effects`` (SI) for weights with Σ w = 0: a ramp adds R·Σ w_j t_j, a
-    warm-up transient A·Σ w_j e^(−t_j/τ), a
+    warm-up transient A·Σ w_j e^(−t_j/τ), a bias step A·Σ_{t_j ≥ t₀} w_j, a
     temperature sensitivity c·Σ w_j (T_j − T_0) with T the log's temperature (a thermal lag:
     the lagged T_e, :func:`budget.imu.effects.temperature_response`; what the
     generator is driven by); every other registered effect has zero mean (random phase,
@@ -180,16 +180,11 @@ def model_weight_mean(effects: Iterable[Effect], weights: np.ndarray, rate_hz: f
     w = np.asarray(weights, float)
     total = 0.0
     for f in effects:
-        if f.name == "rate_ramp":
-            total += f.param("R") * float(np.dot(w, np.arange(w.size) / rate_hz))
-        elif f.name == "warmup_transient":
-            resp = fx.warmup_response(f.param("tau_s"), w.size, 1.0 / rate_hz)
-            total += f.param("amplitude") * float(np.dot(w, resp))
-        elif f.name in TEMPERATURE_EFFECTS:
-            if temp_c is None:
+        if f.name in DETERMINISTIC_EFFECTS:
+            series = fx.mean_series(f.name, dict(f.params), w.size, 1.0 / rate_hz, temp_c)
+            if series is None:
                 return None
-            resp = fx.temperature_response(f.name, dict(f.params), temp_c, 1.0 / rate_hz)
-            total += f.param("coefficient") * float(np.dot(w, resp))
+            total += float(np.dot(w, series))
         elif f.name not in REGISTRY:
             return None
     return total

@@ -13,6 +13,8 @@ Each function draws only from the ``numpy.random.Generator`` it is given. Conven
 * temperature sensitivity c: c·(T(t) − T(0)) (the offset at switch-on belongs to the turn-on bias);
 * thermal lag τ_th: the same with the sensing element's temperature, which follows the logged
   temperature through a first-order lag (:func:`thermal_lag`);
+* bias step A at t₀: A·H(t − t₀), the bias jumping once by A at t₀ s after the first sample
+  (:func:`step_response`);
 * outliers: each sample is hit with probability ``rate`` by a spike of ±``magnitude``
   (random sign).
 """
@@ -48,6 +50,32 @@ def warmup_response(tau_s: float, n_samples: int, dt_s: float) -> np.ndarray:
     """e^(−t/τ) of a turn-on transient at t = k·dt, k = 0 … n−1 from the record's (or the
     simulation's) first sample, shape (n,)."""
     return np.exp(-(np.arange(n_samples) * dt_s) / tau_s)
+
+
+def step_response(time_s: float, n_samples: int, dt_s: float) -> np.ndarray:
+    """H(t − t₀) of a bias step at t₀ = ``time_s`` after the first sample: 0 before, 1 from the
+    first sample at or after t₀, at t = k·dt, k = 0 … n−1, shape (n,)."""
+    return (np.arange(n_samples) * dt_s >= time_s).astype(float)
+
+
+def mean_series(name: str, params: dict, n_samples: int, dt_s: float,
+                temp_c: np.ndarray | None) -> np.ndarray | None:
+    """The series (n,) a deterministic effect (``registry.DETERMINISTIC_EFFECTS``) adds to its
+    channel, SI: R·t, A·e^(−t/τ), A·H(t − t₀), or c times the temperature response; ``None`` for
+    a temperature effect without a temperature column. The one home of these series for the
+    statistics' means (:mod:`budget.gap.regression_var`, :mod:`budget.gap.walk`)."""
+    t = np.arange(n_samples) * dt_s
+    if name == "rate_ramp":
+        return params["R"] * t
+    if name == "warmup_transient":
+        return params["amplitude"] * warmup_response(params["tau_s"], n_samples, dt_s)
+    if name == "bias_step":
+        return params["amplitude"] * step_response(params["time_s"], n_samples, dt_s)
+    if name in ("temperature_sensitivity", "temperature_lag"):
+        if temp_c is None:
+            return None
+        return params["coefficient"] * temperature_response(name, params, temp_c, dt_s)
+    raise ValueError(f"{name!r} is not a deterministic effect")
 
 
 def temperature_response(name: str, params: dict, temp_c: np.ndarray, dt_s: float) -> np.ndarray:

@@ -19,6 +19,9 @@ warmup_transient            ``amplitude`` (channel unit, signed: the bias at the
                             above its settled value), ``tau_s``: A·e^(−t/τ), t from the first
                             sample of the log (of the aperture in a Monte Carlo: the IMU
                             switched on with it, the worst case)
+bias_step                   ``amplitude`` (channel unit, signed), ``time_s``: the bias jumps
+                            by A at t₀ = ``time_s`` after the first sample of the log (of the
+                            simulation in a Monte Carlo) and stays there
 sinusoid                    ``frequency_hz``, ``amplitude`` (peak, channel unit)
 gauss_markov                ``tau_s`` (correlation time), ``sigma`` (steady-state 1σ)
 temperature_sensitivity     ``coefficient`` (channel unit/°C), signed

@@ -77,6 +77,11 @@ def _warmup(p, n_trials, time_s, dt_s, rng, temp):
                            (n_trials, time_s.size))
 
 
+def _step(p, n_trials, time_s, dt_s, rng, temp):
+    return np.broadcast_to(p["amplitude"] * fx.step_response(p["time_s"], time_s.size, dt_s),
+                           (n_trials, time_s.size))
+
+
 def _sinusoid(p, n_trials, time_s, dt_s, rng, temp):
     return fx.sinusoid(n_trials, time_s, p["frequency_hz"], p["amplitude"], rng)
 
@@ -105,6 +110,10 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
     EffectSpec("warmup_transient", {"amplitude": ParamSpec("", None), "tau_s": ParamSpec("s", 0.0, False, True)},
                "additive", "turn-on transient A·e^(−t/τ) from the first sample: a slope and a slow-mode "
                "pattern concentrated at the start, no variance of its own", _warmup),
+    EffectSpec("bias_step", {"amplitude": ParamSpec("", None), "time_s": ParamSpec("s", 0.0, False, True)},
+               "additive", "the bias jumps once by A at t₀ after the first sample: a slope, a slow-mode "
+               "pattern located at t₀, Allan variance growing as τ at long τ like a walk's, no variance "
+               "of its own", _step),
     EffectSpec("sinusoid", {"frequency_hz": _HZ, "amplitude": ParamSpec("")}, "additive",
                "PSD line A²/2 at f; ADEV A·sin²(πfτ)/(πfτ)", _sinusoid),
     EffectSpec("gauss_markov", {"tau_s": ParamSpec("s", 0.0, False, True), "sigma": ParamSpec("")},
@@ -134,6 +143,6 @@ EFFECT_NAMES = tuple(REGISTRY)
 TEMPERATURE_EFFECTS = ("temperature_sensitivity", "temperature_lag")
 #: Deterministic additive series (the same in every realization): they move the mean of the
 #: slope, temperature and slow-mode statistics and add no variance to them.
-DETERMINISTIC_EFFECTS = ("rate_ramp", "warmup_transient", *TEMPERATURE_EFFECTS)
+DETERMINISTIC_EFFECTS = ("rate_ramp", "warmup_transient", "bias_step", *TEMPERATURE_EFFECTS)
 #: The output quantizers (stage ``output``): a channel has at most one of them.
 QUANTIZERS = tuple(n for n, s in REGISTRY.items() if s.stage == "output")

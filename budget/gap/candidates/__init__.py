@@ -21,7 +21,7 @@ One module per family, each candidate class named after its effect:
 * :mod:`~budget.gap.candidates.floor` — the Allan-floor terms, linear in one variance: white
   noise, quantization, rate quantization, bias instability, rate random walk;
 * :mod:`~budget.gap.candidates.regressors` — deterministic series times a coefficient: rate
-  ramp, temperature sensitivity, thermal lag, warm-up transient;
+  ramp, temperature sensitivity, thermal lag, warm-up transient, bias step;
 * :mod:`~budget.gap.candidates.spectral` — shapes in the spectrum: sinusoid, Gauss–Markov, the
   output low-pass, vibration;
 * :mod:`~budget.gap.candidates.impulsive` — the distribution's tails: outliers, heavy tails.
@@ -34,7 +34,7 @@ from ...imu.registry import EFFECT_NAMES
 from ..fitting import Candidate
 from .floor import BiasInstability, Quantization, RateQuantization, RateRandomWalk, WhiteNoise
 from .impulsive import HeavyTailed, Outliers
-from .regressors import RateRamp, TemperatureLag, TemperatureSensitivity, WarmupTransient
+from .regressors import BiasStep, RateRamp, TemperatureLag, TemperatureSensitivity, WarmupTransient
 from .spectral import GaussMarkov, Lowpass, Sinusoid, Vibration
 
 #: Effects the workflow can name: the effect registry, in its order.
@@ -42,5 +42,5 @@ VOCABULARY = EFFECT_NAMES
 
 LIBRARY: dict[str, Candidate] = {c.name: c for c in (
     WhiteNoise(), Quantization(), RateQuantization(), BiasInstability(), RateRandomWalk(), RateRamp(),
-    WarmupTransient(), Sinusoid(), GaussMarkov(), TemperatureSensitivity(), TemperatureLag(), Outliers(), Lowpass(),
+    WarmupTransient(), BiasStep(), Sinusoid(), GaussMarkov(), TemperatureSensitivity(), TemperatureLag(), Outliers(), Lowpass(),
     Vibration(), HeavyTailed())}

@@ -1,7 +1,7 @@
 """Deterministic-regressor candidates: a rate ramp (drift linear in time), a temperature
 sensitivity (output linear in the temperature column), a thermal lag (linear in the
-temperature seen through a first-order lag of time constant τ) and a warm-up transient
-(a bias settling as e^(−t/τ) from the log's start). Each is a known series times
+temperature seen through a first-order lag of time constant τ), a warm-up transient
+(a bias settling as e^(−t/τ) from the log's start) and a bias step (a jump of the bias at t₀). Each is a known series times
 its coefficient: it moves the mean of the slope and temperature regression statistics, and adds
 that series' own Allan variance, PSD and slow-mode coefficients (no variance of its own).
 
@@ -16,7 +16,7 @@ from abc import abstractmethod
 import numpy as np
 from scipy import optimize
 
-from ...imu.effects import thermal_lag, warmup_response
+from ...imu.effects import step_response, thermal_lag, warmup_response
 from .. import lowfreq, walk
 from .. import theory as th
 from ..fitting import Candidate, amp2_start
@@ -235,8 +235,8 @@ class WarmupTransient(_ScaledSeries):
     amplitude scale the slope regression reads (Δslope = measured − model time slope, T the
     record's length). Over an hour a transient of a few minutes tilts the slope regression and
     puts a pattern in the slowest modes concentrated at the record's start — which a rate random
-    walk, a ramp or a slow Gauss–Markov term would otherwise take; a bias step is not this
-    effect (it is named as whichever of those fits it best). τ from 2 s to a quarter of the
+    walk, a ramp or a slow Gauss–Markov term would otherwise take (a bias step is
+    :class:`BiasStep`). τ from 2 s to a quarter of the
     record (longer is a trend)."""
 
     name, coefficient = "warmup_transient", "amplitude"
@@ -252,6 +252,97 @@ class WarmupTransient(_ScaledSeries):
 
     def _ref_factor(self, ctx):
         return ctx.grid.n_samples * ctx.grid.dt_s
+
+    def applicable(self, ctx):
+        return (super().applicable(ctx) and ctx.grid.time_w is not None and ctx.meas.slope is not None
+                and ctx.model.slope is not None)
+
+
+class BiasStep(_ScaledSeries):
+    """A bias step A·H(t − t₀): the bias jumps once by A at t₀ and stays (a MEMS bias jump, a
+    mode change). θ = (A/A₀, ln t₀), A₀ = |Δslope|·T as for :class:`WarmupTransient`. Over a
+    record the step tilts the slope regression and gives the slowest modes a mean located at t₀
+    — where a rate random walk, a ramp or a transient would only explain its power, its slope or
+    its start.
+
+    Starts: the change points of the slow modes under the model's covariance C (the
+    generalised-least-squares change-point scan): for each block boundary a, the modes
+    v_a = D·S(H_a) of a unit step there and the score (v_aᵀC⁻¹y)²/(v_aᵀC⁻¹v_a) — the
+    likelihood-ratio statistic of a step of unknown size at a against the model (Hinkley 1970,
+    with the model's correlated noise whitened) — its three best separated maxima; without
+    slow modes an even grid of 16 positions. t₀ from 1/64 to 63/64 of the record (nearer an end
+    a step is the turn-on bias or a run of outliers); the search refines t₀ within ±2 blocks."""
+
+    name, coefficient = "bias_step", "amplitude"
+    N_GRID = 16
+    N_PEAKS = 3
+
+    def _series(self, ctx, t0):
+        return step_response(t0, ctx.grid.n_samples, ctx.grid.dt_s)
+
+    def _delta(self, ctx):
+        return ctx.meas.slope - ctx.model.slope
+
+    def _unit_stat(self, unit):
+        return unit.slope
+
+    def _ref_factor(self, ctx):
+        return ctx.grid.n_samples * ctx.grid.dt_s
+
+    def _tau_range(self, ctx):
+        span = ctx.grid.n_samples * ctx.grid.dt_s
+        return span / 64.0, span * 63.0 / 64.0
+
+    def _block_s(self, ctx):
+        lay = ctx.grid.walk
+        return (lay.block if lay is not None else max(ctx.grid.n_samples // 256, 1)) * ctx.grid.dt_s
+
+    def _change_points(self, ctx) -> list[float]:
+        """t₀ (s) of the best separated maxima of the GLS change-point score (class docstring)."""
+        lay, cov = ctx.grid.walk, ctx.model.walk_cov
+        lo, hi = self._tau_range(ctx)
+        if lay is None or cov is None or ctx.meas.walk is None:
+            return list(np.linspace(lo, hi, self.N_GRID))
+        y = ctx.meas.walk if ctx.model.walk_mean is None else ctx.meas.walk - ctx.model.walk_mean
+        nb, m = lay.n_blocks, lay.block
+        # block sums of a unit step at the start of block a: m in blocks ≥ a
+        steps = m * np.triu(np.ones((nb, nb)))  # [b, a] = m for b ≥ a
+        v = lay.basis @ steps                   # (K, nb): modes of each step
+        ci = np.linalg.solve(cov, np.column_stack([y, v]))
+        num, den = (y @ ci[:, 1:]), np.einsum("ka,ka->a", v, ci[:, 1:])
+        score = np.where(den > 0, num * num / np.where(den > 0, den, 1.0), 0.0)
+        t = np.arange(nb) * m * ctx.grid.dt_s
+        score[(t < lo) | (t > hi)] = -np.inf
+        out: list[float] = []
+        for a in np.argsort(score)[::-1]:
+            if not np.isfinite(score[a]) or len(out) == self.N_PEAKS:
+                break
+            if all(abs(t[a] - u) > 4 * m * ctx.grid.dt_s for u in out):
+                out.append(float(t[a]))
+        return out
+
+    def starts(self, ctx):
+        if self._scale(ctx) == 0:
+            return []
+        scored = [(self._profile(ctx, math.log(t0)), math.log(t0)) for t0 in self._change_points(ctx)]
+        (r, _), lt = min(scored, key=lambda s: s[0][1])
+        return [np.array([r, lt])]
+
+    def search(self, theta0, ctx):
+        lo, hi = self._tau_range(ctx)
+        t0, half = math.exp(theta0[1]), 2.0 * self._block_s(ctx)
+        a, b = math.log(max(lo, t0 - half)), math.log(min(hi, t0 + half))
+        base = ctx.sumsq(self.full_increment(theta0, ctx))
+        res = optimize.minimize_scalar(lambda lt: self._profile(ctx, lt)[1], bounds=(a, b), method="bounded",
+                                       options={"xatol": 1e-3})
+        lt = float(res.x) if res.fun <= base else float(theta0[1])
+        r, val = self._profile(ctx, lt)
+        return np.array([r, lt]), val
+
+    def params(self, theta, ctx):
+        lo, hi = self._tau_range(ctx)
+        return {"amplitude": float(theta[0]) * self._scale(ctx),
+                "time_s": float(np.clip(math.exp(theta[1]), lo, hi))}
 
     def applicable(self, ctx):
         return (super().applicable(ctx) and ctx.grid.time_w is not None and ctx.meas.slope is not None
