@@ -18,7 +18,8 @@ import pytest
 import gap_truth as gt
 from budget.gap import log_from_arrays, run_gap
 from budget.gap.effect_size import EffectSizeBand, Sizes
-from budget.gap.workflow import ALTERNATIVE_MARGIN, _alternatives, _size_gain
+from budget.gap.choice import ALTERNATIVE_MARGIN, alternatives
+from budget.gap.workflow import _size_gain
 from budget.imu import NoiseModel
 
 BASE = NoiseModel.model_validate(gt.base_model_dict())
@@ -117,7 +118,7 @@ def test_rate_random_walk_on_an_independent_one_hour_log_is_named_first(seed):
 
 
 def test_alternatives_are_same_channel_effects_within_the_margin_best_first():
-    """:func:`_alternatives` on made-up scores: other effects of the named effect's channel
+    """:func:`alternatives` on made-up scores: other effects of the named effect's channel
     that pass (score > 0) within ALTERNATIVE_MARGIN, one entry per effect (its best fit)."""
     from budget.gap.fitting import CandidateFit
     from budget.imu import Effect
@@ -135,7 +136,7 @@ def test_alternatives_are_same_channel_effects_within_the_margin_best_first():
         f = fit(name, x)
         scores[id(f)] = sc
         items.append((ch, f))
-    alts = _alternatives("gyro_x", best, items, lambda item: scores[id(item[1])])
+    alts = alternatives("gyro_x", best, items, lambda item: scores[id(item[1])])
     assert [(a["name"], a["params"]["x"], a["margin"]) for a in alts] == [
         ("rate_ramp", 3, pytest.approx(1.0)), ("gauss_markov", 1, pytest.approx(3.0))]
 

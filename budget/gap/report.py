@@ -81,7 +81,7 @@ class GapStep(_EffectSizes):
     sizes_before: Sizes | None = None  # the channel's effect sizes before/after the step
     sizes_after: Sizes | None = None
     #: other effects the record does not tell apart from this one on its channel (name, params,
-    #: margin below this effect's penalised improvement: :data:`budget.gap.workflow.ALTERNATIVE_MARGIN`)
+    #: margin below this effect's penalised improvement: :data:`budget.gap.choice.ALTERNATIVE_MARGIN`)
     alternatives: tuple[dict, ...] = ()
 
     def to_dict(self) -> dict:

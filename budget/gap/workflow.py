@@ -29,7 +29,7 @@
    effect only if the *simulated* improvement passes the same test; otherwise discard it and
    try the next. Occam's step: on the chosen channel, a candidate with fewer parameters that
    already brings the channel within its null threshold is preferred to a better-fitting
-   richer one unless the extra parameters pass the same test (:func:`_parsimonious`). A step
+   richer one unless the extra parameters pass the same test (:func:`budget.gap.choice.parsimonious`). A step
    must also shrink its channel's effect size (:func:`_size_gain`, predicted when the
    candidates are ranked and simulated when the step is kept): it must remove ≥ ``min_gain``
    of the excess Σz² or of the excess effect size, and may not leave every open size larger.
@@ -52,7 +52,8 @@ from threadpoolctl import threadpool_limits
 
 from ..errors import InputError, from_validation_error
 from ..imu import Effect, NoiseModel
-from . import walk, whitening
+from . import whitening
+from .choice import alternatives, located_over_spread, parsimonious
 from .candidates import LIBRARY
 from .detectors import direct_proposals
 from .fitting import CandidateFit, FitContext
@@ -250,130 +251,6 @@ def _fits(model: NoiseModel, ch: str, st: _State) -> list[CandidateFit]:
         if fit is not None:
             out.append(fit)
     return out
-
-
-#: An alternative whose penalised improvement is within this of the named effect's is said in
-#: the step: 2 ln B < 6, i.e. a likelihood ratio below 20 — at most "positive" evidence for the
-#: named effect on Kass & Raftery's scale (JASA 90(430), 1995), not "strong".
-ALTERNATIVE_MARGIN = 6.0
-
-
-def _alternatives(ch: str, best: CandidateFit, scored, score, st: _State | None = None) -> tuple[dict, ...]:
-    """Other effects on the named effect's channel that pass the same test and whose score
-    (penalised Σz² improvement, the ranking's own) is within :data:`ALTERNATIVE_MARGIN` of
-    ``best``'s: the record does not tell them apart (e.g. a rate random walk and a ramp or a
-    flicker term over one hour) — unless the slow modes' likelihood does, by more than the same
-    margin, for an effect located in time (:func:`_located_mode_lr`; ``st``: the channel's
-    state, ``None``: scores only). Best first; ``margin`` is how far below ``best`` each lies."""
-    top = score((ch, best))
-    out = []
-    for c, f in scored:
-        if c != ch or f.effect.name == best.effect.name:
-            continue
-        s = score((c, f))
-        if np.isfinite(s) and s > 0 and top - s <= ALTERNATIVE_MARGIN:
-            lr = None if st is None else _located_mode_lr(st, f.effect, best.effect)
-            if lr is None and st is not None:
-                back = _located_mode_lr(st, best.effect, f.effect)
-                lr = None if back is None else -back
-            if lr is not None and lr > ALTERNATIVE_MARGIN:
-                continue
-            out.append((s, f))
-    seen, alts = set(), []
-    for s, f in sorted(out, key=lambda t: -t[0]):
-        if f.effect.name not in seen:  # one entry per effect (its best fit)
-            seen.add(f.effect.name)
-            alts.append({"name": f.effect.name, "params": dict(f.effect.params),
-                         "margin": float(top - s)})
-    return tuple(alts)
-
-
-def _located_over_spread(ch: str, best: CandidateFit, scored, score, st: _State,
-                         alpha: float) -> CandidateFit:
-    """When the best-scoring candidate explains the slow modes by a spread (a walk, a flicker
-    term) and another on its channel, within :data:`ALTERNATIVE_MARGIN` of it on the ranking's
-    penalised Σz², explains them by a located pattern whose modes' likelihood is higher by more
-    than χ²_Δp(1 − α) (Δp its extra parameters, at least 1; :func:`_located_mode_lr`), the
-    located one is taken: Σz² does not tell the two apart, the modes do."""
-    top = score((ch, best))
-    better = []
-    for c, f in scored:
-        if c != ch or f.effect.name == best.effect.name or not (np.isfinite(score((c, f))) and score((c, f)) > 0):
-            continue
-        if top - score((c, f)) > ALTERNATIVE_MARGIN:
-            continue
-        lr = _located_mode_lr(st, best.effect, f.effect)
-        if lr is not None and lr > stats.chi2.isf(alpha, max(f.n_params - best.n_params, 1)):
-            better.append((lr, f))
-    return max(better, key=lambda t: t[0])[1] if better else best
-
-
-def _parsimonious(ch: str, best: CandidateFit, scored, score, st: _State, null: NullModel,
-                  alpha: float) -> CandidateFit:
-    """Occam's step on the channel of the best-scoring candidate. If a significant candidate
-    with fewer parameters already brings the channel within its null threshold, ``best`` keeps
-    its place only when its extra parameters buy a significant further drop of Σz²:
-
-        (Σz²_simple − Σz²_best)/φ > χ²_Δp⁻¹(1 − α),
-
-    a likelihood-ratio test of the extra parameters Δp at the workflow's level α (one
-    pairwise question, so no multiplicity correction). Near the
-    detection limit a two-parameter shape (a Gauss–Markov hump) fits one realization of a
-    one-parameter effect (flicker) a little better than the effect itself; a drop that small
-    is not evidence for the richer effect."""
-    limit = null.channel_threshold(ch) * st.terms.n_terms
-    simpler = [item for item in scored if item[0] == ch and item[1].n_params < best.n_params
-               and item[1].sum_sq <= limit and score(item) > 0]
-    if not simpler:
-        return best
-    simple = max(simpler, key=score)[1]
-    extra = null.drop(ch, simple.sum_sq, simple.linear_sq, best.sum_sq, best.linear_sq)
-    need = stats.chi2.isf(alpha, best.n_params - simple.n_params)
-    if extra > need:
-        return best
-    lr = _located_mode_lr(st, simple.effect, best.effect)
-    return best if lr is not None and lr > need else simple
-
-
-def _located_mode_lr(st: _State, spread: Effect, located: Effect) -> float | None:
-    """2·ln of the likelihood ratio of the record's slowest modes (:mod:`budget.gap.walk`) with
-    ``located`` added to the model against with ``spread``, when ``located`` gives the modes a
-    mean — a pattern located in time (a bias step, a transient, a thermal lag) — and ``spread``
-    gives them covariance and no mean (a walk, a flicker or Gauss–Markov term); ``None``
-    otherwise.
-
-    The slow-mode statistic T is quadratic: a walk and a step of the same slow power leave it
-    equally well explained, so Σz² can neither rank them (a step 0.2 below a walk on one of ten
-    one-hour step logs) nor pay the step's second parameter (0.9–2.3 better on four, under
-    χ²₁(0.99) = 6.6). The modes' own Gaussian likelihood (:func:`budget.gap.walk.log_likelihood`)
-    tells a located mean from a spread; it is the likelihood of a part of the data, so its ratio
-    is a fair second test at the same level. Between a located pattern and nothing in the modes
-    (a ramp, which the modes project out) T and the early statistic already see the pattern's
-    power, and Σz² alone judges."""
-    lay, y, cov0 = st.grid.walk, st.meas.walk, st.summary.walk_cov
-    if lay is None or y is None or cov0 is None:
-        return None
-    temp = st.grid.temp_c
-    mean_rich = walk.effect_mean(located.name, dict(located.params), lay, temp)
-    if mean_rich is None or not np.any(mean_rich):
-        return None
-    cov_s = walk.effect_cov(spread.name, dict(spread.params), lay)
-    mean_s = walk.effect_mean(spread.name, dict(spread.params), lay, temp)
-    if cov_s is None or not np.any(cov_s) or mean_s is None or np.any(mean_s):
-        return None
-    base = st.summary.walk_mean
-
-    def loglik(eff: Effect) -> float | None:
-        c, mu = walk.effect_cov(eff.name, dict(eff.params), lay), walk.effect_mean(eff.name, dict(eff.params), lay, temp)
-        if c is None or mu is None:
-            return None
-        try:
-            return walk.log_likelihood(y, mu if base is None else base + mu, cov0 + c)
-        except np.linalg.LinAlgError:
-            return None
-
-    a, b = loglik(located), loglik(spread)
-    return None if a is None or b is None else 2.0 * (a - b)
 
 
 def _simulate_candidate(model: NoiseModel, ch: str, old: _State, fit: CandidateFit, n_real: int,
@@ -583,15 +460,15 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                         - stats.chi2.isf(alpha / n_cand, f.n_params))
 
             ch, best = max(scored, key=score)
-            best = _located_over_spread(ch, best, scored, score, states[ch], alpha)
-            best = _parsimonious(ch, best, scored, score, states[ch], null, alpha)
+            best = located_over_spread(ch, best, scored, score, states[ch], alpha)
+            best = parsimonious(ch, best, scored, score, states[ch], null, alpha)
             if score((ch, best)) <= 0:
                 stop = ("no candidate gives a significant penalised improvement that also removes "
                         f"≥ {min_gain:.0%} of its channel's excess gap or excess effect size "
                         "without making the effect size worse")
                 break
             old = states[ch]
-            alts = _alternatives(ch, best, scored, score, states[ch])
+            alts = alternatives(ch, best, scored, score, states[ch])
             trial, new, effect = _simulate_candidate(current, ch, old, best, n_real, seed, null)
         gain = null.drop(ch, old.terms.sum_sq, old.terms.linear_sq, new.terms.sum_sq, new.terms.linear_sq)
         penalty = float(stats.chi2.isf(alpha / n_cand, best.n_params))

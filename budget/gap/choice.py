@@ -1,0 +1,150 @@
+"""Choosing among the candidates of one step of the model-gap workflow (:mod:`budget.gap.workflow`):
+which of the effects that pass the penalised test is named, and which others are said beside it.
+
+* :func:`located_over_spread` — a located pattern of the slow modes (a bias step) over a spread
+  (a walk) that Σz² ranks about equal, when the modes' own likelihood tells them apart;
+* :func:`parsimonious` — Occam's step: a richer effect keeps its place only when its extra
+  parameters buy a significant drop (of Σz², or of the modes' likelihood for a located one);
+* :func:`alternatives` — the effects the record does not tell apart from the named one.
+
+``st`` is the channel's state of the workflow: its grid, measured signature, model summary and
+gap terms."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy import stats
+
+from ..imu import Effect
+from . import walk
+from .fitting import CandidateFit
+from .metric import NullModel
+
+if TYPE_CHECKING:
+    from .workflow import _State as State
+
+
+#: An alternative whose penalised improvement is within this of the named effect's is said in
+#: the step: 2 ln B < 6, i.e. a likelihood ratio below 20 — at most "positive" evidence for the
+#: named effect on Kass & Raftery's scale (JASA 90(430), 1995), not "strong".
+ALTERNATIVE_MARGIN = 6.0
+
+
+def alternatives(ch: str, best: CandidateFit, scored, score, st: State | None = None) -> tuple[dict, ...]:
+    """Other effects on the named effect's channel that pass the same test and whose score
+    (penalised Σz² improvement, the ranking's own) is within :data:`ALTERNATIVE_MARGIN` of
+    ``best``'s: the record does not tell them apart (e.g. a rate random walk and a ramp or a
+    flicker term over one hour) — unless the slow modes' likelihood does, by more than the same
+    margin, for an effect located in time (:func:`located_mode_lr`; ``st``: the channel's
+    state, ``None``: scores only). Best first; ``margin`` is how far below ``best`` each lies."""
+    top = score((ch, best))
+    out = []
+    for c, f in scored:
+        if c != ch or f.effect.name == best.effect.name:
+            continue
+        s = score((c, f))
+        if np.isfinite(s) and s > 0 and top - s <= ALTERNATIVE_MARGIN:
+            lr = None if st is None else located_mode_lr(st, f.effect, best.effect)
+            if lr is None and st is not None:
+                back = located_mode_lr(st, best.effect, f.effect)
+                lr = None if back is None else -back
+            if lr is not None and lr > ALTERNATIVE_MARGIN:
+                continue
+            out.append((s, f))
+    seen, alts = set(), []
+    for s, f in sorted(out, key=lambda t: -t[0]):
+        if f.effect.name not in seen:  # one entry per effect (its best fit)
+            seen.add(f.effect.name)
+            alts.append({"name": f.effect.name, "params": dict(f.effect.params),
+                         "margin": float(top - s)})
+    return tuple(alts)
+
+
+def located_over_spread(ch: str, best: CandidateFit, scored, score, st: State,
+                         alpha: float) -> CandidateFit:
+    """When the best-scoring candidate explains the slow modes by a spread (a walk, a flicker
+    term) and another on its channel, within :data:`ALTERNATIVE_MARGIN` of it on the ranking's
+    penalised Σz², explains them by a located pattern whose modes' likelihood is higher by more
+    than χ²_Δp(1 − α) (Δp its extra parameters, at least 1; :func:`located_mode_lr`), the
+    located one is taken: Σz² does not tell the two apart, the modes do."""
+    top = score((ch, best))
+    better = []
+    for c, f in scored:
+        if c != ch or f.effect.name == best.effect.name or not (np.isfinite(score((c, f))) and score((c, f)) > 0):
+            continue
+        if top - score((c, f)) > ALTERNATIVE_MARGIN:
+            continue
+        lr = located_mode_lr(st, best.effect, f.effect)
+        if lr is not None and lr > stats.chi2.isf(alpha, max(f.n_params - best.n_params, 1)):
+            better.append((lr, f))
+    return max(better, key=lambda t: t[0])[1] if better else best
+
+
+def parsimonious(ch: str, best: CandidateFit, scored, score, st: State, null: NullModel,
+                  alpha: float) -> CandidateFit:
+    """Occam's step on the channel of the best-scoring candidate. If a significant candidate
+    with fewer parameters already brings the channel within its null threshold, ``best`` keeps
+    its place only when its extra parameters buy a significant further drop of Σz²:
+
+        (Σz²_simple − Σz²_best)/φ > χ²_Δp⁻¹(1 − α),
+
+    a likelihood-ratio test of the extra parameters Δp at the workflow's level α (one
+    pairwise question, so no multiplicity correction). Near the
+    detection limit a two-parameter shape (a Gauss–Markov hump) fits one realization of a
+    one-parameter effect (flicker) a little better than the effect itself; a drop that small
+    is not evidence for the richer effect."""
+    limit = null.channel_threshold(ch) * st.terms.n_terms
+    simpler = [item for item in scored if item[0] == ch and item[1].n_params < best.n_params
+               and item[1].sum_sq <= limit and score(item) > 0]
+    if not simpler:
+        return best
+    simple = max(simpler, key=score)[1]
+    extra = null.drop(ch, simple.sum_sq, simple.linear_sq, best.sum_sq, best.linear_sq)
+    need = stats.chi2.isf(alpha, best.n_params - simple.n_params)
+    if extra > need:
+        return best
+    lr = located_mode_lr(st, simple.effect, best.effect)
+    return best if lr is not None and lr > need else simple
+
+
+def located_mode_lr(st: State, spread: Effect, located: Effect) -> float | None:
+    """2·ln of the likelihood ratio of the record's slowest modes (:mod:`budget.gap.walk`) with
+    ``located`` added to the model against with ``spread``, when ``located`` gives the modes a
+    mean — a pattern located in time (a bias step, a transient, a thermal lag) — and ``spread``
+    gives them covariance and no mean (a walk, a flicker or Gauss–Markov term); ``None``
+    otherwise.
+
+    The slow-mode statistic T is quadratic: a walk and a step of the same slow power leave it
+    equally well explained, so Σz² can neither rank them (a step 0.2 below a walk on one of ten
+    one-hour step logs) nor pay the step's second parameter (0.9–2.3 better on four, under
+    χ²₁(0.99) = 6.6). The modes' own Gaussian likelihood (:func:`budget.gap.walk.log_likelihood`)
+    tells a located mean from a spread; it is the likelihood of a part of the data, so its ratio
+    is a fair second test at the same level. Between a located pattern and nothing in the modes
+    (a ramp, which the modes project out) T and the early statistic already see the pattern's
+    power, and Σz² alone judges."""
+    lay, y, cov0 = st.grid.walk, st.meas.walk, st.summary.walk_cov
+    if lay is None or y is None or cov0 is None:
+        return None
+    temp = st.grid.temp_c
+    mean_rich = walk.effect_mean(located.name, dict(located.params), lay, temp)
+    if mean_rich is None or not np.any(mean_rich):
+        return None
+    cov_s = walk.effect_cov(spread.name, dict(spread.params), lay)
+    mean_s = walk.effect_mean(spread.name, dict(spread.params), lay, temp)
+    if cov_s is None or not np.any(cov_s) or mean_s is None or np.any(mean_s):
+        return None
+    base = st.summary.walk_mean
+
+    def loglik(eff: Effect) -> float | None:
+        c, mu = walk.effect_cov(eff.name, dict(eff.params), lay), walk.effect_mean(eff.name, dict(eff.params), lay, temp)
+        if c is None or mu is None:
+            return None
+        try:
+            return walk.log_likelihood(y, mu if base is None else base + mu, cov0 + c)
+        except np.linalg.LinAlgError:
+            return None
+
+    a, b = loglik(located), loglik(spread)
+    return None if a is None or b is None else 2.0 * (a - b)
