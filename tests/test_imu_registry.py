@@ -53,3 +53,19 @@ def test_generator_walks_every_registered_effect(name):
     assert not np.allclose(a[:, :, 1], b[:, :, 1]), name
     if REGISTRY[name].stage != "gaussian":  # same draws before the effect: other axes untouched
         assert np.array_equal(a[:, :, [0, 2]], b[:, :, [0, 2]]), name
+
+
+def test_every_deterministic_effect_has_its_mean_series_as_the_generator_draws_it():
+    """The statistics' means read ``effects.mean_series``; the generator draws each deterministic
+    effect through its registry entry: the two agree, sample for sample."""
+    from budget.imu.effects import mean_series
+    from budget.imu.registry import DETERMINISTIC_EFFECTS
+
+    n, rate = 3000, 100.0
+    temp = 25.0 + 5.0 * np.sin(np.arange(n) / 400.0)
+    for name in DETERMINISTIC_EFFECTS:
+        model = NoiseModel(rate_hz=rate).with_effect({"name": name, "channel": "gyro_y", "params": EXAMPLES[name]})
+        drawn = generate_imu_errors(model, 1, n, rate, np.random.default_rng(0), temp_c=temp).gyro_rad_s[0, :, 1]
+        want = mean_series(name, EXAMPLES[name], n, 1.0 / rate, temp)
+        np.testing.assert_allclose(drawn, want, rtol=1e-12, atol=1e-15, err_msg=name)
+        assert np.any(want != 0), name
