@@ -229,20 +229,9 @@ class TemperatureLag(_ScaledSeries):
         return super().applicable(ctx) and ctx.grid.temp_w is not None and ctx.grid.temp_c is not None
 
 
-class WarmupTransient(_ScaledSeries):
-    """A turn-on transient A·e^(−t/τ), t from the log's first sample (a bias settling after
-    power-up, with or without a temperature column): θ = (A/A₀, ln τ), A₀ = |Δslope|·T, the
-    amplitude scale the slope regression reads (Δslope = measured − model time slope, T the
-    record's length). Over an hour a transient of a few minutes tilts the slope regression and
-    puts a pattern in the slowest modes concentrated at the record's start — which a rate random
-    walk, a ramp or a slow Gauss–Markov term would otherwise take (a bias step is
-    :class:`BiasStep`). τ from 2 s to a quarter of the
-    record (longer is a trend)."""
-
-    name, coefficient = "warmup_transient", "amplitude"
-
-    def _series(self, ctx, tau):
-        return warmup_response(tau, ctx.grid.n_samples, ctx.grid.dt_s)
+class _SlopeScaled(_ScaledSeries):
+    """A series whose coefficient the time-slope regression reads: c_ref = |Δslope|·T
+    (Δslope = measured − model time slope, T the record's length)."""
 
     def _delta(self, ctx):
         return ctx.meas.slope - ctx.model.slope
@@ -258,7 +247,23 @@ class WarmupTransient(_ScaledSeries):
                 and ctx.model.slope is not None)
 
 
-class BiasStep(_ScaledSeries):
+class WarmupTransient(_SlopeScaled):
+    """A turn-on transient A·e^(−t/τ), t from the log's first sample (a bias settling after
+    power-up, with or without a temperature column): θ = (A/A₀, ln τ), A₀ = |Δslope|·T, the
+    amplitude scale the slope regression reads (Δslope = measured − model time slope, T the
+    record's length). Over an hour a transient of a few minutes tilts the slope regression and
+    puts a pattern in the slowest modes concentrated at the record's start — which a rate random
+    walk, a ramp or a slow Gauss–Markov term would otherwise take (a bias step is
+    :class:`BiasStep`). τ from 2 s to a quarter of the
+    record (longer is a trend)."""
+
+    name, coefficient = "warmup_transient", "amplitude"
+
+    def _series(self, ctx, tau):
+        return warmup_response(tau, ctx.grid.n_samples, ctx.grid.dt_s)
+
+
+class BiasStep(_SlopeScaled):
     """A bias step A·H(t − t₀): the bias jumps once by A at t₀ and stays (a MEMS bias jump, a
     mode change). θ = (A/A₀, ln t₀), A₀ = |Δslope|·T as for :class:`WarmupTransient`. Over a
     record the step tilts the slope regression and gives the slowest modes a mean located at t₀
@@ -279,15 +284,6 @@ class BiasStep(_ScaledSeries):
 
     def _series(self, ctx, t0):
         return step_response(t0, ctx.grid.n_samples, ctx.grid.dt_s)
-
-    def _delta(self, ctx):
-        return ctx.meas.slope - ctx.model.slope
-
-    def _unit_stat(self, unit):
-        return unit.slope
-
-    def _ref_factor(self, ctx):
-        return ctx.grid.n_samples * ctx.grid.dt_s
 
     def _tau_range(self, ctx):
         span = ctx.grid.n_samples * ctx.grid.dt_s
@@ -343,7 +339,3 @@ class BiasStep(_ScaledSeries):
         lo, hi = self._tau_range(ctx)
         return {"amplitude": float(theta[0]) * self._scale(ctx),
                 "time_s": float(np.clip(math.exp(theta[1]), lo, hi))}
-
-    def applicable(self, ctx):
-        return (super().applicable(ctx) and ctx.grid.time_w is not None and ctx.meas.slope is not None
-                and ctx.model.slope is not None)
