@@ -62,8 +62,10 @@ def mean_series(name: str, params: dict, n_samples: int, dt_s: float,
                 temp_c: np.ndarray | None) -> np.ndarray | None:
     """The series (n,) a deterministic effect (``registry.DETERMINISTIC_EFFECTS``) adds to its
     channel, SI: R·t, A·e^(−t/τ), A·H(t − t₀), or c times the temperature response; ``None`` for
-    a temperature effect without a temperature column. The one home of these series for the
-    statistics' means (:mod:`budget.gap.regression_var`, :mod:`budget.gap.walk`)."""
+    a temperature effect without a temperature column (``temp_c`` (N,) or (T, N)). The one home
+    of these series: the generator draws them (:mod:`budget.imu.registry`) and the model gap's
+    statistics read their means from them (:mod:`budget.gap.regression_var`,
+    :mod:`budget.gap.walk`)."""
     t = np.arange(n_samples) * dt_s
     if name == "rate_ramp":
         return params["R"] * t

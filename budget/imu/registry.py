@@ -58,28 +58,14 @@ class EffectSpec:
     simulate: Callable | None = field(default=None, compare=False)
 
 
-def _ramp(p, n_trials, time_s, dt_s, rng, temp):
-    return np.broadcast_to(p["R"] * time_s, (n_trials, time_s.size))
+def _deterministic(name: str) -> Callable:
+    """The generator of a deterministic effect: its series (:func:`budget.imu.effects.mean_series`,
+    the one the model gap's statistics read their means from) in every trial."""
 
+    def simulate(p, n_trials, time_s, dt_s, rng, temp):
+        return np.broadcast_to(fx.mean_series(name, p, time_s.size, dt_s, temp), (n_trials, time_s.size))
 
-def _temperature(p, n_trials, time_s, dt_s, rng, temp):
-    return np.broadcast_to(p["coefficient"] * fx.temperature_response("temperature_sensitivity", p, temp, dt_s),
-                           (n_trials, time_s.size))
-
-
-def _temperature_lag(p, n_trials, time_s, dt_s, rng, temp):
-    return np.broadcast_to(p["coefficient"] * fx.temperature_response("temperature_lag", p, temp, dt_s),
-                           (n_trials, time_s.size))
-
-
-def _warmup(p, n_trials, time_s, dt_s, rng, temp):
-    return np.broadcast_to(p["amplitude"] * fx.warmup_response(p["tau_s"], time_s.size, dt_s),
-                           (n_trials, time_s.size))
-
-
-def _step(p, n_trials, time_s, dt_s, rng, temp):
-    return np.broadcast_to(p["amplitude"] * fx.step_response(p["time_s"], time_s.size, dt_s),
-                           (n_trials, time_s.size))
+    return simulate
 
 
 def _sinusoid(p, n_trials, time_s, dt_s, rng, temp):
@@ -106,24 +92,24 @@ REGISTRY: dict[str, EffectSpec] = {s.name: s for s in (
     EffectSpec("bias_instability", {"B": ParamSpec("")}, "gaussian", "flat ADEV 0.664·B"),
     EffectSpec("rate_random_walk", {"K": ParamSpec("/√s")}, "gaussian", "ADEV K·√(τ/3)"),
     EffectSpec("rate_ramp", {"R": ParamSpec("/s", None)}, "additive", "ADEV R·τ/√2; slope R",
-               _ramp),
+               _deterministic("rate_ramp")),
     EffectSpec("warmup_transient", {"amplitude": ParamSpec("", None), "tau_s": ParamSpec("s", 0.0, False, True)},
                "additive", "turn-on transient A·e^(−t/τ) from the first sample: a slope and a slow-mode "
-               "pattern concentrated at the start, no variance of its own", _warmup),
+               "pattern concentrated at the start, no variance of its own", _deterministic("warmup_transient")),
     EffectSpec("bias_step", {"amplitude": ParamSpec("", None), "time_s": ParamSpec("s", 0.0, False, True)},
                "additive", "the bias jumps once by A at t₀ after the first sample: a slope, a slow-mode "
                "pattern located at t₀, Allan variance growing as τ at long τ like a walk's, no variance "
-               "of its own", _step),
+               "of its own", _deterministic("bias_step")),
     EffectSpec("sinusoid", {"frequency_hz": _HZ, "amplitude": ParamSpec("")}, "additive",
                "PSD line A²/2 at f; ADEV A·sin²(πfτ)/(πfτ)", _sinusoid),
     EffectSpec("gauss_markov", {"tau_s": ParamSpec("s", 0.0, False, True), "sigma": ParamSpec("")},
                "gaussian", "ADEV hump near τ ≈ 1.9·τc"),
     EffectSpec("temperature_sensitivity", {"coefficient": ParamSpec("/°C", None)}, "additive",
-               "regression on the temperature column", _temperature),
+               "regression on the temperature column", _deterministic("temperature_sensitivity")),
     EffectSpec("temperature_lag", {"coefficient": ParamSpec("/°C", None),
                                    "tau_s": ParamSpec("s", 0.0, False, True)}, "additive",
                "regression on the temperature column lagged by τ: a slow drift beside it that "
-               "follows the temperature's rate of change", _temperature_lag),
+               "follows the temperature's rate of change", _deterministic("temperature_lag")),
     EffectSpec("outliers", {"rate": ParamSpec("fraction of samples", 0.0, True, True, 1.0),
                             "magnitude": ParamSpec("")}, "glitch",
                "isolated spikes of one magnitude in the first differences"),

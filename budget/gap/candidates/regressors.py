@@ -291,7 +291,7 @@ class BiasStep(_SlopeScaled):
 
     def _block_s(self, ctx):
         lay = ctx.grid.walk
-        return (lay.block if lay is not None else max(ctx.grid.n_samples // 256, 1)) * ctx.grid.dt_s
+        return (lay.block if lay is not None else max(ctx.grid.n_samples // walk.N_BLOCKS, 1)) * ctx.grid.dt_s
 
     def _change_points(self, ctx) -> list[float]:
         """t₀ (s) of the best separated maxima of the GLS change-point score (class docstring)."""
