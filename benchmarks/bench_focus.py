@@ -35,7 +35,8 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
 from budget.sar.afrl import read_afrl  # noqa: E402
-from budget.sar.focus import FocusOptions, form_ground_image, image_entropy  # noqa: E402
+from budget.sar.focus import FocusOptions, form_ground_image  # noqa: E402
+from budget.sar.sharpness import image_entropy  # noqa: E402
 from budget.sar.focus_pga import compare_with_recorded, focus, pulse_estimate  # noqa: E402
 from budget.sar.pga import apply_phase_correction, pga  # noqa: E402
 from budget.sar.phase import smooth_phase_error  # noqa: E402

@@ -62,6 +62,7 @@ sys.path.insert(0, str(REPO))
 
 from budget.sar.pga import pga  # noqa: E402
 from budget.sar.phase import smooth_phase_error  # noqa: E402
+from budget.sar.sharpness import image_sharpness  # noqa: E402
 
 FRAC = 0.8
 
@@ -204,12 +205,6 @@ def run_fastsar(py: Path, images: list[np.ndarray], repeat: int) -> list[tuple[n
         return [(np.load(dst).astype(complex), inf) for (_, dst), inf in zip(pairs, info)]
 
 
-def sharpness(img: np.ndarray) -> float:
-    """Σ|g|⁴ / (Σ|g|²)²: larger is sharper (independent of the image's scale)."""
-    p = img.real ** 2 + img.imag ** 2
-    return float(np.sum(p ** 2) / np.sum(p) ** 2)
-
-
 def run_ours(img: np.ndarray, repeat: int, **kw):
     """(result, median wall time s, median CPU time s) of ``repeat`` runs after one warm-up."""
     res = pga(img, **kw)
@@ -312,7 +307,7 @@ def main() -> int:
             fs_out, fs_on_ref = fs[i][0], fs_ref[i][0]
             row = (residual_rad(own_ref, ref, sup), residual_rad(fs_on_ref, ref, sup),
                    residual_rad(res.image, own_ref, sup), residual_rad(fs_out, fs_on_ref, sup),
-                   sharpness(res.image) / sharpness(ref), sharpness(fs_out) / sharpness(ref))
+                   image_sharpness(res.image) / image_sharpness(ref), image_sharpness(fs_out) / image_sharpness(ref))
             chips_extra.append(row)
             print(f"{'':44s} on ref: ours {row[0]:.3f} fastsar {row[1]:.3f} | consistency: ours {row[2]:.3f} "
                   f"fastsar {row[3]:.3f} | sharpness gain: ours {row[4]:.3f} fastsar {row[5]:.3f}")

@@ -38,7 +38,8 @@ the band the bin of pulse n moves by ± (B / 2f_r) ω_n, ±3 % of the aperture a
 smooths the estimate), and the deramp uses the aperture-centre pulse only.
 
 Sharpness: entropy H = −Σ p ln p of the normalised intensity p = |I|² / Σ|I|² (lower is sharper;
-Fienup & Miller 2003, JOSA A 20(4), eq. 4) and contrast std(|I|²) / mean(|I|²).
+Fienup & Miller 2003, JOSA A 20(4), eq. 4) and contrast std(|I|²) / mean(|I|²)
+(:mod:`budget.sar.sharpness`).
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from ..errors import InputError, from_validation_error
 from ..units import two_way_wavenumber_at_frequency_rad_m as _wavenumber
 from .phase_history import C_M_S, PhaseHistory
+from .sharpness import image_contrast, image_entropy
 from .windows import Window
 
 _PIXEL_BLOCK, _PULSE_BLOCK = 16384, 16  # 262 144 pixel-pulses per step: temporaries stay in cache
@@ -145,23 +147,6 @@ class GroundImage:
         return {"label": self.label, "shape": list(self.data.shape), "spacing_m": self.grid.spacing_m,
                 "entropy": image_entropy(self.data), "contrast": image_contrast(self.data),
                 "peak": float(np.abs(self.data).max())}
-
-
-def image_entropy(data) -> float:
-    """Shannon entropy (nats) of the normalised intensity |I|² / Σ|I|² (see module docstring)."""
-    p = np.abs(np.asarray(data)) ** 2
-    total = p.sum()
-    if not total > 0:
-        return float("nan")
-    p = p[p > 0] / total
-    return float(-(p * np.log(p)).sum())
-
-
-def image_contrast(data) -> float:
-    """std(|I|²) / mean(|I|²) (dimensionless; 1 for fully developed speckle)."""
-    p = np.abs(np.asarray(data)) ** 2
-    m = p.mean()
-    return float(p.std() / m) if m > 0 else float("nan")
 
 
 def _reference_antenna(ph: PhaseHistory) -> np.ndarray:

@@ -41,7 +41,8 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from .focus import FocusOptions, GroundImage, form_ground_image, image_contrast, image_entropy
+from .focus import FocusOptions, GroundImage, form_ground_image
+from .sharpness import image_contrast, image_entropy
 from .pga import pga
 from .phase import remove_linear
 from .phase_history import PhaseHistory
