@@ -20,6 +20,7 @@ heavier runtime for what is an embarrassingly parallel map of chunks.
 from __future__ import annotations
 
 import math
+import os
 import threading
 from collections import deque
 from collections.abc import Mapping
@@ -83,11 +84,23 @@ def work_units(trials: int, chunk_trials: int, workers: int) -> list[tuple[int, 
     return out
 
 
-def check_run_counts(trials, seed, workers=1) -> tuple[int, int, int]:
-    """``trials``, ``seed`` and ``workers`` of a run, checked (:func:`whole_number`)."""
-    return (whole_number("trials", trials, 1, "a whole number of trials ≥ 1, e.g. 64"),
-            whole_number("seed", seed, 0, "a whole number ≥ 0, e.g. 1"),
-            whole_number("workers", workers, 1, "a whole number of processes ≥ 1"))
+#: Most local worker processes a run starts (backend ``processes``): each is a full Python with
+#: the simulation's arrays, and the results do not depend on the count (``--workers 100000``
+#: tried to fork as many processes before).
+MAX_LOCAL_WORKERS = 64
+
+
+def check_run_counts(trials, seed, workers=1, backend: str = "auto") -> tuple[int, int, int]:
+    """``trials``, ``seed`` and ``workers`` of a run, checked (:func:`whole_number`); local
+    processes (backend ``auto`` or ``processes``) at most :data:`MAX_LOCAL_WORKERS`."""
+    checked = (whole_number("trials", trials, 1, "a whole number of trials ≥ 1, e.g. 64"),
+               whole_number("seed", seed, 0, "a whole number ≥ 0, e.g. 1"),
+               whole_number("workers", workers, 1, "a whole number of processes ≥ 1"))
+    if backend in ("auto", "processes") and checked[2] > MAX_LOCAL_WORKERS:
+        raise InputError(f"more local worker processes than {MAX_LOCAL_WORKERS}", field="workers",
+                         value=checked[2], expected=f"1 … {MAX_LOCAL_WORKERS} (this machine has "
+                         f"{os.cpu_count() or 1} CPUs; the results do not depend on the count)")
+    return checked
 
 
 def check_options(options) -> McOptions:
@@ -119,7 +132,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     ``keep_detail`` keeps images and phase histories of the worst trials (for inspection).
     """
     options = check_options(options)
-    trials, seed, workers = check_run_counts(trials, seed, workers)
+    trials, seed, workers = check_run_counts(trials, seed, workers, backend)
     if backend == "auto":
         backend = "serial" if workers == 1 else "processes"
     if backend not in ("serial", "processes", "dask"):
@@ -149,7 +162,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
             consume(_chunk_task(scen_json, opt_json, model, seed, s, e, keep_detail), e)
     else:
         if backend == "processes":
-            pool = ProcessPoolExecutor(max_workers=workers)
+            pool = ProcessPoolExecutor(max_workers=min(workers, len(units)))  # no idle processes
             submit = lambda u: pool.submit(_chunk_task, scen_json, opt_json, model, seed, u[0], u[1],  # noqa: E731
                                            keep_detail, (u[2], u[3]))
             result_of = lambda f: f.result()  # noqa: E731

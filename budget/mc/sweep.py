@@ -55,7 +55,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
         raise InputError("no scenario to sweep: the list of scenarios is empty", field="scenarios",
                          expected="at least one scenario — a preset name (e.g. 'airborne_xband'), "
                                   "a .json/.yaml path or a Scenario")
-    trials, seed, workers = check_run_counts(trials, seed, workers)  # before any cell runs
+    trials, seed, workers = check_run_counts(trials, seed, workers, backend)  # before any cell runs
     options = check_options(options).model_copy(update={"keep_trial_metrics": False})
     rows = []
     total = len(parts) * len(scenarios)
