@@ -38,3 +38,34 @@ def test_cli_mc_with_too_many_workers_exits_2(capsys):
                  "--workers", "100000", "-q"]) == 2
     line = _one_line(capsys)
     assert "workers" in line and f"expected 1 … {MAX_LOCAL_WORKERS}" in line
+
+
+# --- an output file that is a folder, checked before the computation --------------------------
+
+@pytest.mark.parametrize("argv", [
+    ["mc", "--preset", "automotive_77ghz", "--part", "STIM300", "--trials", "1", "-q", "--json", "{d}"],
+    ["report", "--preset", "automotive_77ghz", "-q", "--out", "{d}"],
+    ["sweep", "--preset", "automotive_77ghz", "--part", "STIM300", "--trials", "1", "-q", "--out", "{d}"],
+])
+def test_an_existing_folder_as_output_file_is_refused_before_the_run(tmp_path, monkeypatch, capsys, argv):
+    import budget.cli.mc_cmd as mc_cmd
+    import budget.cli.report_cmd as report_cmd
+
+    def never(*a, **k):
+        raise AssertionError("the computation started")
+    monkeypatch.setattr(mc_cmd, "run_mc", never)
+    monkeypatch.setattr(mc_cmd, "sweep", never)
+    monkeypatch.setattr(report_cmd, "build_report", never)
+    assert main([a.format(d=tmp_path) for a in argv]) == 1
+    line = _one_line(capsys)
+    assert f"{tmp_path}: is a folder; give a file name" in line and "--" in line
+
+
+def test_report_figures_that_is_a_file_is_refused_before_the_run(tmp_path, capsys):
+    f = tmp_path / "figs"
+    f.write_text("x")
+    assert main(["report", "--preset", "automotive_77ghz", "-q", "--out", str(tmp_path / "r.html"),
+                 "--figures", str(f)]) == 1
+    line = _one_line(capsys)
+    assert "--figures" in line and f"{f}: exists and is not a folder" in line
+    assert not (tmp_path / "r.html").exists()  # refused before the report was written

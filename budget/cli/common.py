@@ -17,7 +17,7 @@ OUTPUT_FILE_OPTIONS = ("json", "out", "report", "out_model", "image", "csv_out",
 #: Argument names that name a file a row is appended to (its folder must exist).
 APPEND_OPTIONS = ("append",)
 #: Argument names that name an output folder (created if missing).
-OUTPUT_DIR_OPTIONS = ("plots", "out_dir")
+OUTPUT_DIR_OPTIONS = ("plots", "out_dir", "figures")
 
 
 def add_scenario_options(parser, required: bool = False) -> None:
@@ -90,10 +90,11 @@ def check_output_path(path: str | os.PathLike, option: str, *, must_exist_dir: b
         if target.exists() and not target.is_dir():
             raise OutputError("exists and is not a folder", file=text, option=option)
     else:
-        # an existing folder is left to the command (some take a folder for their files)
-        if target.exists() and not (target.is_file() or target.is_dir()):
+        if target.is_dir():  # refused now, not after the computation
+            raise OutputError("is a folder; give a file name", file=text, option=option)
+        if target.exists() and not target.is_file():
             raise OutputError("is not a regular file", file=text, option=option)
-    folder = target if directory or target.is_dir() else target.parent
+    folder = target if directory else target.parent
     if not folder.is_dir():
         if must_exist_dir:
             raise OutputError(f"folder {folder} does not exist", file=text, option=option)
