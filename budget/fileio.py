@@ -194,6 +194,19 @@ def check_input_file(path: str | Path, max_bytes: int = MAX_DECOMPRESSED_BYTES) 
     return kind
 
 
+def require_file(path: str | Path, expected: str | None = None) -> Path:
+    """``path`` if it is a regular file (or a link to one); otherwise :class:`InputError` saying
+    what it is instead: not found, a folder, or not a regular file (a device, a pipe)."""
+    path = Path(path)
+    if path.is_file():
+        return path
+    if path.is_dir():
+        raise InputError("is a folder, not a file", file=path, expected=expected)
+    if path.exists():
+        raise InputError("is not a regular file", file=path, expected=expected)
+    raise InputError("file not found", file=path, expected=expected)
+
+
 def read_bytes(path: str | Path, max_bytes: int) -> bytes:
     """All (decompressed) bytes of ``path``, at most ``max_bytes``; errors as :class:`InputError`."""
     path = Path(path)

@@ -69,3 +69,33 @@ def test_report_figures_that_is_a_file_is_refused_before_the_run(tmp_path, capsy
     line = _one_line(capsys)
     assert "--figures" in line and f"{f}: exists and is not a folder" in line
     assert not (tmp_path / "r.html").exists()  # refused before the report was written
+
+
+# --- a folder or a device where a log, an Allan table or a phase history is expected ----------
+
+def _readers():
+    from budget.noise import read_adev_table, read_log
+    from budget.noise.measurement import read_measurement
+    from budget.sar.afrl import read_afrl
+
+    return [("log", lambda p: read_log(p)), ("allan table", lambda p: read_adev_table(p, 100.0, 10_000)),
+            ("measurement", lambda p: read_measurement(p)), ("afrl", lambda p: read_afrl([p]))]
+
+
+@pytest.mark.parametrize("which", range(4))
+def test_a_folder_or_device_is_named_as_such_not_as_missing(tmp_path, which):
+    name, read = _readers()[which]
+    for path, said in ((tmp_path, "is a folder, not a file"), ("/dev/null", "is not a regular file"),
+                       (tmp_path / "none.csv", "file not found")):
+        with pytest.raises(InputError) as e:
+            read(path)
+        assert str(e.value).startswith(f"{path}: {said}"), (name, str(e.value))
+
+
+def test_cli_noise_and_focus_name_a_folder_given_as_input(tmp_path, capsys):
+    assert main(["noise", "characterize", str(tmp_path)]) == 2
+    assert f"{tmp_path}: is a folder, not a file; expected an IMU log CSV or an Allan table" in _one_line(capsys)
+    assert main(["noise", "arma", str(tmp_path)]) == 2
+    assert f"{tmp_path}: is a folder, not a file" in _one_line(capsys)
+    assert main(["focus", str(tmp_path)]) == 2
+    assert "is a folder, not a file; expected an AFRL phase-history .mat file" in _one_line(capsys)

@@ -30,7 +30,7 @@ from scipy import optimize, stats
 
 from .. import units as u
 from ..errors import InputError
-from ..fileio import read_text
+from ..fileio import read_text, require_file
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
 
 REQUIRED = ("channel", "tau_s", "adev")
@@ -141,8 +141,7 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
                     ci_level: float = 0.95) -> dict[str, AllanResult]:
     """Read a measured Allan-deviation table → ``{'gyro_x': AllanResult, …}`` in SI units."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found", file=path)
+    require_file(path)
     if not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
         raise InputError("sampling rate of the record is required", field="rate_hz", value=rate_hz,
                          expected="--rate-hz F > 0 (the rate of the data the curve came from)")

@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..fileio import check_input_file, open_input
+from ..fileio import check_input_file, open_input, require_file
 from ..units import CHANNELS
 from . import log_checks as lc
 from .log_mapping import ColumnPlan, LogMapping, plan_columns
@@ -225,8 +225,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     :class:`LogError` unless ``repair`` — then they are repaired and listed in ``issues.repairs``.
     """
     path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found", file=path)
+    require_file(path)
     if path.stat().st_size == 0:
         raise InputError("file is empty", file=path)
     check_input_file(path)  # readable, complete, not an archive, size-limited when compressed

@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
+from ..fileio import require_file
 from .adev_table import looks_like_adev_table, read_adev_table
 from .allan import AllanResult
 from .log_mapping import LogMapping
@@ -24,8 +25,7 @@ def read_measurement(path: str | Path, *, rate_hz: float | None = None, samples:
                      min_samples: int = 16) -> ImuLog | dict[str, AllanResult]:
     """An :class:`ImuLog` (SI channels) or ``{channel: AllanResult}`` from ``path``."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found", file=path, expected="an IMU log CSV or an Allan table")
+    require_file(path, expected="an IMU log CSV or an Allan table")
     if looks_like_adev_table(path):
         if rate_hz is None or samples is None:
             raise InputError("an Allan table needs the record's rate and length", file=path,

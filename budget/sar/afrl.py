@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..fileio import require_file
 from .phase_history import PhaseHistory, track_order
 
 _REQUIRED = ("fp", "freq", "x", "y", "z", "r0")
@@ -51,8 +52,7 @@ def _row(value, n: int, name: str, path: Path) -> np.ndarray:
 def _load_struct(path: Path):
     import scipy.io as sio
 
-    if not path.is_file():
-        raise InputError("file not found", file=path, expected="an AFRL phase-history .mat file")
+    require_file(path, expected="an AFRL phase-history .mat file")
     if path.stat().st_size > MAX_FILE_BYTES:
         raise InputError(f"file is {path.stat().st_size} bytes", file=path,
                          expected=f"at most {MAX_FILE_BYTES} bytes")
