@@ -99,3 +99,23 @@ def test_cli_noise_and_focus_name_a_folder_given_as_input(tmp_path, capsys):
     assert f"{tmp_path}: is a folder, not a file" in _one_line(capsys)
     assert main(["focus", str(tmp_path)]) == 2
     assert "is a folder, not a file; expected an AFRL phase-history .mat file" in _one_line(capsys)
+
+
+# --- a log or an Allan table with nothing to characterise names its file ----------------------
+
+def test_a_log_whose_every_channel_is_constant_names_the_log(tmp_path, capsys):
+    f = tmp_path / "stuck.csv"
+    f.write_text("time_s,gyro_x_dps,gyro_y_dps,gyro_z_dps\n"
+                 + "".join(f"{k / 100:.2f},0.1,0.1,0.1\n" for k in range(2000)))
+    assert main(["noise", "characterize", str(f)]) == 2
+    line = _one_line(capsys)
+    assert f"{f}: no channel with noise to characterise: every channel is constant" in line
+    assert "expected a static IMU log with noise" in line
+
+
+def test_an_allan_table_too_short_to_fit_names_the_table(tmp_path, capsys):
+    f = tmp_path / "adev_short.csv"
+    f.write_text("channel,tau_s,adev\ngyro_x_dps,0.01,0.2\ngyro_x_dps,0.02,0.15\n")
+    assert main(["noise", "characterize", str(f), "--rate-hz", "100", "--samples", "100000"]) == 2
+    line = _one_line(capsys)
+    assert "adev_short.csv: no channel could be fitted: gyro_x: not fitted" in line and "usable τ" in line

@@ -245,8 +245,16 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     else:
         raise InputError("characterize() needs an ImuLog or a {channel: AllanResult} mapping",
                          value=type(data).__name__)
+    if isinstance(data, ImuLog):
+        src = data.source
+    else:  # the Allan table(s) the curves came from
+        src = ", ".join(sorted({str(r.source).removeprefix("table ") for r in allan.values()
+                                if str(r.source).startswith("table ")})) or None
     if not allan:
-        raise InputError("no channel with noise to characterise", expected="a static IMU log")
+        raise InputError("no channel with noise to characterise: every channel is constant (stuck "
+                         "or unused sensor)" if isinstance(data, ImuLog) else
+                         "no channel with noise to characterise", file=src,
+                         expected="a static IMU log with noise on at least one channel")
     fits: dict[str, NoiseTerms] = {}
     for ch, r in allan.items():
         try:
@@ -254,7 +262,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
         except InputError as err:
             notes.append(f"{ch}: not fitted ({err})")
     if not fits:
-        raise InputError("no channel could be fitted: " + "; ".join(notes))
+        raise InputError("no channel could be fitted: " + "; ".join(notes), file=src)
     for ch, t in fits.items():
         weak = [k for k in TERMS if t.values[k] is not None and not t.resolved[k]]
         if weak:
