@@ -42,6 +42,12 @@ PLAUSIBLE_TC_S = (1e-5, 1e5)
 #: Propagation speed per medium (m/s): radio waves are slowed at most ~9× (water, ε ≈ 80), sound
 #: travels at most ~12 km/s (diamond); outside, the medium and the speed do not belong together.
 RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S = 1e7, 2e4
+#: Wavelength (m) the limits above allow: 1 µm (radar at 10 THz slowed to 10⁷ m/s) … 2 km (sonar
+#: at 10 Hz and 20 km/s); what a wavelength given alone (``bounds --wavelength``) is checked against.
+PLAUSIBLE_WAVELENGTH_M = (
+    min(RADAR_MIN_SPEED_M_S / PLAUSIBLE_CARRIER_HZ["radar"][1],
+        PLAUSIBLE["propagation_speed_m_s"][0] / PLAUSIBLE_CARRIER_HZ["sonar"][1]),
+    max(C_LIGHT / PLAUSIBLE_CARRIER_HZ["radar"][0], SONAR_MAX_SPEED_M_S / PLAUSIBLE_CARRIER_HZ["sonar"][0]))
 
 
 #: Quantities a user may try to give but that are derived (never stored), and what sets them.

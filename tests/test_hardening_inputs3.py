@@ -119,3 +119,24 @@ def test_an_allan_table_too_short_to_fit_names_the_table(tmp_path, capsys):
     assert main(["noise", "characterize", str(f), "--rate-hz", "100", "--samples", "100000"]) == 2
     line = _one_line(capsys)
     assert "adev_short.csv: no channel could be fitted: gyro_x: not fitted" in line and "usable τ" in line
+
+
+# --- bounds --wavelength ------------------------------------------------------------------------
+
+@pytest.mark.parametrize("lam", ["1e30", "1e-30", "5000"])
+def test_bounds_refuses_a_wavelength_no_radar_or_sonar_has(capsys, lam):
+    # 1e30 m gave bounds of 5e34 ppm, 1e-30 m bounds of 5e-26 ppm, both printed as results
+    assert main(["bounds", "--tc", "1", "--range-resolution", "0.1", "--wavelength", lam,
+                 "--mode", "no-autofocus"]) == 2
+    line = _one_line(capsys)
+    assert "option --wavelength: wavelength outside the physically plausible range" in line
+    assert "expected 1e-06 … 2000 m" in line
+
+
+def test_bounds_refuses_a_range_resolution_finer_than_a_quarter_wavelength(capsys):
+    assert main(["bounds", "--tc", "1", "--range-resolution", "0.1", "--wavelength", "3",
+                 "--mode", "lever-arm"]) == 2
+    line = _one_line(capsys)
+    assert "option --range-resolution" in line and "expected > λ/4 = 0.75 m" in line
+    assert main(["bounds", "--tc", "1", "--range-resolution", "0.1", "--wavelength", "0.03",
+                 "--mode", "lever-arm", "--json", "-"]) == 0  # a real X-band case still runs

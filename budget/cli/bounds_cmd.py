@@ -64,6 +64,18 @@ def run(args) -> int:
     if args.wavelength is not None and not (np.isfinite(args.wavelength) and args.wavelength > 0):
         raise InputError("wavelength must be finite and > 0", field="--wavelength",
                          value=args.wavelength, expected="λ in m, e.g. 0.03")
+    if args.wavelength is not None:
+        from ..scenario import PLAUSIBLE_WAVELENGTH_M
+        lo, hi = PLAUSIBLE_WAVELENGTH_M
+        if not lo <= args.wavelength <= hi:
+            raise InputError("wavelength outside the physically plausible range", field="--wavelength",
+                             value=args.wavelength, expected=f"{lo:g} … {hi:g} m (radar 1 MHz … 10 THz, "
+                             "sonar 10 Hz … 5 MHz)")
+        if args.range_resolution is not None and args.range_resolution <= 0.25 * args.wavelength:
+            raise InputError(f"range resolution {args.range_resolution:g} m needs a bandwidth above twice "
+                             f"the carrier of a {args.wavelength:g}-m wave", field="--range-resolution",
+                             value=args.range_resolution, expected=f"> λ/4 = {0.25 * args.wavelength:g} m "
+                             "(as a scenario requires), or check the units of --wavelength")
     if args.mode in ("no-autofocus", "lever-arm") and lam is None:
         raise InputError(f"{args.mode} bounds need the wavelength", field="--wavelength",
                          expected="λ in m, or a scenario")
