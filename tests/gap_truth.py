@@ -162,6 +162,9 @@ def _temp_lag(n, rng, temp):
 
 #: Time constant of the hidden turn-on transient, s.
 WARMUP_TAU_S = 600.0
+#: Correlation time of the Gauss–Markov bias (s): a correlated bias of a minute or two, whose Allan
+#: deviation peaks at τ ≈ 1.9·τ_c, well inside a one-hour log.
+GM_TAU_S = 100.0
 
 
 def _warmup(n, rng, temp):
@@ -191,6 +194,17 @@ def _vibration(n, rng, temp, f0=12.0, width=1.5):
     return y / y.std(), {"center_hz": f0, "width_hz": width, "sigma": 1.0}
 
 
+def _gauss_markov(n, rng, temp, tau_s=GM_TAU_S):
+    """A first-order Gauss–Markov (exponentially correlated) bias of correlation time ``tau_s``:
+    the AR(1) recursion x_k = φ·x_{k−1} + √(1 − φ²)·w_k, φ = e^(−dt/τ), started from its
+    stationary distribution (unit variance)."""
+    from scipy.signal import lfilter
+    phi = math.exp(-1.0 / (RATE * tau_s))
+    w = rng.standard_normal(n) * math.sqrt(1.0 - phi * phi)
+    w[0] = rng.standard_normal()
+    return lfilter([1.0], [1.0, -phi], w), {"tau_s": tau_s, "sigma": 1.0}
+
+
 EFFECTS = {
     # name: (channel, unit generator, τ-selection) — the magnitude is set by calibrate()
     "rate_random_walk": ("gyro_x", _rrw),
@@ -201,6 +215,7 @@ EFFECTS = {
     "bias_step": ("accel_x", _bias_step),
     "sinusoid": ("accel_x", _sinusoid),
     "vibration": ("accel_y", _vibration),
+    "gauss_markov": ("gyro_y", _gauss_markov),
 }
 
 
@@ -292,4 +307,4 @@ def make(name: str | None, n: int, seed: int) -> tuple[dict, np.ndarray | None, 
 
 #: Every hidden effect the benchmark draws, in the order it prints them.
 ALL = ("rate_random_walk", "rate_ramp", "temperature_sensitivity", "temperature_lag", "warmup_transient", "bias_step",
-       "quantization", "sinusoid", "vibration", "heavy_tailed", "outliers")
+       "quantization", "sinusoid", "vibration", "heavy_tailed", "outliers", "gauss_markov")
