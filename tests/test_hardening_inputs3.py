@@ -140,3 +140,26 @@ def test_bounds_refuses_a_range_resolution_finer_than_a_quarter_wavelength(capsy
     assert "option --range-resolution" in line and "expected > λ/4 = 0.75 m" in line
     assert main(["bounds", "--tc", "1", "--range-resolution", "0.1", "--wavelength", "0.03",
                  "--mode", "lever-arm", "--json", "-"]) == 0  # a real X-band case still runs
+
+
+# --- an injected smooth phase error the pulses cannot sample ------------------------------------
+
+def test_sar_refuses_a_quadratic_phase_error_that_aliases(capsys):
+    # 1e12 rad printed "metrics" of an aliased error (a negative broadening) as a result
+    assert main(["sar", "--preset", "airborne_xband", "--quadratic-rad", "1e12"]) == 2
+    line = _one_line(capsys)
+    assert "option --quadratic-rad, --cubic-rad, --sinusoid-rad" in line
+    assert "the 462 pulses cannot sample it" in line and "≤ π(n−1)/2 = 724.1 rad" in line
+    assert main(["sar", "--preset", "airborne_xband", "--quadratic-rad", "300", "--sinusoid-rad", "0",
+                 "--json", "-"]) == 0  # 2·300 < 724: sampled, runs
+
+
+def test_phase_history_refuses_an_injected_error_that_aliases():
+    from test_sar_focus_injected import _points_history
+
+    ph = _points_history(n_pulses=40, n_freq=16)
+    with pytest.raises(InputError) as e:  # 2·100 > π·39/2 = 61.3: aliased
+        ph.with_smooth_phase_error(100.0, 0.0, 0.0, 1.0)
+    assert e.value.field == "quadratic_rad, cubic_rad, sinusoid_rad"
+    assert "the 40 pulses cannot sample it" in str(e.value) and "= 61.26 rad" in str(e.value)
+    assert ph.with_smooth_phase_error(20.0, 0.0, 0.0, 1.0).injected_phase_rad.shape == (40,)

@@ -8,7 +8,7 @@ import numpy as np
 from ..errors import InputError
 from ..sar import SarGeometry, Scene, smooth_phase_error
 from ..sar.injected import run_injected_phase_trial
-from ..sar.phase import normalised_time
+from ..sar.phase import check_phase_sampled, normalised_time
 from .common import add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
 
@@ -51,6 +51,7 @@ def run(args) -> int:
     scene = Scene.build(**Scene.default(geom).model_dump(exclude={"snr_db"}), snr_db=args.snr_db)
     psi = smooth_phase_error(normalised_time(geom), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
                              sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)
+    check_phase_sampled(psi, "--quadratic-rad, --cubic-rad, --sinusoid-rad")
     trial = run_injected_phase_trial(geom, scene, psi, np.random.default_rng(args.seed), method=args.method,
                                      kernel=args.kernel)
     if args.json:

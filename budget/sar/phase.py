@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.polynomial import legendre
 
+from ..errors import InputError
 from ..units import phase_to_range, range_to_phase
 from .geometry import SarGeometry
 from .image import SarImage
@@ -29,6 +30,21 @@ def smooth_phase_error(u, *, quadratic_rad: float = 0.0, cubic_rad: float = 0.0,
     u = np.asarray(u, dtype=float)
     return (quadratic_rad * u ** 2 + cubic_rad * u ** 3
             + sinusoid_rad * np.sin(np.pi * sinusoid_cycles * u + sinusoid_phase_rad))
+
+
+def check_phase_sampled(psi, field: str) -> np.ndarray:
+    """``psi`` (one phase per pulse, rad) if no two neighbouring pulses differ by more than π;
+    otherwise :class:`InputError` naming ``field``: the pulses cannot sample a smooth error that
+    fast (it would alias to a slower one, and the image and the metrics would describe that)."""
+    psi = np.asarray(psi, dtype=float)
+    step = float(np.max(np.abs(np.diff(psi)))) if psi.size > 1 else 0.0
+    if step > np.pi:
+        raise InputError(f"the injected phase error changes by up to {step:.3g} rad from one pulse to "
+                         f"the next: the {psi.size} pulses cannot sample it (it would alias to a slower "
+                         "error)", field=field,
+                         expected=f"at most π rad per pulse: 2|q| + 3|c| + π|s·n| ≤ π(n−1)/2 = "
+                                  f"{np.pi * (psi.size - 1) / 2:.4g} rad")
+    return psi
 
 
 def los_offset_for_phase(geom: SarGeometry, phase_rad, point_m: np.ndarray | None = None) -> np.ndarray:

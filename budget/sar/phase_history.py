@@ -129,13 +129,14 @@ class PhaseHistory:
                                 sinusoid_cycles: float) -> "PhaseHistory":
         """:meth:`with_phase_error` of ψ(u) = q u² + c u³ + s sin(π N u) over the pulses,
         u = −1 … 1 (:func:`budget.sar.phase.smooth_phase_error`), with a note saying so."""
-        from .phase import smooth_phase_error  # the SAR simulation's model; imported only here
+        from .phase import check_phase_sampled, smooth_phase_error  # the SAR simulation's model; only here
         values = {"quadratic_rad": quadratic_rad, "cubic_rad": cubic_rad, "sinusoid_rad": sinusoid_rad,
                   "sinusoid_cycles": sinusoid_cycles}
         for name, v in values.items():
             if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
                 raise InputError("must be a finite number", field=name, value=v, expected="rad (cycles for N)")
         psi = smooth_phase_error(np.linspace(-1.0, 1.0, self.n_pulses), **{k: float(v) for k, v in values.items()})
+        check_phase_sampled(psi, "quadratic_rad, cubic_rad, sinusoid_rad")
         out = self.with_phase_error(psi)
         out.notes.append(f"injected phase error {quadratic_rad:g} u² + {cubic_rad:g} u³ + {sinusoid_rad:g} "
                          f"sin({sinusoid_cycles:g}πu) rad over the pulses (u = −1 … 1)")
