@@ -163,3 +163,21 @@ def test_phase_history_refuses_an_injected_error_that_aliases():
     assert e.value.field == "quadratic_rad, cubic_rad, sinusoid_rad"
     assert "the 40 pulses cannot sample it" in str(e.value) and "= 61.26 rad" in str(e.value)
     assert ph.with_smooth_phase_error(20.0, 0.0, 0.0, 1.0).injected_phase_rad.shape == (40,)
+
+
+# --- options of a log given with an Allan table ----------------------------------------------------
+
+@pytest.mark.parametrize("extra", [["--max-rows", "10"], ["--repair"], ["--mapping", "{map}"]])
+def test_noise_characterize_refuses_log_options_with_an_allan_table(tmp_path, capsys, extra):
+    # they were silently ignored: --max-rows 10 still fitted every row of the table
+    table = tmp_path / "adev.csv"
+    table.write_text("channel,tau_s,adev\n" + "".join(
+        f"gyro_z_dps,{0.01 * 2 ** k:g},{0.1 / 2 ** (k / 2):.6g}\n" for k in range(12)))
+    mapping = tmp_path / "map.json"
+    mapping.write_text('{"columns": {"gz": "gyro_z_dps"}}')
+    argv = ["noise", "characterize", str(table), "--rate-hz", "100", "--samples", "1000000",
+            *[a.format(map=mapping) for a in extra]]
+    assert main(argv) == 2
+    line = _one_line(capsys)
+    assert f"{table}, option {extra[0]}: {extra[0]} applies to an IMU log, not to an Allan table" in line
+    assert f"expected no {extra[0]} with an Allan table" in line

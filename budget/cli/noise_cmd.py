@@ -82,6 +82,11 @@ def run_characterize(args) -> int:
             if issue.severity != "info":
                 print(f"note: {issue.text()}", file=sys.stderr)
     else:
+        for option, given in (("--max-rows", args.max_rows is not None), ("--mapping", args.mapping),
+                              ("--repair", args.repair)):
+            if given:  # options of a log: an Allan table would silently ignore them
+                raise InputError(f"{option} applies to an IMU log, not to an Allan table", file=path,
+                                 field=option, expected=f"no {option} with an Allan table")
         for note in (n for t in data.values() for n in t.notes):
             print(f"note: {note}", file=sys.stderr)
     with working(f"noise characterize: {path.name}", quiet=args.quiet):
