@@ -181,3 +181,21 @@ def test_noise_characterize_refuses_log_options_with_an_allan_table(tmp_path, ca
     line = _one_line(capsys)
     assert f"{table}, option {extra[0]}: {extra[0]} applies to an IMU log, not to an Allan table" in line
     assert f"expected no {extra[0]} with an Allan table" in line
+
+
+# --- noise.check_series on a series with NaN or without noise ------------------------------------
+
+def test_check_series_refuses_nan_and_a_constant_series():
+    import numpy as np
+
+    from budget.noise import check_series
+
+    x = np.random.default_rng(0).normal(size=1000)
+    x[5] = np.nan  # was judged 'stationary' with a K² p-value of NaN
+    with pytest.raises(InputError) as e:
+        check_series(x)
+    assert e.value.field == "x" and "NaN or infinite" in str(e.value) and "repair the log first" in str(e.value)
+    with pytest.raises(InputError) as e:
+        check_series(np.ones(1000))
+    assert "series is constant (no noise to check)" in str(e.value)
+    assert check_series(np.random.default_rng(0).normal(size=1000)).passed

@@ -104,6 +104,12 @@ def check_series(x, *, segments: int = 40, alpha: float = 0.05) -> CheckReport:
     if x.ndim != 1 or x.size < max(20, 2 * segments):
         raise InputError(f"{x.size} samples are too few for the checks", field="x",
                          expected=f"at least {max(20, 2 * segments)} samples")
+    if not np.all(np.isfinite(x)):  # NaN gave 'stationary' and a K² p-value of NaN
+        raise InputError("series contains NaN or infinite values", field="x",
+                         expected="finite values (repair the log first)")
+    if np.ptp(x) == 0:
+        raise InputError("series is constant (no noise to check)", field="x",
+                         expected="a preprocessed series with noise")
     runs, expected, z, p = runs_test(x, segments)
     lag = decorrelation_lag(x)
     xs = x[::lag]
