@@ -199,3 +199,16 @@ def test_check_series_refuses_nan_and_a_constant_series():
         check_series(np.ones(1000))
     assert "series is constant (no noise to check)" in str(e.value)
     assert check_series(np.random.default_rng(0).normal(size=1000)).passed
+
+
+# --- a warning on the command line is one line, without the code that raised it -----------------
+
+def test_cli_prints_a_library_warning_as_one_line(tmp_path, capsys):
+    p = tmp_path / "my.csv"
+    p.write_text("part_id,grade,source\nstim300,tactical,mine\n")
+    assert main(["catalog", "list", "--catalog", str(p)]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    # was: ".../catalog_cmd.py:52: UserWarning: …" and the source line "cat = load_catalog(…)"
+    assert len(err) == 1 and err[0].startswith("sar-budget catalog: warning: ")
+    assert "'stim300' differs only in case from the shipped part 'STIM300'" in err[0]
+    assert "UserWarning" not in err[0] and "load_catalog" not in err[0]

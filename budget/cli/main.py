@@ -19,6 +19,7 @@ import os
 import signal
 import sys
 import traceback
+import warnings
 
 from ..errors import describe_error
 
@@ -81,6 +82,16 @@ def _name_scenario_file(err: BaseException, args) -> None:
         name_scenario_file(err, given)
 
 
+def _one_line_warning(label: str):
+    """``warnings.showwarning`` for the CLI: ``<label>: warning: <message>`` on one line (the
+    default also prints the file, line and source line of the code that warned)."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        from ..fileio import printable
+        text = " ".join(str(message).split())
+        print(f"{label}: warning: {printable(text)}", file=file or sys.stderr)
+    return show
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -95,7 +106,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         from .common import check_output_args
         check_output_args(args)
-        return int(args.func(args) or 0)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warning(label)  # never the source line of the code
+            return int(args.func(args) or 0)
     except BrokenPipeError:
         return 0
     except SystemExit:
