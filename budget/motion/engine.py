@@ -41,7 +41,7 @@ from ..aiding_spec import AidingPlan
 from ..errors import InputError, from_validation_error, whole_number
 from ..imu.generator import generate_imu_errors
 from ..imu.noise_model import NoiseModel, NoiseModelSI, as_noise_model_si
-from ..nav.platform import MAX_FREQUENCY_FRACTION, Disturbance, true_motion
+from ..nav.platform import Disturbance, true_motion
 from ..nav.strapdown import InitialErrors, cross, propagate_errors
 from ..rng import STREAMS, trial_generator
 from ..scenario import Scenario
@@ -269,12 +269,8 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     if n > MAX_SAMPLES:
         raise InputError(f"the aperture spans {n} IMU samples", field="imu_rate_hz",
                          expected=f"at most {MAX_SAMPLES:,} (lower the IMU rate)")
-    if disturbance is not None and disturbance.max_frequency_hz() > MAX_FREQUENCY_FRACTION * scenario.imu_rate_hz:
-        f_max = disturbance.max_frequency_hz()
-        raise InputError(f"disturbance content up to {f_max:g} Hz needs an IMU rate of at least "
-                         f"{f_max / MAX_FREQUENCY_FRACTION:g} Hz (10× its highest frequency: the motion error of a "
-                         "scale factor or misalignment on it is then right to 1.6 %)", field="imu_rate_hz",
-                         value=scenario.imu_rate_hz)
+    if disturbance is not None:
+        disturbance.check_imu_rate(scenario.imu_rate_hz)
     pts = scene_targets(scenario, targets)
     if keep_series not in (True, False, "position"):
         raise InputError("keep_series must be True, False or 'position'", field="keep_series", value=keep_series)

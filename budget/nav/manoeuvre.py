@@ -82,7 +82,15 @@ class PlatformMotion(BaseModel):
 
     def disturbance_for(self, scenario) -> Disturbance | None:
         """The disturbance flown over ``scenario``'s aperture (None: straight flight). Raises
-        :class:`InputError` naming the field when the manoeuvre cannot be flown."""
+        :class:`InputError` naming the field when the manoeuvre cannot be flown, or cannot be
+        sampled at the scenario's IMU rate (:meth:`Disturbance.check_imu_rate`, the Monte Carlo's
+        rule, so the analytic check refuses what the Monte Carlo refuses)."""
+        dist = self._disturbance(scenario)
+        if dist is not None:
+            dist.check_imu_rate(scenario.imu_rate_hz)
+        return dist
+
+    def _disturbance(self, scenario) -> Disturbance | None:
         if self.kind == "straight":
             return None
         if self.kind == "custom":

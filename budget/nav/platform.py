@@ -24,7 +24,7 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from ..errors import from_validation_error, refuse_bool_numbers
+from ..errors import InputError, from_validation_error, refuse_bool_numbers
 from ..fileio import read_structured
 from ..units import G0
 
@@ -152,6 +152,17 @@ class Disturbance(BaseModel):
     def max_frequency_hz(self) -> float:
         return max([s.frequency_hz for s in self.sinusoids] + [r.frequency_hz[-1] for r in self.random],
                    default=0.0)
+
+    def check_imu_rate(self, imu_rate_hz: float) -> None:
+        """Refuse (:class:`InputError` naming ``imu_rate_hz``) content above
+        :data:`MAX_FREQUENCY_FRACTION` of the IMU rate: the one rule the Monte Carlo and the
+        analytic check (:func:`budget.bounds.rotation.motion_excursion`) share."""
+        f_max = self.max_frequency_hz()
+        if f_max > MAX_FREQUENCY_FRACTION * imu_rate_hz:
+            raise InputError(f"disturbance content up to {f_max:g} Hz needs an IMU rate of at least "
+                             f"{f_max / MAX_FREQUENCY_FRACTION:g} Hz (10× its highest frequency: the motion error "
+                             "of a scale factor or misalignment on it is then right to 1.6 %)", field="imu_rate_hz",
+                             value=imu_rate_hz)
 
     @classmethod
     def load(cls, path: str | Path) -> "Disturbance":
