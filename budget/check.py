@@ -29,7 +29,7 @@ import pandas as pd
 
 from .bounds import BoundsTable, compute_bounds
 from .catalog.schema import GRADE_RANK, GradeSpec, PartSpec
-from .errors import InputError
+from .errors import InputError, refuse_repeats
 from .parameters import FAMILIES, PARAMETERS, grade_value
 from .scenario import Scenario
 
@@ -358,6 +358,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
         what = "part" if not parts else "scenario"
         raise InputError(f"no {what} to check", field=f"{what}s",
                          expected=f"at least one {what}")
+    refuse_repeats(parts, lambda p: getattr(p, "part_id", None), field="parts", what="part")
     tc = np.array([s.tc_s for s in scen])
     dr = np.array([s.range_resolution_m for s in scen])
     if mode in ("no-autofocus", "no_autofocus", "derived"):  # per scenario: λ, the acceleration level

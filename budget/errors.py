@@ -210,6 +210,34 @@ def whole_number(name: str, value, minimum: int, expected: str | None = None) ->
     return int(value)
 
 
+def refuse_repeats(items, key, *, field: str, what: str, cost: str = "adds identical rows") -> None:
+    """:class:`InputError` naming ``field`` and the ``key`` (an id, a name) of every item of
+    ``items`` given more than once: equal items, as a part id or a preset repeated in a list
+    (it would add identical rows — ``cost`` says what else it would cost). Items that only share
+    a key are not repeats."""
+    kept: dict = {}
+    repeated: list = []
+    for item in items:
+        k = key(item)
+        same = kept.setdefault(k, [])
+        if any(item is other or _equal(item, other) for other in same):
+            if k not in repeated:
+                repeated.append(k)
+        else:
+            same.append(item)
+    if repeated:
+        names = ", ".join(str(k) for k in repeated)
+        raise InputError(f"{what} given more than once: {_short_text(names)}", field=field,
+                         expected=f"each {what} once (a repeat {cost})")
+
+
+def _equal(a, b) -> bool:
+    try:
+        return bool(a == b)
+    except Exception:  # noqa: BLE001 — e.g. numpy arrays inside: only the same object is a repeat
+        return False
+
+
 @dataclass(frozen=True)
 class UserMessage:
     """What a user is shown for an exception: one line of ``text`` and the process ``exit_code``."""

@@ -39,3 +39,47 @@ def test_check_refuses_a_manoeuvre_period_the_monte_carlo_refuses(capsys):
         assert main(argv + ["--platform-motion", "oscillation", "--manoeuvre-period", "1e-9"]) == 2
         lines.append(_one_line(capsys).split("error: ", 1)[1])
     assert lines[0] == lines[1] and "field imu_rate_hz" in lines[0]  # the same words from one rule
+
+
+# --- 2. a part or a preset given twice: refused, naming it, not run twice --------------------
+
+def test_check_parts_refuses_a_repeated_part_naming_it(capsys):
+    import budget
+    with pytest.raises(InputError) as e:
+        budget.check_parts(["STIM300", "HG9900", "STIM300", "ADIS16405", "HG9900"], "automotive_77ghz")
+    assert e.value.field == "parts"
+    assert "part given more than once: STIM300, HG9900" in str(e.value) and "each part once" in str(e.value)
+    assert main(["check", "--preset", "automotive_77ghz", "--part", "STIM300", "STIM300"]) == 2
+    line = _one_line(capsys)
+    assert "field parts: part given more than once: STIM300" in line
+
+
+def test_sweep_refuses_a_repeated_part_or_preset_before_any_trial(monkeypatch, tmp_path, capsys):
+    import budget
+    import budget.mc.sweep as sweep_mod
+
+    def never(*a, **k):
+        raise AssertionError("a trial ran")
+    monkeypatch.setattr(sweep_mod, "run_mc", never)
+    with pytest.raises(InputError) as e:
+        budget.sweep(["STIM300", "STIM300"], "automotive_77ghz", trials=1)
+    assert e.value.field == "parts" and "part given more than once: STIM300" in str(e.value)
+    assert "runs the same trials again" in str(e.value)
+    with pytest.raises(InputError) as e:
+        budget.sweep(["STIM300"], ["automotive_77ghz", "airborne_xband", "automotive_77ghz"], trials=1)
+    assert e.value.field == "presets" and "preset given more than once: automotive_77ghz" in str(e.value)
+    out = str(tmp_path / "t.csv")
+    assert main(["sweep", "--preset", "automotive_77ghz", "automotive_77ghz", "--part", "STIM300",
+                 "--trials", "1", "-q", "--out", out]) == 2
+    assert "field presets: preset given more than once: automotive_77ghz" in _one_line(capsys)
+    assert main(["sweep", "--preset", "automotive_77ghz", "--part", "HG9900", "HG9900", "--trials", "1",
+                 "-q", "--out", out]) == 2
+    assert "field parts: part given more than once: HG9900" in _one_line(capsys)
+
+
+def test_distinct_scenarios_sharing_only_a_name_are_not_repeats():
+    from budget.errors import refuse_repeats
+    from budget.presets import get_preset
+    a = get_preset("automotive_77ghz")
+    b = a.model_copy(update={"slant_range_m": a.slant_range_m * 2})
+    refuse_repeats([a, b], lambda s: s.name, field="scenarios", what="scenario")  # no error

@@ -17,7 +17,8 @@ from collections.abc import Sequence
 import pandas as pd
 
 from ..catalog.schema import GRADE_RANK
-from ..errors import InputError
+from ..errors import InputError, refuse_repeats
+from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
 from ..scenario import Scenario, name_scenario_file
 from .options import McOptions
@@ -55,6 +56,14 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
         raise InputError("no scenario to sweep: the list of scenarios is empty", field="scenarios",
                          expected="at least one scenario — a preset name (e.g. 'airborne_xband'), "
                                   "a .json/.yaml path or a Scenario")
+    cost = "adds identical rows and runs the same trials again"
+    refuse_repeats(parts, model_label, field="parts", what="part", cost=cost)
+    given = list(zip(scenarios, sources))  # a preset has no source file
+    preset = [src is None and sc.name in PRESETS for sc, src in given]
+    refuse_repeats([sc for (sc, _), p in zip(given, preset) if p], lambda sc: sc.name, field="presets",
+                   what="preset", cost=cost)
+    refuse_repeats([g for g, p in zip(given, preset) if not p], lambda g: g[0].name, field="scenarios",
+                   what="scenario", cost=cost)
     trials, seed, workers = check_run_counts(trials, seed, workers, backend)  # before any cell runs
     options = check_options(options).model_copy(update={"keep_trial_metrics": False})
     rows = []
