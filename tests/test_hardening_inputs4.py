@@ -83,3 +83,62 @@ def test_distinct_scenarios_sharing_only_a_name_are_not_repeats():
     a = get_preset("automotive_77ghz")
     b = a.model_copy(update={"slant_range_m": a.slant_range_m * 2})
     refuse_repeats([a, b], lambda s: s.name, field="scenarios", what="scenario")  # no error
+
+
+# --- 3. a wrong argument type at a public entry: InputError, not TypeError/AttributeError ------
+
+def test_load_catalog_refuses_a_non_path():
+    import budget
+    from budget.catalog.io import load_catalog
+    for f in (budget.load_catalog, load_catalog):
+        with pytest.raises(InputError) as e:
+            f(5)
+        assert e.value.field == "user_csv" and "not a path (type int)" in str(e.value)
+        assert "expected a parts CSV path (str or pathlib.Path), or None" in str(e.value)
+    with pytest.raises(InputError, match="type bool"):  # False was read as "no user catalog"
+        load_catalog(False)
+
+
+def test_cheapest_passing_refuses_what_is_not_a_sweep_table():
+    import pandas as pd
+
+    import budget
+    from budget.mc.sweep import cheapest_passing
+    with pytest.raises(InputError) as e:
+        budget.cheapest_passing([1, 2])
+    assert e.value.field == "table" and "not a sweep table (type list)" in str(e.value)
+    assert "expected the pandas.DataFrame budget.sweep returns" in str(e.value)
+    with pytest.raises(InputError) as e:
+        cheapest_passing(pd.DataFrame({"x": [1.0]}))
+    assert "the table has no column scenario, part_id, grade, price_usd" in str(e.value)
+    assert cheapest_passing(pd.DataFrame()).empty  # a sweep cancelled before its first cell
+
+
+def test_fit_noise_terms_refuses_what_is_not_an_allan_deviation():
+    from budget.noise.terms import fit_noise_terms
+    with pytest.raises(InputError) as e:
+        fit_noise_terms("abc")
+    assert e.value.field == "allan" and "not an Allan deviation (type str)" in str(e.value)
+    assert "AllanResult" in str(e.value)
+
+
+def _noise(n=2000):
+    import numpy as np
+    return np.random.default_rng(4).normal(0.0, 1e-3, n)
+
+
+def test_analyse_arma_refuses_text_and_values_whose_squares_overflow():
+    from budget.noise.pipeline import analyse_arma
+    with pytest.raises(InputError) as e:
+        analyse_arma("abc", 100.0, channel="gyro_x")
+    assert e.value.field == "gyro_x" and "the series is not numbers" in str(e.value)
+    assert "expected a 1-D array of numbers (rad/s)" in str(e.value)
+    # ~1e300: numpy said "array must not contain infs or NaNs" from an overflow deep inside
+    with pytest.raises(InputError) as e:
+        analyse_arma(_noise() * 1e303, 100.0, channel="accel_z")
+    assert e.value.field == "accel_z" and "2000 sample(s) beyond ±100000 m/s² (in SI)" in str(e.value)
+    assert "wrong unit?" in str(e.value)
+    with pytest.raises(InputError, match="field rate_hz: the sampling rate is not a number"):
+        analyse_arma(_noise(), "100", channel="gyro_x")
+    with pytest.raises(InputError, match="field channel: channel is not a name"):
+        analyse_arma(_noise(), 100.0, channel=5)

@@ -112,7 +112,11 @@ def read_grades(path: str | Path) -> dict[str, GradeSpec]:
 
 
 def user_catalog_path(explicit: str | Path | None = None) -> Path | None:
-    """The user catalog named by ``explicit`` or ``$SAR_BUDGET_CATALOG`` (None if neither)."""
+    """The user catalog named by ``explicit`` or ``$SAR_BUDGET_CATALOG`` (None if neither);
+    ``explicit`` that is not a path (``5``) is an :class:`InputError` naming ``user_csv``."""
+    if explicit is not None and not isinstance(explicit, (str, os.PathLike)):
+        raise InputError(f"the user catalog is not a path (type {type(explicit).__name__})", field="user_csv",
+                         value=explicit, expected="a parts CSV path (str or pathlib.Path), or None")
     if explicit:
         return Path(explicit)
     env = os.environ.get(ENV_VAR, "").strip()

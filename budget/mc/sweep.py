@@ -26,6 +26,10 @@ from .runner import check_options, check_run_counts, model_label, run_mc
 from .stats import wilson_interval
 
 
+#: Columns every row of a :func:`sweep` table has (:func:`_cell`), which :func:`cheapest_passing` reads.
+TABLE_KEYS = ("scenario", "part_id", "grade", "price_usd")
+
+
 def _cell(scen: Scenario, part) -> dict:
     """The columns that name a cell: scenario, its Tc and δr, and the part."""
     return {"scenario": scen.name, "tc_s": scen.tc_s, "range_resolution_m": scen.range_resolution_m,
@@ -136,11 +140,21 @@ def cheapest_passing(table: pd.DataFrame, target: float = 0.9, *, use_lower_ci: 
     a lower bound of 0.94, so a target of 0.9 needs ≥ 35 failure-free trials.
     ``use_lower_ci=False`` decides on the point estimate p̂ (not advised).
     """
+    if not isinstance(table, pd.DataFrame):
+        raise InputError(f"the table is not a sweep table (type {type(table).__name__})", field="table",
+                         value=table, expected="the pandas.DataFrame budget.sweep returns")
+    missing = [c for c in TABLE_KEYS if c not in table]
+    if len(table) and missing:
+        raise InputError(f"the table has no column {', '.join(missing)}", field="table",
+                         value=list(table.columns), expected="the pandas.DataFrame budget.sweep returns "
+                                                             f"(columns {', '.join(TABLE_KEYS)}, …)")
     if not (isinstance(target, (int, float)) and 0.0 < target <= 1.0):  # NaN fails both comparisons
         raise InputError("target probability out of range", field="target", value=target,
                          expected="0 < target ≤ 1 (P(pass after PGA) wanted)")
     col = "ci_after_lo" if use_lower_ci else "p_pass_after"
     out = []
+    if not len(table):  # a sweep cancelled before its first cell
+        return pd.DataFrame(out)
     for scen, g in table.groupby("scenario", sort=False):
         ok = g[pd.to_numeric(g[col], errors="coerce") >= target].copy() if col in g else g.iloc[:0].copy()
         status = g["status"] if "status" in g else pd.Series(["simulated"] * len(g), index=g.index)

@@ -119,7 +119,7 @@ def check_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
         big = _implausible(data[:, j], ch)
         if big.size:
             issues.append(LogIssue("implausible_value", "error",
-                                   f"{big.size} sample(s) beyond ±{_limit(ch):g} "
+                                   f"{big.size} sample(s) beyond ±{max_abs_si(ch):g} "
                                    f"{'rad/s' if ch.startswith('gyro') else 'm/s²'} (in SI), e.g. "
                                    f"{data[big[0], j]:.3g} (corrupt sample or wrong unit?)",
                                    int(big.size), _rows(big), names[j]))
@@ -185,14 +185,15 @@ def gravity_unchecked(channel_index: dict[str, int], source_units: dict[str, str
                     axes[0])
 
 
-def _limit(channel: str) -> float:
+def max_abs_si(channel: str) -> float:
+    """:data:`MAX_ABS_SI` of ``channel`` (``gyro_*``: rad/s, else m/s²)."""
     return MAX_ABS_SI["gyro" if channel.startswith("gyro") else "accel"]
 
 
 def _implausible(col: np.ndarray, channel: str) -> np.ndarray:
     """Indices of finite samples whose magnitude exceeds :data:`MAX_ABS_SI` for ``channel``."""
     with np.errstate(invalid="ignore"):
-        return np.flatnonzero(np.isfinite(col) & (np.abs(col) > _limit(channel)))
+        return np.flatnonzero(np.isfinite(col) & (np.abs(col) > max_abs_si(channel)))
 
 
 def check_header(names: list[str], path) -> list[str]:

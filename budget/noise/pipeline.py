@@ -9,6 +9,7 @@ SI unit (rad/s or m/s²); variances in its square.
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -20,6 +21,7 @@ from .arma import DEFAULT_ORDERS, ArmaSelection, select_arma
 from .checks import CheckReport, check_series
 from .kalman import ArmaKalman, KalmanResult
 from .kalman_response import FrequencyResponse, frequency_response
+from .log_checks import max_abs_si
 from .preprocess import Preprocessed, preprocess
 
 AIC_DEFINITION = "AIC = ln(sigma2) + 2k/n, FPE = sigma2 (n+k)/(n-k), k = p+q, n = residuals"
@@ -116,8 +118,28 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
     ``response_freq_hz``: where to evaluate the filter's response to motion (default 0, 0.1, 1,
     10 Hz and a quarter of the rate, as the CLI prints; ``"dense"`` = 513 points 0…rate/2).
     """
+    if not isinstance(channel, str):
+        raise InputError(f"channel is not a name (type {type(channel).__name__})", field="channel", value=channel,
+                         expected="a channel name such as 'gyro_x' or 'accel_z'")
+    if isinstance(rate_hz, bool) or not isinstance(rate_hz, numbers.Real):
+        raise InputError(f"the sampling rate is not a number (type {type(rate_hz).__name__})", field="rate_hz",
+                         value=rate_hz, expected="a sampling rate in Hz, > 0")
     opt = options or ArmaOptions()
-    raw = np.asarray(x, dtype=np.float64)
+    if not isinstance(opt, ArmaOptions):
+        raise InputError(f"not ArmaOptions (type {type(opt).__name__})", field="options", value=opt,
+                         expected="budget.noise.pipeline.ArmaOptions or None")
+    try:
+        raw = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("the series is not numbers", field=channel, value=x,
+                         expected=f"a 1-D array of numbers ({channel_si_unit(channel)})") from None
+    limit = max_abs_si(channel)
+    with np.errstate(invalid="ignore"):
+        big = np.flatnonzero(np.abs(raw) > limit)
+    if big.size:  # a corrupt sample or a wrong unit (and its square would overflow: 1e300)
+        raise InputError(f"{big.size} sample(s) beyond ±{limit:g} {channel_si_unit(channel)} (in SI), first "
+                         f"at index {big[0]}", field=channel, value=raw.flat[big[0]],
+                         expected="a series in SI (corrupt sample or wrong unit?)")
     pre = preprocess(raw, pauta_k=opt.pauta_k, replace=opt.replace, detrend_order=opt.detrend_order)
     if np.ptp(pre.x) <= 1e-9 * np.max(np.abs(raw)):  # what is left is round-off, not noise
         raise InputError("the channel holds no noise to model: it is constant (stuck or unused "

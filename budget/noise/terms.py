@@ -24,6 +24,7 @@ coefficient exceeds twice its standard error; a term fitted to exactly zero is *
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -124,7 +125,10 @@ def fit_noise_terms(allan: AllanResult, terms: Iterable[str] = TERMS, *,
     ``tau_range_s`` restricts the τ used; ``model_error`` is the relative floor ε on the
     uncertainty of each σ² (see module doc; 0 = pure χ² weights).
     """
-    if not (math.isfinite(model_error) and model_error >= 0):
+    if not isinstance(allan, AllanResult):
+        raise InputError(f"not an Allan deviation (type {type(allan).__name__})", field="allan",
+                         value=allan, expected="the AllanResult of budget.noise.allan_deviation (or read_adev_table)")
+    if not (isinstance(model_error, numbers.Real) and math.isfinite(model_error) and model_error >= 0):
         raise InputError("model_error must be ≥ 0", field="model_error", value=model_error)
     terms = tuple(terms)
     bad = [t for t in terms if t not in TERMS]
