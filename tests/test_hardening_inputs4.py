@@ -142,3 +142,26 @@ def test_analyse_arma_refuses_text_and_values_whose_squares_overflow():
         analyse_arma(_noise(), "100", channel="gyro_x")
     with pytest.raises(InputError, match="field channel: channel is not a name"):
         analyse_arma(_noise(), 100.0, channel=5)
+
+
+# --- 4. an explicit τ list: negative, repeated or out of order is refused, not fixed silently -
+
+@pytest.mark.parametrize("taus, words", [
+    ([-1.0, 0.1, 1.0], "τ must be > 0 s (got -1.0)"),    # was dropped silently
+    ([0.0, 1.0], "τ must be > 0 s (got 0.0)"),
+    ([0.1, 1.0, 1.0], "τ = 1 s is given twice"),
+    ([1.0, 0.1], "τ list is not increasing: 0.1 s follows 1 s"),  # was sorted silently
+    ([0.1, float("inf")], "τ list must be finite numbers"),
+    (["a"], "τ list must be finite numbers (got ['a'])"),
+])
+def test_allan_deviation_refuses_a_bad_explicit_tau_list(taus, words):
+    from budget.noise import allan_deviation
+    with pytest.raises(InputError) as e:
+        allan_deviation(_noise(5000), 100.0, taus=taus)
+    assert e.value.field == "taus" and words in str(e.value)
+    assert "expected an increasing array of τ in seconds" in str(e.value)
+
+
+def test_allan_deviation_keeps_an_increasing_tau_list():
+    from budget.noise import allan_deviation
+    assert allan_deviation(_noise(5000), 100.0, taus=[0.1, 1.0, 10.0]).tau_s.tolist() == [0.1, 1.0, 10.0]

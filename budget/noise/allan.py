@@ -79,8 +79,9 @@ def averaging_factors(n_samples: int, rate_hz: float, taus="octave") -> np.ndarr
     """Averaging factors m (τ = m/rate) with at least two second differences each.
 
     ``taus``: ``"octave"`` (1, 2, 4, …), ``"decade"`` (1, 2, 4, 10, 20, 40, …), ``"dense"``
-    (about 10 per decade), ``"all"`` or an array of τ in seconds (rounded to whole samples;
-    τ outside the record are dropped). The octave list equals allantools' for the same data.
+    (about 10 per decade), ``"all"`` or an increasing array of τ in seconds, each > 0 and given
+    once (rounded to whole samples; τ outside the record are dropped; a negative, repeated or
+    out-of-order τ is an :class:`InputError`). The octave list equals allantools' for the same data.
     """
     n_phase = n_samples + 1
     m_max = (n_phase - 2) // 2
@@ -101,9 +102,24 @@ def averaging_factors(n_samples: int, rate_hz: float, taus="octave") -> np.ndarr
             raise InputError(f"unknown τ list {taus!r}", field="taus",
                              expected="octave, decade, dense, all or an array of τ in seconds")
     else:
-        arr = np.asarray(taus, dtype=float).ravel()
+        try:
+            arr = np.asarray(taus, dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise InputError("τ list must be finite numbers", field="taus", value=taus,
+                             expected="an increasing array of τ in seconds, each > 0") from None
         if arr.size == 0 or not np.all(np.isfinite(arr)):
-            raise InputError("τ list must be finite numbers", field="taus")
+            raise InputError("τ list must be finite numbers", field="taus", value=taus,
+                             expected="an increasing array of τ in seconds, each > 0")
+        if np.any(arr <= 0):
+            raise InputError("τ must be > 0 s", field="taus", value=arr[np.argmax(arr <= 0)],
+                             expected="an increasing array of τ in seconds, each > 0")
+        step = np.diff(arr)
+        if np.any(step <= 0):
+            i = int(np.argmax(step <= 0))
+            what = f"τ = {arr[i]:g} s is given twice" if step[i] == 0 else \
+                f"τ list is not increasing: {arr[i + 1]:g} s follows {arr[i]:g} s"
+            raise InputError(what, field="taus", expected="an increasing array of τ in seconds, each given "
+                                                          "once (sort it: τ are never reordered)")
         m = np.round(arr * rate_hz)
     m = np.unique(m[(m >= 1) & (m <= m_max)]).astype(np.int64)
     if m.size == 0:
