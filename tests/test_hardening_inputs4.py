@@ -165,3 +165,39 @@ def test_allan_deviation_refuses_a_bad_explicit_tau_list(taus, words):
 def test_allan_deviation_keeps_an_increasing_tau_list():
     from budget.noise import allan_deviation
     assert allan_deviation(_noise(5000), 100.0, taus=[0.1, 1.0, 10.0]).tau_s.tolist() == [0.1, 1.0, 10.0]
+
+
+# --- 5. ArmaOptions: orders and detrend order refused when built, not later (or never) -------
+
+def test_arma_options_refuse_orders_and_detrend_order_when_built(tmp_path, capsys):
+    from budget.noise.arma import MAX_ORDER
+    from budget.noise.pipeline import ArmaOptions
+    with pytest.raises(InputError) as e:
+        ArmaOptions(orders=((5, 5),))
+    assert e.value.field == "orders" and f"0 ≤ p, q ≤ {MAX_ORDER} and p + q ≥ 1 (got (5, 5))" in str(e.value)
+    with pytest.raises(InputError) as e:
+        ArmaOptions(orders=((2.5, 1),))  # int() read it as 2
+    assert e.value.field == "orders" and "pair (p, q) of whole numbers" in str(e.value)
+    with pytest.raises(InputError) as e:
+        ArmaOptions(orders=5)  # was a TypeError: 'int' object is not iterable
+    assert e.value.field == "orders" and "a list of pairs (p, q)" in str(e.value)
+    for bad in (5, -1, True, 1.0):
+        with pytest.raises(InputError) as e:
+            ArmaOptions(detrend_order=bad)
+        assert e.value.field == "detrend_order" and "detrend order must be 0, 1 or 2" in str(e.value)
+        assert "expected 0 (none), 1 (linear) or 2 (quadratic)" in str(e.value)
+    ok = ArmaOptions(orders=[[1, 0], (2, 1)], detrend_order=2)
+    assert ok.orders == ((1, 0), (2, 1)) and ok.detrend_order == 2
+
+
+def test_arma_limits_have_one_home():
+    # the pipeline's later checks and the options' checks are the same functions
+    import numpy as np
+
+    from budget.noise.arma import select_arma
+    from budget.noise.preprocess import detrend
+    x = _noise(500)
+    with pytest.raises(InputError, match="field orders: orders must have 0 ≤ p, q ≤ 3"):
+        select_arma(x, orders=[(4, 0)])
+    with pytest.raises(InputError, match="field detrend_order: detrend order must be 0, 1 or 2"):
+        detrend(np.asarray(x), 3)

@@ -7,9 +7,10 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..noise import ImuLog, LogMapping, characterize, read_log
-from ..noise.arma import DEFAULT_ORDERS
+from ..noise.arma import DEFAULT_ORDERS, MAX_ORDER
 from ..noise.measurement import read_measurement
 from ..noise.pipeline import AIC_DEFINITION, ArmaOptions, analyse_arma  # noqa: F401
+from ..noise.preprocess import DETREND_ORDERS
 from .output import add_json_option, write_json
 from .progress import add_quiet_option, working
 
@@ -51,13 +52,13 @@ def add_parser(sub) -> None:
     a.add_argument("log", help="static IMU log CSV")
     a.add_argument("--channel", default="gyro_z", help="channel, e.g. gyro_z (default)")
     a.add_argument("--orders", nargs="+", metavar="P,Q",
-                   help="candidate orders (default 1,0 2,0 3,0 1,1 2,1; p, q ≤ 3)")
+                   help=f"candidate orders (default 1,0 2,0 3,0 1,1 2,1; p, q ≤ {MAX_ORDER})")
     a.add_argument("--method", choices=("ls", "mle"), default="ls",
                    help="least squares (paper) or exact maximum likelihood (statsmodels)")
     a.add_argument("--pauta-k", type=float, default=4.0, help="outlier factor k (3–5, default 4)")
     a.add_argument("--no-outliers", action="store_true", help="skip the Pauta outlier step")
     a.add_argument("--replace-with", choices=("mean", "neighbour"), default="mean")
-    a.add_argument("--detrend", type=int, choices=(0, 1, 2), default=1, help="polynomial order")
+    a.add_argument("--detrend", type=int, choices=DETREND_ORDERS, default=1, help="polynomial order")
     a.add_argument("--process-noise", choices=("paper", "model"), default="paper",
                    help="Q = δ1·I (paper) or δ1·G·Gᵀ (model)")
     a.add_argument("--rate-hz", type=float, help="sampling rate (if the log has no time column)")

@@ -16,7 +16,9 @@ reports (FPE ≥ σ̂² by definition).
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -26,6 +28,8 @@ from ..errors import InputError
 from .arma_ls import fit_ls, max_root_modulus
 
 DEFAULT_ORDERS = ((1, 0), (2, 0), (3, 0), (1, 1), (2, 1))
+#: Largest AR or MA order p, q of a candidate (the paper's candidates reach 3).
+MAX_ORDER = 3
 MIN_SAMPLES = 100
 
 
@@ -163,15 +167,26 @@ def _check_series(x, name: str = "x") -> np.ndarray:
     return x
 
 
-def _check_orders(orders) -> tuple[tuple[int, int], ...]:
+def check_orders(orders) -> tuple[tuple[int, int], ...]:
+    """Candidate orders as a tuple of whole (p, q), each once; :class:`InputError` (field
+    ``orders``) unless 0 ≤ p, q ≤ :data:`MAX_ORDER` and p + q ≥ 1 — the one home of the limit
+    (:func:`select_arma`, :func:`fit_arma` and :class:`~budget.noise.pipeline.ArmaOptions`)."""
+    expected = f"pairs (p, q) of whole numbers, 0 ≤ p, q ≤ {MAX_ORDER}, p + q ≥ 1"
+    if isinstance(orders, (str, bytes)) or not isinstance(orders, Iterable):
+        raise InputError("orders must be a list of pairs (p, q)", field="orders", value=orders, expected=expected)
     out = []
     for o in orders:
         try:
-            p, q = (int(v) for v in o)
+            p, q = o
         except (TypeError, ValueError):
-            raise InputError("order must be a pair (p, q)", field="orders", value=o) from None
-        if not (0 <= p <= 3 and 0 <= q <= 3 and p + q >= 1):
-            raise InputError("orders must have 0 ≤ p, q ≤ 3 and p + q ≥ 1", field="orders", value=(p, q))
+            raise InputError("order must be a pair (p, q)", field="orders", value=o, expected=expected) from None
+        if not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in (p, q)):
+            raise InputError("order must be a pair (p, q) of whole numbers", field="orders", value=o,
+                             expected=expected)
+        p, q = int(p), int(q)
+        if not (0 <= p <= MAX_ORDER and 0 <= q <= MAX_ORDER and p + q >= 1):
+            raise InputError(f"orders must have 0 ≤ p, q ≤ {MAX_ORDER} and p + q ≥ 1", field="orders",
+                             value=(p, q))
         out.append((p, q))
     if not out:
         raise InputError("no candidate orders", field="orders")
@@ -181,7 +196,7 @@ def _check_orders(orders) -> tuple[tuple[int, int], ...]:
 def fit_arma(x, p: int, q: int, method: str = "ls") -> ArmaFit:
     """Fit ARMA(p, q) to the zero-mean series ``x`` by ``ls`` or ``mle``."""
     x = _check_series(x)
-    (p, q), = _check_orders([(p, q)])
+    (p, q), = check_orders([(p, q)])
     ls = fit_ls(x, p, q)
     var = float(np.var(x))
     if method == "ls":
@@ -212,7 +227,7 @@ def _fit_mle(x: np.ndarray, p: int, q: int, ls, var: float) -> ArmaFit:
 def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = True) -> ArmaSelection:
     """Fit every candidate order and select by AIC (stationary and invertible models first)."""
     x = _check_series(x)
-    orders = _check_orders(orders)
+    orders = check_orders(orders)
     mean = float(x.mean()) if demean else 0.0
     xc = x - mean if demean else x
     fits = tuple(fit_arma(xc, p, q, method) for p, q in orders)

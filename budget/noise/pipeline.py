@@ -17,12 +17,12 @@ import pandas as pd
 
 from ..errors import InputError
 from ..units import channel_si_unit
-from .arma import DEFAULT_ORDERS, ArmaSelection, select_arma
+from .arma import DEFAULT_ORDERS, ArmaSelection, check_orders, select_arma
 from .checks import CheckReport, check_series
 from .kalman import ArmaKalman, KalmanResult
 from .kalman_response import FrequencyResponse, frequency_response
 from .log_checks import max_abs_si
-from .preprocess import Preprocessed, preprocess
+from .preprocess import Preprocessed, check_detrend_order, preprocess
 
 AIC_DEFINITION = "AIC = ln(sigma2) + 2k/n, FPE = sigma2 (n+k)/(n-k), k = p+q, n = residuals"
 MOTION_WARNING = "the filter also attenuates real motion: see response_gain (1 = passed unchanged)"
@@ -30,7 +30,9 @@ MOTION_WARNING = "the filter also attenuates real motion: see response_gain (1 =
 
 @dataclass(frozen=True)
 class ArmaOptions:
-    """How the pipeline was run (carried by the result)."""
+    """How the pipeline was run (carried by the result). ``orders`` and ``detrend_order`` are
+    checked when built (:func:`~budget.noise.arma.check_orders`,
+    :func:`~budget.noise.preprocess.check_detrend_order`): an :class:`InputError` naming the field."""
 
     orders: tuple[tuple[int, int], ...] = DEFAULT_ORDERS
     method: str = "ls"
@@ -38,6 +40,10 @@ class ArmaOptions:
     replace: str = "mean"
     detrend_order: int = 1
     process_noise: str = "paper"
+
+    def __post_init__(self):  # the limits analyse_arma applies, refused here at construction
+        object.__setattr__(self, "orders", check_orders(self.orders))
+        object.__setattr__(self, "detrend_order", check_detrend_order(self.detrend_order))
 
     def to_dict(self) -> dict:
         return {"orders": [list(o) for o in self.orders], "method": self.method, "pauta_k": self.pauta_k,

@@ -11,6 +11,7 @@ Nothing is changed silently: the result lists every step and the outlier indices
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,10 +67,24 @@ def pauta_outliers(x: np.ndarray, k: float = 4.0, replace: str = "mean") -> tupl
     return x, bad
 
 
+#: Degrees of the polynomial detrend (module doc: none, linear, quadratic).
+DETREND_ORDERS = (0, 1, 2)
+
+
+def check_detrend_order(order) -> int:
+    """``order`` as an int if it is one of :data:`DETREND_ORDERS`, else :class:`InputError`
+    (field ``detrend_order``; ``True`` and 1.0 are refused) — the one home of the limit
+    (:func:`detrend` and :class:`~budget.noise.pipeline.ArmaOptions`)."""
+    if isinstance(order, bool) or not isinstance(order, numbers.Integral) or order not in DETREND_ORDERS:
+        allowed = ", ".join(map(str, DETREND_ORDERS[:-1])) + f" or {DETREND_ORDERS[-1]}"
+        raise InputError(f"detrend order must be {allowed}", field="detrend_order", value=order,
+                         expected="0 (none), 1 (linear) or 2 (quadratic), a whole number")
+    return int(order)
+
+
 def detrend(x: np.ndarray, order: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """(residual, coefficients) of a least-squares polynomial of ``order`` in normalised time."""
-    if order not in (0, 1, 2):
-        raise InputError("detrend order must be 0, 1 or 2", field="detrend", value=order)
+    order = check_detrend_order(order)
     if order == 0:
         return np.asarray(x, float).copy(), np.zeros(0)
     t = np.linspace(-1.0, 1.0, x.size)  # normalised: well-conditioned for any length
