@@ -7,9 +7,12 @@ gap library whose parameters are the registry's.
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
+from budget.errors import InputError
 from budget.gap import LIBRARY, VOCABULARY
 from budget.imu import EFFECT_PARAMS, NoiseModel, generate_imu_errors
 from budget.imu.registry import REGISTRY, STAGES
@@ -69,3 +72,20 @@ def test_every_deterministic_effect_has_its_mean_series_as_the_generator_draws_i
         want = mean_series(name, EXAMPLES[name], n, 1.0 / rate, temp)
         np.testing.assert_allclose(drawn, want, rtol=1e-12, atol=1e-15, err_msg=name)
         assert np.any(want != 0), name
+
+
+@pytest.mark.parametrize("name, channel, params, fragment", [
+    ("bias_step", "gyro_x", {"amplitude": 1e-4, "time_s": 0.0}, "time_s must be > 0 s"),
+    ("bias_step", "gyro_x", {"amplitude": float("nan"), "time_s": 10.0}, "finite"),
+    ("bias_step", "gyro_x", {"amplitude": 1e-4}, "needs parameter(s) time_s"),
+    ("warmup_transient", "accel_z", {"amplitude": 1e-4, "tau_s": 0.0}, "tau_s must be > 0 s"),
+    ("warmup_transient", "accel_z", {"amplitude": float("nan"), "tau_s": 10.0}, "finite"),
+    ("warmup_transient", "accel_z", {"amplitude": 1e-4}, "needs parameter(s) tau_s"),
+])
+def test_bad_effect_parameters_in_a_model_file_are_refused_naming_file_and_field(tmp_path, name, channel,
+                                                                                   params, fragment):
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps({"effects": [{"name": name, "channel": channel, "params": params}]}))
+    with pytest.raises(InputError) as err:
+        NoiseModel.load(path)
+    assert fragment in str(err.value) and "bad.json" in str(err.value)
