@@ -404,11 +404,11 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
         return _outcome(g, dd, _iterate(dd, zero, n, max_iter, first=start), lines, clutter, tol_rad, min_scr_db,
                         fast_phase, band_snr)
 
-    res = finish(d, first_window)
+    res, corrected = finish(d, first_window), None
     if restarts and first_window == "auto" and res.start_window < n and 0 < res.usable_lines < min_lines:
-        res = _sharpest(g, d, res, finish)
+        res, corrected = _sharpest(g, d, res, finish)
     if corrected_image and res.usable_lines:
-        res.image = apply_phase_correction(g, res.phase_error_rad)
+        res.image = corrected if corrected is not None else apply_phase_correction(g, res.phase_error_rad)
     return res
 
 
@@ -444,17 +444,19 @@ def _outcome(g: np.ndarray, d: _Lines, run: dict, lines: np.ndarray, clutter: fl
                      history=history, support=support, fast_bands=bands, start_window=run["start"])
 
 
-def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> PgaResult:
+def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaResult, np.ndarray]:
     """Capture check (module docstring, "Restarts"): the run from the clutter-limited start and
     the runs of :data:`_RESTARTS`, the one whose corrected image is sharpest
-    (:func:`budget.sar.sharpness.image_sharpness`) kept; every run is listed in ``restarts``."""
+    (:func:`budget.sar.sharpness.image_sharpness`) kept, with that image; every run is listed in
+    ``restarts``."""
     runs = [("clutter-limited start", first)]
     for label, first_window, shrink in _RESTARTS:
         runs.append((label, finish(d if shrink is None else replace(d, shrink=shrink),
                                    "auto" if first_window is None else first_window)))
-    table = []
+    table, images = [], []
     for label, r in runs:
-        sharp = image_sharpness(apply_phase_correction(g, r.phase_error_rad)) if r.usable_lines else float("nan")
+        images.append(apply_phase_correction(g, r.phase_error_rad) if r.usable_lines else g)
+        sharp = image_sharpness(images[-1]) if r.usable_lines else float("nan")
         table.append({"start": label, "start_window": r.start_window, "sharpness": sharp, "converged": r.converged,
                       "iterations": r.iterations, "usable_lines": r.usable_lines, "final_window": r.final_window})
     best = max(range(len(runs)), key=lambda i: table[i]["sharpness"] if runs[i][1].usable_lines else -np.inf)
@@ -465,5 +467,5 @@ def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> PgaResult:
     res.reason += (f"; capture check ({first.usable_lines} usable lines after a clutter-limited first window "
                    f"of {first.start_window} samples): the sharpest of {len(runs)} runs kept, "
                    f"the {runs[best][0]}")
-    return res
+    return res, images[best]
 
