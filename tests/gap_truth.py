@@ -8,7 +8,8 @@ workflow simulates with) or ``budget.gap``, so a shared mistake cannot pass unse
   frequency domain over a record 8× longer than the log (so the frequencies below 1/T that make
   a slow drift are present), first N samples kept;
 * every hidden effect below is drawn by its own few lines (random walk by a cumulative sum,
-  a turn-on transient by e^(−t/τ), a bias step by a comparison of the time with a drawn t₀, vibration by a second-order resonator, heavy tails by Student t, quantization by flooring
+  a turn-on transient by e^(−t/τ), a bias step by a comparison of the time with a drawn t₀, a Gauss–Markov bias by its AR(1)
+  recursion, vibration by a second-order resonator, heavy tails by Student t, quantization by flooring
   the integrated output).
 
 The base model is a tactical-grade row (gyro ARW 0.5 deg/√h, bias instability 5 deg/h as the
