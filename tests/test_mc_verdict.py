@@ -176,3 +176,22 @@ def test_dask_backend_matches_serial():
     # summation order inside the linear algebra by ~1e-15
     np.testing.assert_allclose(a[3], b[3], rtol=1e-9)
     np.testing.assert_allclose(a[4], b[4], rtol=1e-9)
+
+
+def test_consistency_table_skips_scales_no_noise_model_accepts():
+    """On the 77 GHz preset (Tc ≈ 0.16 s) 10× the paper's VRW bound is ≈ 150 m/s/√h, beyond the
+    100 m/s/√h a noise model accepts: that scale is reported as not simulated, with the reason,
+    instead of ending the study with a validation error after the other scales have run."""
+    from budget.bounds import paper_bounds
+    s = get_preset("automotive_77ghz")
+    bound = paper_bounds(s.tc_s, s.range_resolution_m).datasheet()["accel_vrw_ug_rt_hz"][0] / 1699.527
+    assert 10 * bound > 100.0  # the premise: 10× is beyond the model's range, 0.1× within it
+    with pytest.raises(InputError) as err:
+        single_term_model(s, "accel_vrw", 10.0)
+    assert err.value.field == "accel_vrw_m_s_rt_h" and "paper bound" in str(err.value)
+    table = consistency_table(s, terms=["accel_vrw"], scales=(0.1, 10.0), trials=4, seed=1)
+    low, high = table.iloc[0], table.iloc[1]
+    assert low["simulated"] and 0.0 <= low["p_pass_after"] <= 1.0 and low["note"] == ""
+    assert not high["simulated"] and np.isnan(high["p_pass_after"])
+    assert "not simulated" in high["note"] and "accel_vrw_m_s_rt_h" in high["note"]
+    assert "1 of 2 scales" in high["crossing_method"]
