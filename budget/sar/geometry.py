@@ -298,8 +298,9 @@ class SarGeometry:
             raise InputError(f"the aperture needs {n_min} pulses (Tc = {tc:.3g} s × PRF "
                              f"{oversample * (b_a + span):.4g} Hz)", field="azimuth_resolution_m",
                              value=scenario.azimuth_resolution_m,
-                             expected=f"at most {max_pulses} pulses (coarser azimuth resolution, "
-                             "shorter range or raise max_pulses)")
+                             expected=f"at most {max_pulses} pulses the simulator forms (a coarser "
+                             "azimuth resolution, shorter range or slower platform; the analytic "
+                             "bounds and the part check need no simulation)")
         n_own = int(math.ceil(tc * oversample * b_a))  # pulses of one target's own Doppler band
         if n_own < MIN_PULSES:
             raise InputError(f"the aperture holds only {n_own} pulses at the Doppler bandwidth "
