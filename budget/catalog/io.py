@@ -97,7 +97,7 @@ def read_grades(path: str | Path) -> dict[str, GradeSpec]:
     required = tuple(c for c in GRADE_COLUMNS if c != "notes")
     mapping = _map_header(header, path, GRADE_COLUMNS, required, {})
     out: dict[str, GradeSpec] = {}
-    for i, raw in enumerate(rows, start=2):
+    for i, raw in rows:
         rec = {mapping[k]: v for k, v in raw.items()}
         try:
             g = GradeSpec.model_validate(rec)
@@ -322,6 +322,8 @@ def append_part(path: str | Path, part: PartSpec | Mapping[str, object], *,
         return
     old_id = part.part_id if part.part_id in parts else twin
     text = _read_text(target)
+    with open(target, "rb") as fh:  # a byte-order mark (Excel's UTF-8 CSV) is kept: the reader
+        bom = "\ufeff" if fh.read(3) == b"\xef\xbb\xbf" else ""  # drops it from ``text``
     newline = "\r\n" if "\r\n" in text[:65536] else "\n"
     records = list(csv.reader(io.StringIO(text, newline="")))
     header = [h.strip() for h in records[0]]
@@ -334,7 +336,7 @@ def append_part(path: str | Path, part: PartSpec | Mapping[str, object], *,
     if old_id is None and not extra:
         # plain append: the user's bytes stay as they are, one line is added
         sep = "" if text.endswith(("\n", "\r")) else newline
-        atomic_write_text(target, text + sep + csv_text([new_row], lineterminator=newline),
+        atomic_write_text(target, bom + text + sep + csv_text([new_row], lineterminator=newline),
                           create_dirs=False)
         return
     body = []
@@ -351,4 +353,4 @@ def append_part(path: str | Path, part: PartSpec | Mapping[str, object], *,
     if not replaced:
         body.append(new_row)
     out = csv_text(body, header + extra, lineterminator=newline)
-    atomic_write_text(target, out, create_dirs=False)
+    atomic_write_text(target, bom + out, create_dirs=False)

@@ -49,6 +49,22 @@ ALT_UNIT_COLUMNS: dict[str, tuple[str, callable]] = {
     "accel_misalignment_deg": ("accel_misalignment_mrad", lambda v: u.rad_to_mrad(u.deg_to_rad(v))),
 }
 
+#: Unit of each alternative-unit column, as written in messages (the limits are shown in it).
+ALT_UNIT_LABELS: dict[str, str] = {
+    "gyro_bias_instability_deg_s": "deg/s",
+    "gyro_bias_repeatability_deg_s": "deg/s",
+    "gyro_arw_deg_s_rt_hz": "deg/s/√Hz",
+    "gyro_arw_rad_s_rt_hz": "rad/s/√Hz",
+    "gyro_scale_factor_pct": "%",
+    "gyro_misalignment_deg": "deg",
+    "accel_bias_instability_mg": "mg",
+    "accel_bias_repeatability_mg": "mg",
+    "accel_vrw_ug_rt_hz": "µg/√Hz",
+    "accel_vrw_m_s2_rt_hz": "m/s²/√Hz",
+    "accel_scale_factor_pct": "%",
+    "accel_misalignment_deg": "deg",
+}
+
 _PART_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._\-]{0,63}")
 _BAD_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
 _BOOL_CELL = re.compile(r'(?im)(^|,)[ \t"]*(true|false)[ \t"]*(,|\r?$)')
@@ -76,28 +92,40 @@ def _iter_rows(path: Path, text: str):
             raise InputError(f"malformed CSV near line {reader.line_num}: {err}", file=path,
                              row=number + 1, expected=f"cells of at most {MAX_CELL_CHARS:,} "
                              "characters, quotes closed") from None
+        number += 1  # a spreadsheet row: blank records and rows of empty cells count too
         cells = [c.strip() for c in r]
         if not any(cells):
             continue
-        number += 1
         yield number, cells
 
 
-def _read_rows(path: Path) -> tuple[list[str], list[dict[str, str]]]:
-    """Header and rows as dicts of stripped text (small files: the grades table)."""
+def _read_rows(path: Path) -> tuple[list[str], list[tuple[int, dict[str, str]]]]:
+    """Header and (spreadsheet row, row as a dict of stripped text) pairs (small files: the
+    grades table)."""
     rows = _iter_rows(path, _read_text(path))
     first = next(rows, None)
     if first is None:
         raise InputError("file has no header", file=path, expected="a header row")
     header = first[1]
+    _check_not_comment(header, path, first[0])
     out = []
     for i, r in rows:
         _check_length(r, header, path, i)
-        out.append(dict(zip(header, r)))
+        out.append((i, dict(zip(header, r))))
     return header, out
 
 
+def _check_not_comment(r: list[str], path: Path, i: int) -> None:
+    """A record starting with ``#`` is a comment line, which CSV does not have (no part id or
+    column name starts with ``#``): named as such, not as a short row or an unknown column."""
+    if r and r[0].startswith("#"):
+        raise InputError("a comment line: a catalog CSV has no comment lines", file=path, row=i,
+                         value=",".join(r), expected="only the header and part rows (delete the "
+                         "line, or put the text in the notes column of a part)")
+
+
 def _check_length(r: list[str], header: list[str], path: Path, i: int) -> None:
+    _check_not_comment(r, path, i)
     if len(r) != len(header):
         raise InputError(f"has {len(r)} cells but the header has {len(header)}", file=path, row=i,
                          expected="one cell per header column (quote cells that contain commas)")
@@ -143,7 +171,7 @@ def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], require
 
 def _numbers(cells: tuple[str, ...], rows: list[int], path: Path, col: str, canon: str) -> np.ndarray:
     """One numeric column → float array in the canonical unit (NaN = empty cell), checked."""
-    unit = PART_NUMERIC_COLUMNS[canon][0] if col == canon else col.rsplit("_", 1)[-1]
+    unit = _column_unit(col, canon)
     empty = np.fromiter((c == "" for c in cells), bool, len(cells))
     try:
         vals = np.fromiter((float(c) if c else 0.0 for c in cells), float, len(cells))
@@ -157,7 +185,7 @@ def _numbers(cells: tuple[str, ...], rows: list[int], path: Path, col: str, cano
 def _check_numbers(vals: np.ndarray, empty: np.ndarray, rows: list[int], path: Path, col: str,
                    canon: str, cell) -> np.ndarray:
     """Finite, in range (after conversion to the canonical unit); NaN where the cell is empty."""
-    unit = PART_NUMERIC_COLUMNS[canon][0] if col == canon else col.rsplit("_", 1)[-1]
+    unit = _column_unit(col, canon)
     bad = ~np.isfinite(vals) & ~empty
     if bad.any():
         k = int(np.argmax(bad))
@@ -169,16 +197,34 @@ def _check_numbers(vals: np.ndarray, empty: np.ndarray, rows: list[int], path: P
     with np.errstate(invalid="ignore"):
         low = (vals <= 0) if canon == "rate_hz" else (vals < 0)
         high = vals > lim
+    shown = _limit_in_column_unit(col, canon)  # the limit as the user's column writes it
     for mask, msg in ((low & ~empty, "Input should be greater than " + ("0" if canon == "rate_hz" else
                                                                          "or equal to 0")),
-                      (high & ~empty, f"Input should be less than or equal to {lim:g}")):
+                      (high & ~empty, f"Input should be less than or equal to {shown}")):
         if mask.any():
             k = int(np.argmax(mask))
             raise InputError(msg, file=path, row=rows[k], field=col, value=cell(k),
-                             expected=_expected_text(canon, unit))
+                             expected=_expected_text(canon, unit) if col == canon else
+                             f"a number in {unit}, 0 … {shown}")
     vals = np.array(vals, float)
     vals[empty] = np.nan
     return vals
+
+
+def _column_unit(col: str, canon: str) -> str:
+    """Unit of a numeric header column as messages write it: the canonical column's unit, or
+    the alternative column's own (``gyro_arw_deg_s_rt_hz`` → ``deg/s/√Hz``)."""
+    return PART_NUMERIC_COLUMNS[canon][0] if col == canon else ALT_UNIT_LABELS[col]
+
+
+def _limit_in_column_unit(col: str, canon: str) -> str:
+    """The plausible maximum of ``canon`` written in the unit of header column ``col``; for an
+    alternative-unit column also in the canonical unit (``16.67 deg/s/√Hz (= 1000 deg/√h)``)."""
+    unit, lim = PART_NUMERIC_COLUMNS[canon]
+    if col == canon:
+        return f"{lim:g}"
+    per_unit = float(ALT_UNIT_COLUMNS[col][1](1.0))  # the conversions are linear
+    return f"{lim / per_unit:.4g} {ALT_UNIT_LABELS[col]} (= {lim:g} {unit})"
 
 
 def _is_float(text: str) -> bool:
@@ -252,14 +298,17 @@ def _table_fast(path: Path, text: str):
     if first is None:
         raise InputError("file has no header", file=path, expected="a header row")
     header = first[1]
+    _check_not_comment(header, path, first[0])
     mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
     if '"' not in text and "\r" not in text:  # no quoting: a record is a line
         lens = np.fromiter((line.count(",") + 1 if line else 0 for line in text.split("\n")), int)
     else:
         lens = np.fromiter(map(len, csv.reader(io.StringIO(text, newline=""))), int)
-    lens = lens[lens > 0]
+    last = np.flatnonzero(lens > 0)
+    lens = lens[:last[-1] + 1] if last.size else lens[:0]
     if lens.size < 2 or np.any(lens != len(header)):
-        return None  # blank-looking, short or long records: let the exact path name them
+        return None  # blank lines (they shift the spreadsheet rows), short or long records:
+        # let the exact path number and name them
     numeric = [c for c in header if mapping[c] in PART_NUMERIC_COLUMNS]
     if numeric and _BOOL_CELL.search(text):
         return None  # pandas would read TRUE/FALSE in a number column as 1/0; float() refuses
@@ -337,6 +386,7 @@ def _table_row_by_row(path: Path, text: str) -> tuple[dict[str, object], list[in
     if first is None:
         raise InputError("file has no header", file=path, expected="a header row")
     header = first[1]
+    _check_not_comment(header, path, first[0])
     mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
     columns: dict[str, list] = {mapping[c]: [] for c in header}
     row_numbers: list[int] = []
@@ -441,6 +491,7 @@ def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
         return [InputError("file has no header", file=path, expected="a header row")]
     header = first[1]
     try:
+        _check_not_comment(header, path, first[0])
         mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
     except InputError as err:
         return [err]
