@@ -10,6 +10,7 @@ from __future__ import annotations
 import difflib
 import json
 import math
+import warnings
 from pathlib import Path
 from typing import Literal
 
@@ -19,9 +20,9 @@ from pydantic import (BaseModel, ConfigDict, Field, ValidationError, ValidationI
                       model_validator)
 
 from .aiding_spec import CORRECTION_MODES, DEFAULT_CORRECTION_MODE, AidingConfig, parse_aiding
-from .errors import InputError, from_validation_error, refuse_bool_numbers
+from .errors import InputError, from_validation_error, refuse_bool_numbers, short_repr
 from .fileio import atomic_write_text, read_structured
-from .units import C_LIGHT, C_SOUND_WATER, G0
+from .units import C_LIGHT, C_SOUND_WATER, G0, split_value_unit, value_unit_to_si
 
 
 #: Physically plausible ranges (SI) of the scenario inputs and of Tc, with the reason: a value
@@ -82,6 +83,65 @@ def _unknown_keys_named(e: InputError, err: ValidationError) -> InputError:
             e.expected = ("only the scenario keys (sar-budget scenario write --preset NAME F.yaml "
                           "writes a file with every key)")
     e.args = (e._format(),)
+    return e
+
+
+#: SI unit of a scenario key, by the suffix of its name (longest first).
+_KEY_UNITS = (("_m_s2", "m/s²"), ("_deg_s", "deg/s"), ("_m_s", "m/s"), ("_hz", "Hz"),
+              ("_deg", "deg"), ("_m", "m"), ("_s", "s"))
+
+
+def key_unit(field: str | None) -> str | None:
+    """SI unit of the scenario key ``field`` (``lever_arm_m.0`` → ``m``), from its suffix, or None."""
+    base = (field or "").split(".")[0]
+    if base not in Scenario.model_fields:
+        return None
+    return next((unit for suffix, unit in _KEY_UNITS if base.endswith(suffix)), None)
+
+
+def _number_text_hint(field: str, text: str) -> tuple[str, str] | None:
+    """(reason, what to write) for text given to the number key ``field``: the unit is in the
+    key's name and, for a number written with a unit (``16.7 GHz``), the number to write
+    (1.67e+10) — converted by :func:`budget.units.value_unit_to_si`, never taken silently."""
+    unit = key_unit(field)
+    if unit is None:
+        return None
+    base = field.split(".")[0]
+    split = split_value_unit(text)
+    if split is None:
+        return "not a number", f"a plain number in {unit} (the unit is in the key's name, {base})"
+    number, written = split
+    si = value_unit_to_si(number, written, unit)
+    reason = f"a unit written in the value: the unit is in the key's name, {base} = {unit}"
+    return reason, (f"the number alone in {unit}: {si:.6g} for {text.strip()}" if si is not None else
+                    f"the number alone in {unit} ({written!r} is not a unit of {unit})")
+
+
+def _number_text_named(e: InputError, err: ValidationError) -> InputError:
+    """Text where a number key expects a number (``platform_speed_m_s: 90 km/h``): each such
+    error of the file says the unit is in the key's name and what to write instead."""
+    pydantic_text = "Input should be a valid number, unable to parse string as a number"
+    errors = err.errors(include_url=False)
+    changed = False
+    for i, x in enumerate(errors):
+        field = ".".join(str(p) for p in x.get("loc", ()))
+        if x.get("type") != "float_parsing" or not isinstance(x.get("input"), str):
+            continue
+        hint = _number_text_hint(field, x["input"])
+        if hint is None:
+            continue
+        reason, write = hint
+        got = f" (got {short_repr(x['input'])})"
+        if i == 0 and e.value is not None:  # the first error alone: its value and expectation
+            e.reason = reason + e.reason[len(pydantic_text):]
+            e.expected = e.expected or write
+        else:  # written inside the message, beside its own value
+            old = (f"field {field}: " if i else "") + pydantic_text + got
+            e.reason = e.reason.replace(old, (f"field {field}: " if i else "") + f"{reason}{got}; "
+                                        f"write {write}", 1)
+        changed = True
+    if changed:
+        e.args = (e._format(),)
     return e
 
 
@@ -232,6 +292,19 @@ class Scenario(BaseModel):
                              f"{tc:.3g} s, which no IMU budget can mean", field="tc_s (derived)",
                              expected=f"inputs giving {lo:g} s ≤ Tc ≤ {hi:g} s (check the units of "
                              "frequency, range, resolution and speed)")
+        # stop-and-go (seed 004's geometry, the simulator's echoes) assumes the platform does not
+        # cross the whole synthetic aperture while one pulse travels to the scene and back:
+        # Tc > 2R/c, i.e. V < a_w λ c / (4 δℓ sin θ); only a sonar flown fast misses it
+        delay = 2.0 * self.slant_range_m / self.c_m_s
+        if delay >= tc:
+            v_max = self.platform_speed_m_s * tc / delay
+            warnings.warn(f"{self.name}: the echo delay 2R/c = {delay:.3g} s is longer than the "
+                          f"aperture time Tc = {tc:.3g} s: the platform moves "
+                          f"{self.platform_speed_m_s * delay:.3g} m while one pulse travels, more than "
+                          f"the whole {self.aperture_length_m:.3g} m synthetic aperture; the bounds and "
+                          "the simulator assume stop-and-go and do not model this (platform_speed_m_s "
+                          f"< {v_max:.3g} m/s keeps Tc > 2R/c: check the speed's unit and the medium)",
+                          UserWarning, stacklevel=2)
 
     # --- derived -----------------------------------------------------------------
     @property
@@ -279,7 +352,8 @@ class Scenario(BaseModel):
             cause = (err.errors()[0].get("ctx") or {}).get("error")
             if isinstance(cause, InputError):  # the aiding section names its own field
                 raise (cause.rename_file(source) if source else cause) from None
-            raise _unknown_keys_named(from_validation_error(err, file=source), err) from None
+            e = _unknown_keys_named(from_validation_error(err, file=source), err)
+            raise _number_text_named(e, err) from None
 
     @classmethod
     def load(cls, path: str | Path) -> "Scenario":

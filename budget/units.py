@@ -245,3 +245,34 @@ def phase_error_to_range_error(phase_error_rad, wavelength_m):
     """Inverse of :func:`range_error_to_phase_error`: Δr = φ · λ / (4π) (m). For a phase limit
     (|φ| ≤ limit) it is the largest line-of-sight range error allowed."""
     return phase_error_rad * (wavelength_m / (4.0 * math.pi))
+
+
+# --- a unit written after a number in a value (scenario files) ---------------------------------
+
+#: Units a user may write after a number where a key's name already carries the SI unit
+#: (``platform_speed_m_s: 90 km/h``), by that SI unit: unit text (lower case) → factor to it.
+VALUE_UNITS: dict[str, dict[str, float]] = {
+    "Hz": {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9, "thz": 1e12},
+    "m": {"m": 1.0, "km": 1e3, "cm": 1e-2, "mm": 1e-3, "nmi": 1852.0, "ft": 0.3048},
+    "m/s": {"m/s": 1.0, "km/h": 1.0 / 3.6, "kmh": 1.0 / 3.6, "kn": 1852.0 / 3600.0,
+            "kt": 1852.0 / 3600.0, "kts": 1852.0 / 3600.0, "knots": 1852.0 / 3600.0, "mph": 0.44704},
+    "m/s²": {"m/s²": 1.0, "m/s2": 1.0, "m/s^2": 1.0, "g": G0},
+    "deg": {"deg": 1.0, "°": 1.0, "degrees": 1.0, "rad": 1.0 / DEG, "mrad": 1e-3 / DEG},
+    "deg/s": {"deg/s": 1.0, "°/s": 1.0, "dps": 1.0, "rad/s": 1.0 / DEG},
+    "s": {"s": 1.0, "ms": 1e-3, "min": 60.0},
+}
+
+
+def split_value_unit(text: str) -> tuple[float, str] | None:
+    """``'16.7 GHz'`` → ``(16.7, 'GHz')``: a number followed by a unit, or None."""
+    import re
+
+    m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z°µ].*?)\s*", text)
+    return (float(m.group(1)), m.group(2)) if m else None
+
+
+def value_unit_to_si(number: float, unit: str, si_unit: str) -> float | None:
+    """``number`` ``unit`` in ``si_unit`` (a key of :data:`VALUE_UNITS`), or None if ``unit`` is
+    not one of that quantity's units (e.g. a speed written in Hz)."""
+    factor = VALUE_UNITS.get(si_unit, {}).get(unit.strip().lower())
+    return None if factor is None else number * factor

@@ -130,15 +130,18 @@ class McResult:
         return text + "\n" if text else ""
 
     def unspecified_summary(self) -> str:
-        """How the model's empty datasheet terms were resolved (``budget.catalog.fill``), or ''."""
+        """How the model's empty datasheet terms were resolved (``budget.catalog.fill``): each
+        value filled from the grade (with its unit), each term taken as 0, and each empty term
+        without a grade value that is simulated as 0 (rate random walk); '' if there is none."""
         u = self.extra.get("unspecified_terms") or {}
-        if not u.get("unspecified"):
-            return ""
         fills = ", ".join(f"{f['column']} = {f['value']:.4g} {f['unit']}" for f in u.get("filled", []))
         zero = ", ".join(u.get("zero", []))
-        text = (f"filled from the {u.get('grade')} grade's typical values: {fills}" if fills else "")
-        text += ("; " if fills and zero else "") + (f"taken as 0: {zero}" if zero else "")
-        return f"unspecified datasheet terms ({u.get('policy')}): {text}"
+        absent = ", ".join(u.get("not_modelled", []))
+        texts = [f"filled from the {u.get('grade')} grade's typical values: {fills}" if fills else "",
+                 f"taken as 0: {zero}" if zero else "",
+                 f"empty and without a grade value, simulated as 0: {absent}" if absent else ""]
+        text = "; ".join(t for t in texts if t)
+        return f"unspecified datasheet terms ({u.get('policy')}): {text}" if text else ""
 
     def summary(self) -> str:
         lo, hi = self.ci_after

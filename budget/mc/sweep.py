@@ -42,7 +42,9 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
           progress=None, cancel=None, sources: Sequence | None = None) -> pd.DataFrame:
     """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
     ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`),
-    ``platform_motion`` (what the platform flew, :mod:`budget.nav.manoeuvre`) and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
+    ``platform_motion`` (what the platform flew, :mod:`budget.nav.manoeuvre`),
+    ``unspecified_terms`` (how the part's empty datasheet terms were resolved — each value filled
+    from its grade, with its unit, or taken as 0 — as the Monte Carlo's own summary line says) and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
     simulator's sampling limits; module docstring). ``sources``: the file each scenario was read
     from (None for a preset or an object), one per scenario: an input error raised while that
     scenario runs then names its file."""
@@ -97,7 +99,9 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             row = _cell(scen, part) | {
                 "trials": r.trials, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
                 "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
-                "twin_passes": r.agg.twin_pass, "platform_motion": r.judged_on.get("platform_motion")}
+                "twin_passes": r.agg.twin_pass, "platform_motion": r.judged_on.get("platform_motion"),
+                "unspecified_terms": (r.unspecified_summary()
+                                      or f"no unspecified datasheet terms ({options.unspecified})")}
             row.update({f"fail_{k}": v for k, v in r.agg.failure_reasons().items()})
             for m, q in pct.items():
                 row[f"{m}_p50"], row[f"{m}_p95"] = q["p50"], q["p95"]

@@ -103,6 +103,14 @@ def render_html(rep) -> str:
         judged = next(iter(rep.mc.values())).judged_on or {}
         parts += [f"<p class='judged' data-key='{k}'><small>{html.escape(str(judged[k]))}</small></p>"
                   for k in ("navigation", "platform_motion") if judged.get(k)]
+        # per part: the values the Monte Carlo filled or took as 0 for empty datasheet cells, and
+        # the rate the IMU was simulated at — inputs the user did not give
+        for pid, r in rep.mc.items():
+            for key, text in (("unspecified", r.unspecified_summary()),
+                              ("imu_rate", (r.judged_on or {}).get("imu_rate"))):
+                if text:
+                    parts.append(f"<p class='judged' data-key='{key}'><small><b>{html.escape(str(pid))}"
+                                 f"</b>: {html.escape(str(text))}</small></p>")
     parts += ["<h2>Check vs. Monte Carlo</h2>", _comparisons(rep), "<h2>Figures</h2>"]
     for name, fig in rep.figures.items():
         parts += [f"<h3>{html.escape(name)}</h3>", fig.to_html(include_plotlyjs=False, full_html=False)]
