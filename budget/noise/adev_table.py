@@ -16,6 +16,12 @@ interval is computed at ``ci_level``. Values are converted to SI (rad/s, m/s²).
 ``TAU_TOLERANCE`` (15 %) of one, τ is set to the nearest whole m/rate and the ADEV (and its
 bounds) moved along the curve's local log-log slope, ADEV·(m/(τ·rate))^slope, and the result
 carries a note saying so (``AllanResult.notes``); farther off is an error (wrong ``rate_hz``).
+
+Files other tools write are read as they are: delimited by ``,``, ``;`` or a tab (the one that
+splits the header into a τ column), ``#`` comment lines before the header (rows in messages are
+the file's lines), quoted header names, trailing delimiters, τ in ms or µs (``tau_ms``,
+``tau_us``), compressed under any name (gzip, bzip2, xz, zip found by content). A decimal comma
+is refused with its row and said to be one.
 """
 
 from __future__ import annotations
@@ -30,8 +36,9 @@ from scipy import optimize, stats
 
 from .. import units as u
 from ..errors import InputError
-from ..fileio import read_text, require_file
+from ..fileio import open_input, read_text, require_file
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
+from .logs import decimal_comma
 
 REQUIRED = ("channel", "tau_s", "adev")
 #: Largest relative distance of τ·rate from a whole number of samples that is accepted (tools
@@ -40,34 +47,62 @@ TAU_TOLERANCE = 0.15
 OPTIONAL = ("lci", "uci")
 
 
+#: τ header names in another time unit → factor to seconds
+_TAU_UNITS = {"tau_ms": 1e-3, "tau(ms)": 1e-3, "tau[ms]": 1e-3, "tau_us": 1e-6, "tau(us)": 1e-6,
+              "tau[us]": 1e-6}
+#: Delimiters an Allan table may use; the one that splits the header into a τ column is taken.
+_DELIMITERS = (",", ";", "\t")
+
 #: Header names read as each column of a table (compared lower-case, without spaces): other
 #: tools write ``Tau``, ``tau (s)``, ``ADEV``, or the Allan variance instead of the deviation.
-_ALIASES = {"tau_s": ("tau_s", "tau", "taus", "tau(s)", "tau[s]"), "channel": ("channel",),
+_ALIASES = {"tau_s": ("tau_s", "tau", "taus", "tau(s)", "tau[s]") + tuple(_TAU_UNITS), "channel": ("channel",),
             "adev": ("adev",), "avar": ("avar",), "lci": ("lci",), "uci": ("uci",)}
 _CANON = {a: c for c, names in _ALIASES.items() for a in names}
 
 
+def _key(col) -> str:
+    """A header cell as compared: lower case, without spaces or surrounding quotes."""
+    return str(col).strip().strip("\"'").lower().replace(" ", "")
+
+
 def _canonical(col: str) -> str | None:
-    return _CANON.get(str(col).strip().lower().replace(" ", ""))
+    return _CANON.get(_key(col))
+
+
+#: Lines read from the top of a file to find an Allan table's header (comment lines first).
+_HEADER_LINES = 50
+
+
+def table_header(path: str | Path) -> tuple[str, int] | None:
+    """(delimiter, lines before the header) when ``path`` is an Allan table — a header line that
+    names a τ column (``tau_s``, ``tau``, ``tau_ms`` …) split by ``,``, ``;`` or a tab, after
+    blank and ``#`` comment lines — else None. The file's compression is found by content
+    (gzip, bzip2, xz, zip, whatever its suffix)."""
+    try:
+        with open_input(path) as fh:
+            raw = fh.read(1 << 16)
+    except InputError:
+        return None
+    lines = raw.decode("utf-8-sig", errors="replace").splitlines()
+    for pre, line in enumerate(lines[:_HEADER_LINES]):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        for delim in _DELIMITERS:
+            if any(_canonical(c) == "tau_s" for c in line.split(delim)):
+                return delim, pre
+        return None
+    return None
 
 
 def looks_like_adev_table(path: str | Path) -> bool:
-    """True when the first line of ``path`` names a τ column (``tau_s``, ``tau``, …) or has the
-    ``channel, tau_s, adev`` columns: an Allan table, in any of the layouts
-    :func:`read_adev_table` reads (or refuses with a message about the layout); a log has no τ."""
-    import gzip
-    path = Path(path)
-    opener = gzip.open if path.suffix == ".gz" else open
-    try:
-        with opener(path, "rt", encoding="utf-8-sig", errors="replace") as fh:
-            head = fh.readline()
-    except (OSError, EOFError):
-        return False
-    cols = {_canonical(c) for c in head.split(",")}
-    return "tau_s" in cols
+    """True when ``path``'s header names a τ column (``tau_s``, ``tau``, …) or has the
+    ``channel, tau_s, adev`` columns (:func:`table_header`): an Allan table, in any of the
+    layouts :func:`read_adev_table` reads (or refuses with a message about the layout); a log
+    has no τ."""
+    return table_header(path) is not None
 
 
-def _long_layout(df: pd.DataFrame, path: Path) -> tuple[pd.DataFrame, np.ndarray, bool]:
+def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1) -> tuple[pd.DataFrame, np.ndarray, bool]:
     """(table in the long layout ``channel, tau_s, adev[, lci, uci]``, the file's 0-based data row
     of each of its rows, whether it came from the wide layout). Accepted: the long layout with
     header names as in :data:`_ALIASES` (any case), ``avar`` instead of ``adev`` (its square
@@ -78,7 +113,7 @@ def _long_layout(df: pd.DataFrame, path: Path) -> tuple[pd.DataFrame, np.ndarray
     names = {c: _canonical(c) for c in df.columns}
     dup = [c for c in set(n for n in names.values() if n) if list(names.values()).count(c) > 1]
     if dup:
-        raise InputError(f"two header names read as {dup[0]}", file=path, row=1, expected=expected)
+        raise InputError(f"two header names read as {dup[0]}", file=path, row=header_row, expected=expected)
     known = {c: n for c, n in names.items() if n}
     rest = [c for c, n in names.items() if not n]
     if set(known.values()) == {"tau_s"} and rest:  # wide: tau_s + one column per channel
@@ -87,7 +122,7 @@ def _long_layout(df: pd.DataFrame, path: Path) -> tuple[pd.DataFrame, np.ndarray
                 u.split_channel_column(str(c).strip())
             except ValueError as err:
                 raise InputError(f"wide Allan table: column {c!r} is not a channel with its unit ({err})",
-                                 file=path, row=1, expected=expected) from None
+                                 file=path, row=header_row, expected=expected) from None
         tau_col = next(iter(known))
         rows = np.tile(np.arange(len(df)), len(rest))
         long = pd.DataFrame({"channel": np.repeat([str(c).strip() for c in rest], len(df)),
@@ -101,7 +136,7 @@ def _long_layout(df: pd.DataFrame, path: Path) -> tuple[pd.DataFrame, np.ndarray
         what = "; ".join(t for t in (missing and f"missing {missing}", rest and f"unknown {rest}",
                                      "avar" in df.columns and "adev" in df.columns and "both adev and avar")
                          if t)
-        raise InputError(f"not an Allan table layout this tool reads: columns {what}", file=path, row=1,
+        raise InputError(f"not an Allan table layout this tool reads: columns {what}", file=path, row=header_row,
                          expected=expected)
     if value == "avar":
         for col in ("avar", "lci", "uci"):
@@ -150,15 +185,21 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
                          expected="--samples N ≥ 3 (number of samples behind the curve)")
     if not 0 < ci_level < 1:
         raise InputError("confidence level must be in (0, 1)", field="ci_level", value=ci_level)
+    delim, pre = table_header(path) or (",", 0)
     try:
-        df = pd.read_csv(io.StringIO(read_text(path)), skipinitialspace=True, dtype={"channel": str})
+        df = pd.read_csv(io.StringIO(read_text(path)), sep=delim, skiprows=pre, skipinitialspace=True,
+                         dtype={"channel": str}, comment="#")
     except pd.errors.ParserError as err:
         raise InputError(f"malformed CSV: {str(err).split('C error: ')[-1]}", file=path) from None
-    df.columns = [str(c).strip() for c in df.columns]
-    df, file_rows, wide = _long_layout(df, path)
+    df.columns = [str(c).strip().strip("\"'") for c in df.columns]
+    # trailing delimiters (``1,2,3,``) make unnamed empty columns: they hold nothing
+    df = df.drop(columns=[c for c in df.columns if c.startswith("Unnamed:") and df[c].isna().all()])
+    tau_factor = next((_TAU_UNITS[_key(c)] for c in df.columns if _key(c) in _TAU_UNITS), 1.0)
+    df, file_rows, wide = _long_layout(df, path, header_row=1 + pre)
+    file_rows = file_rows + pre
     has_ci = "lci" in df.columns or "uci" in df.columns
     if has_ci and not ("lci" in df.columns and "uci" in df.columns):
-        raise InputError("lci and uci must be given together", file=path, row=1)
+        raise InputError("lci and uci must be given together", file=path, row=1 + pre)
     num_cols = ["tau_s", "adev"] + (["lci", "uci"] if has_ci else [])
     for col in num_cols:
         vals = pd.to_numeric(df[col], errors="coerce")
@@ -166,10 +207,12 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
         bad = np.flatnonzero(~np.isfinite(v) | ((v <= 0) if col != "lci" else False))
         if bad.size:
             i = int(bad[0])
+            comma = decimal_comma(df[col].iloc[i])
             raise InputError("not a positive finite number" if col != "lci" else "not a number",
                              file=path, row=int(file_rows[i]) + 2,
-                             field=df["channel"].iloc[i] if wide and col == "adev" else col, value=df[col].iloc[i])
-        df[col] = vals.astype(float)
+                             field=df["channel"].iloc[i] if wide and col == "adev" else col, value=df[col].iloc[i],
+                             expected="a number with a decimal point (0.01), not a decimal comma" if comma else None)
+        df[col] = vals.astype(float) * (tau_factor if col == "tau_s" else 1.0)
     if df.empty:
         raise InputError("no rows after the header", file=path)
     out: dict[str, AllanResult] = {}

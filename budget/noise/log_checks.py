@@ -2,7 +2,11 @@
 
 Checks (all vectorised over the whole log): non-finite values per column, implausible
 magnitudes (:data:`MAX_ABS_SI`: a single 1e300 sample is named with its row), duplicated rows,
-non-increasing or jittery time stamps, gaps, constant (stuck) channels, too few samples.
+non-increasing or jittery time stamps, gaps, constant (stuck) channels, too few samples; and,
+raised by the reader, rows that repeat every sensor value of the row before (stale samples,
+:func:`stale_samples`) and channels piled up at a range limit (:func:`clipped`). The sampling
+period comes from the stamps' span, not their median step (:func:`nominal_period`): stamps
+rounded to a millisecond step unevenly at 128 or 400 Hz.
 Rows are reported as spreadsheet rows of the file (header = row 1, first sample = row 2; blank
 or comment lines shift this numbering).
 
@@ -99,11 +103,48 @@ def _rows(idx: np.ndarray) -> tuple[int, ...]:
     return tuple(int(i) + 2 for i in idx[:MAX_ROWS_LISTED])
 
 
+#: Steps per window of the first period estimate (:func:`nominal_period`).
+PERIOD_WINDOW = 64
+
+
 def nominal_period(t: np.ndarray) -> float | None:
-    """Median of the positive time steps (s), None when there is none."""
-    dt = np.diff(t[np.isfinite(t)])
-    dt = dt[dt > 0]
-    return float(np.median(dt)) if dt.size else None
+    """Sampling period (s) of the time stamps ``t`` (s), None when no step is positive.
+
+    Time stamps are often rounded to a resolution near the period (integer milliseconds at
+    128 Hz step by 7 or 8 ms; three decimals of a second at 400 Hz by 2 or 3 ms), so the median
+    step is not the period: it read 125 Hz and 333 Hz there. First estimate: the median over
+    windows of :data:`PERIOD_WINDOW` consecutive steps of their mean step (a gap spoils only
+    its window; rounding errs by the resolution over a window). When the stamps increase, the
+    period is then the record's span over the periods it holds — its samples less one plus
+    those lost in gaps (:func:`_missing_samples`) — exact to the resolution over the span.
+    """
+    t = t[np.isfinite(t)]
+    dt = np.diff(t)
+    pos = dt[dt > 0]
+    if not pos.size:
+        return None
+    m = min(PERIOD_WINDOW, max(1, dt.size // 8))
+    win = dt[: dt.size // m * m].reshape(-1, m)
+    whole = np.all(win > 0, axis=1)
+    period = float(np.median(win[whole].mean(axis=1))) if whole.any() else float(np.median(pos))
+    if pos.size == dt.size:  # increasing stamps: the span over the periods it holds
+        gaps = np.flatnonzero(dt > GAP_FACTOR * period) + 1
+        periods = dt.size + int(np.sum(np.maximum(_missing_samples(t, gaps, period), 0)))
+        period = float((t[-1] - t[0]) / periods)
+    return period
+
+
+def stamp_resolution(dt: np.ndarray, period: float) -> float | None:
+    """The resolution (s) the time stamps are rounded to when it is coarse — the steps ``dt``
+    (s, gaps left out) take at most three values, ≥ 1 % of ``period`` apart — else None."""
+    dt = dt[np.isfinite(dt) & (dt > 0)]
+    if dt.size < 3:
+        return None
+    levels = np.unique(np.round(dt / period, 6))
+    if not 2 <= levels.size <= 3:
+        return None
+    res = float(np.min(np.diff(levels))) * period
+    return res if res >= 0.01 * period else None
 
 
 def check_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
@@ -183,6 +224,97 @@ def gravity_unchecked(channel_index: dict[str, int], source_units: dict[str, str
                     f"axes; with {', '.join(axes)} alone a log in g labelled m/s² (or the reverse, below "
                     "1 g) cannot be caught — every accelerometer figure would be off by 9.81×", 0, (),
                     axes[0])
+
+
+#: Rows whose sensor values all repeat the previous row, beyond :data:`STALE_CHANCE` times what
+#: independent channels give by chance, that make a log refused as holding stale samples: at
+#: least this share of the rows (and :data:`STALE_MIN_ROWS` rows).
+STALE_SHARE = 0.01
+STALE_MIN_ROWS = 10
+STALE_CHANCE = 3.0
+
+
+def stale_samples(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
+                  channel_index: dict[str, int], path) -> InputError | None:
+    """The error for a log whose rows repeat the previous row's sensor values while the time
+    goes on — a logger that reads faster than the sensor updates writes each sample again: a
+    200 Hz log of a 100 Hz sensor made the fitted ARW 0.87× the sensor's, a 100 Hz loop missing
+    30 % of the updates 1.14× — or None.
+
+    Each channel alone repeats by chance on a coarse lattice (the ADIS16405's accelerometers
+    hold 26–37 % of their values), so with ≥ 2 sensor channels the rows where *all* repeat are
+    compared with the product of the channels' own repeat shares (independent channels):
+    refused when they are at least :data:`STALE_SHARE` of the rows, :data:`STALE_MIN_ROWS`
+    rows and :data:`STALE_CHANCE` × that product (the ADIS16405 logs: 1 and 2 such rows in 10⁶). Rows that
+    repeat the time stamp too are duplicate rows, reported by :func:`check_log`."""
+    cols = list(channel_index.values())
+    n = data.shape[0]
+    if len(cols) < 2 or n < 3:
+        return None
+    x = data[:, cols]
+    same = x[1:] == x[:-1]
+    every = same.all(axis=1)
+    if time_index is not None:
+        every &= ~(data[1:, time_index] == data[:-1, time_index])
+    count = int(every.sum())
+    chance = float(np.prod(same.mean(axis=0)))
+    if count < max(STALE_MIN_ROWS, STALE_SHARE * (n - 1)) or count < STALE_CHANCE * chance * (n - 1):
+        return None
+    rows = ", ".join(map(str, _rows(np.flatnonzero(every) + 1)))
+    return InputError(f"{count} of {n} rows ({100 * count / n:.3g} %) repeat every sensor value of the "
+                      f"row before (rows {rows}, …), where independent noise would repeat "
+                      f"{100 * chance:.2g} % — stale samples: the logger read faster than the sensor "
+                      "updates? every noise figure of this log would be off",
+                      file=path, field=", ".join(names[j] for j in cols),
+                      expected="one new sensor sample per row: log at the sensor's output rate (or keep "
+                               "only the rows where the values change, with their own time stamps)")
+
+
+#: A channel whose largest (smallest) value holds at least this share of its samples, piled up
+#: beyond its neighbour value, is clipped: refused (fewer such samples: a warning).
+CLIP_SHARE = 0.01
+#: Samples at one extreme, and times the count of the next value inward, that make a pile-up.
+CLIP_MIN_SAMPLES = 10
+CLIP_PILE = 3.0
+#: Distinct values a channel needs for a pile-up to mean clipping (not a coarse lattice).
+CLIP_MIN_LEVELS = 8
+
+
+def clipped(data: np.ndarray, names: tuple[str, ...], channel_index: dict[str, int], path,
+            factors: tuple[float, ...] | None = None) -> tuple[InputError | None, list[LogIssue]]:
+    """Channels clipped at a range limit (a sensor or ADC at full scale, a logger's integer
+    limit): the largest or smallest value is held by at least :data:`CLIP_MIN_SAMPLES` samples
+    and :data:`CLIP_PILE` × the next value inward, on a channel with at least
+    :data:`CLIP_MIN_LEVELS` distinct values (a noise distribution thins towards its extremes;
+    clipping piles the tail beyond the limit onto it). A white gyro clipped at 1.5 σ read an ARW
+    0.88× its own. ``factors``: each column's factor to SI, to state the value in the column's
+    own unit. (error for the first channel with at least :data:`CLIP_SHARE` of its samples there,
+    or None; warnings for the others)."""
+    warn: list[LogIssue] = []
+    for ch, j in channel_index.items():
+        col = data[:, j]
+        col = col[np.isfinite(col)]
+        if col.size < CLIP_MIN_SAMPLES:
+            continue
+        values, counts = np.unique(col, return_counts=True)
+        if values.size < CLIP_MIN_LEVELS:
+            continue
+        for end, inner, side in ((-1, -2, "largest"), (0, 1, "smallest")):
+            k = int(counts[end])
+            if k < CLIP_MIN_SAMPLES or k < CLIP_PILE * counts[inner]:
+                continue
+            share = k / col.size
+            shown = values[end] / factors[j] if factors else values[end]
+            text = (f"{k} of {col.size} samples ({100 * share:.3g} %) sit at the channel's {side} value "
+                    f"{shown:.6g}, {k / counts[inner]:.3g}× the next value inward — clipped at a "
+                    "range limit (sensor full scale, saturated ADC)?")
+            if share >= CLIP_SHARE:
+                return InputError(text + " every noise figure of this channel would be off", file=path,
+                                  field=names[j], expected="a static log within the sensor's range (a "
+                                  "larger range setting), or the file without this column"), warn
+            rows = np.flatnonzero(data[:, j] == values[end])
+            warn.append(LogIssue("clipped", "warning", text, k, _rows(rows), names[j]))
+    return None, warn
 
 
 def max_abs_si(channel: str) -> float:
@@ -280,7 +412,13 @@ def _time_issues(data: np.ndarray, ti: int) -> list[LogIssue]:
     normal = normal[np.isfinite(normal) & (normal > 0)]
     if normal.size > 2:
         jitter = float(np.std(normal) / period)
-        if jitter > JITTER_WARN:
+        res = stamp_resolution(normal, period)
+        if res is not None:
+            issues.append(LogIssue("stamp_resolution", "info", f"time stamps are rounded to "
+                                   f"{res:.3g} s ({100 * res / period:.2g} % of the period {period:.6g} s): "
+                                   "their steps vary by that much; the rate is taken from their span",
+                                   int(normal.size), (), "time"))
+        elif jitter > JITTER_WARN:
             issues.append(LogIssue("jitter", "warning", f"sampling period varies by {100 * jitter:.2g} % "
                                    "RMS; the analysis assumes uniform sampling at the nominal rate",
                                    int(normal.size), (), "time"))

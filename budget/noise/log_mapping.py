@@ -11,7 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from .. import units as u
 from ..errors import InputError, from_validation_error, refuse_bool_numbers
@@ -39,6 +41,8 @@ class LogMapping(BaseModel):
     logger's settings). ``scale``: source column → factor that turns its raw value into the
     unit of its canonical name, e.g. ``{"gx": 0.0076336}`` (1/131: counts → deg/s) with
     ``"gx": "gyro_x_dps"`` — raw counts are read through a stated scale, never guessed.
+    ``decimal``: the decimal mark of the numbers, ``"."`` or ``","`` (``0,0125`` as spreadsheets
+    in many locales write; the ``delimiter`` is then usually ``";"`` and must differ from it).
     """
 
     model_config = ConfigDict(extra="forbid")
@@ -50,6 +54,14 @@ class LogMapping(BaseModel):
     comment: str | None = Field(None, min_length=1, max_length=1)
     skip_rows: int = Field(0, ge=0, le=10_000)
     scale: dict[str, float] = Field(default_factory=dict)
+    decimal: Literal[".", ","] = "."
+
+    @model_validator(mode="after")
+    def _decimal_not_delimiter(self) -> "LogMapping":
+        if self.decimal == self.delimiter:
+            raise ValueError(f"decimal mark and delimiter are both {self.decimal!r}: numbers written "
+                             "with decimal commas need another delimiter (\"delimiter\": \";\")")
+        return self
 
     @field_validator("scale")
     @classmethod

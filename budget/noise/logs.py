@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..fileio import check_input_file, open_input, require_file
+from ..fileio import check_input_file, compression_of, open_input, require_file
 from ..units import CHANNELS
 from . import log_checks as lc
 from .log_mapping import ColumnPlan, LogMapping, plan_columns
@@ -86,9 +86,34 @@ class ImuLog:
         return pd.DataFrame(cols, index=pd.Index(t, name="time_s"))
 
 
-def _header(path: Path, mapping: LogMapping | None) -> list[str]:
+#: pandas ``compression`` of each container :func:`~budget.fileio.check_input_file` detects
+_PANDAS_COMPRESSION = {None: None, "gzip": "gzip", "bzip2": "bz2", "xz": "xz", "zip": "zip"}
+#: byte-order marks of UTF-16/32 text (spreadsheet "Unicode text" exports) → their codec
+_WIDE_BOMS = ((b"\xff\xfe\x00\x00", "utf-32"), (b"\x00\x00\xfe\xff", "utf-32"),
+              (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
+
+
+def _text_format(path: Path, kind: str | None) -> dict:
+    """How pandas reads ``path``: its compression as detected by content (``kind``, not the
+    suffix: a gzip log named ``log`` or ``log.gzip`` is still gzip), the text encoding (UTF-8,
+    or UTF-16/32 when the text starts with their byte-order mark), and bytes that are not
+    valid in it replaced (a Latin-1 ``°`` in a column the reader ignores must not refuse the
+    log; in a number it is reported as not a number, with its row)."""
+    encoding = "utf-8"
+    with open_input(path) as fh:
+        head = fh.read(4)
+    for bom, codec in _WIDE_BOMS:
+        if head.startswith(bom):
+            encoding = codec
+            break
+    return {"compression": _PANDAS_COMPRESSION[kind], "encoding": encoding,
+            "encoding_errors": "replace"}
+
+
+def _header(path: Path, mapping: LogMapping | None, fmt: dict) -> list[str]:
     try:
-        head = pd.read_csv(path, sep=mapping.delimiter if mapping else ",", nrows=0,
+        head = pd.read_csv(path, sep=mapping.delimiter if mapping else ",", nrows=0, **fmt,
+                           decimal=mapping.decimal if mapping else ".",
                            comment=mapping.comment if mapping else None, skipinitialspace=True,
                            skiprows=mapping.skip_rows if mapping else 0)
     except pd.errors.EmptyDataError:
@@ -99,11 +124,14 @@ def _header(path: Path, mapping: LogMapping | None) -> list[str]:
     return lc.check_header([str(c).strip() for c in head.columns], path)
 
 
-def _estimate_rows(path: Path) -> int | None:
-    """Rough row count from the (uncompressed) size and the first lines; None if unknown."""
+def _estimate_rows(path: Path, kind: str | None = "auto") -> int | None:
+    """Rough row count from the (uncompressed) size and the first lines; None if unknown
+    (``kind``: the compression found by content, ``"auto"``: find it here)."""
     try:
+        if kind == "auto":
+            kind = compression_of(path)
         size = path.stat().st_size
-        if path.suffix == ".gz":
+        if kind == "gzip":
             with open(path, "rb") as fh:  # gzip trailer: uncompressed size mod 2**32
                 fh.seek(-4, 2)
                 isize = int.from_bytes(fh.read(4), "little")
@@ -111,7 +139,7 @@ def _estimate_rows(path: Path) -> int | None:
                 return None
             size = isize
             opener = gzip.open
-        elif path.suffix in (".csv", ".txt", ""):
+        elif kind is None:
             opener = open
         else:
             return None
@@ -119,7 +147,7 @@ def _estimate_rows(path: Path) -> int | None:
             sample = fh.read(1 << 20)
         lines = sample.count(b"\n")
         return int(size / (len(sample) / lines)) if lines > 1 else None
-    except (OSError, EOFError, gzip.BadGzipFile):
+    except (OSError, EOFError, gzip.BadGzipFile, InputError):
         return None
 
 
@@ -129,11 +157,28 @@ def _bad_cell(series: pd.Series, base_row: int, path: Path, col: str) -> None:
     bad = conv.isna() & series.notna() & (text != "") & (text.str.lower() != "nan")
     if bad.any():
         i = int(np.flatnonzero(bad.to_numpy())[0])
+        expected = "a decimal number"
+        if decimal_comma(series.iloc[i]):
+            expected = ("a number with a decimal point; a log written with decimal commas is read "
+                        "with a mapping's \"decimal\": \",\" (and its \"delimiter\", e.g. \";\")")
         raise InputError("not a number", file=path, row=base_row + i + 2, field=col,
-                         value=series.iloc[i], expected="a decimal number")
+                         value=series.iloc[i], expected=expected)
 
 
-def _chunks_without_lost_fields(reader, path: Path, mapping: LogMapping | None):
+def decimal_comma(cell) -> bool:
+    """True when ``cell`` is text that reads as a number once its one comma is a point
+    (``'0,0125'``: a decimal comma, as spreadsheets in many locales write)."""
+    text = str(cell).strip()
+    if text.count(",") != 1:
+        return False
+    try:
+        float(text.replace(",", "."))
+    except ValueError:
+        return False
+    return True
+
+
+def _chunks_without_lost_fields(reader, path: Path, mapping: LogMapping | None, fmt: dict):
     """The chunks of ``reader``; a row with more fields than the header (which pandas would cut
     with only a warning, shifting nothing but losing data) is an error naming its line."""
     while True:
@@ -141,7 +186,7 @@ def _chunks_without_lost_fields(reader, path: Path, mapping: LogMapping | None):
             warnings.simplefilter("always", pd.errors.ParserWarning)
             chunk = next(reader, None)
         if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
-            bad = _row_with_extra_fields(path, mapping)
+            bad = _row_with_extra_fields(path, mapping, fmt["encoding"])
             if bad is not None:
                 reader.close()
                 line_no, got, want = bad
@@ -152,7 +197,8 @@ def _chunks_without_lost_fields(reader, path: Path, mapping: LogMapping | None):
         yield chunk
 
 
-def _row_with_extra_fields(path: Path, mapping: LogMapping | None) -> tuple[int, int, int] | None:
+def _row_with_extra_fields(path: Path, mapping: LogMapping | None,
+                           encoding: str = "utf-8") -> tuple[int, int, int] | None:
     """(line number, fields, header fields) of the first data row with more non-empty trailing
     fields than the header — pandas drops them with a warning — or None when the extra fields
     are only trailing delimiters (``1,2,3,``), which lose nothing."""
@@ -160,7 +206,7 @@ def _row_with_extra_fields(path: Path, mapping: LogMapping | None) -> tuple[int,
     comment = mapping.comment if mapping else None
     skip = mapping.skip_rows if mapping else 0
     with open_input(path) as fh:
-        text = io.TextIOWrapper(fh, encoding="utf-8", errors="replace", newline="")
+        text = io.TextIOWrapper(fh, encoding=encoding, errors="replace", newline="")
         width = None
         for line_no, row in enumerate(csv.reader(text, delimiter=delim), start=1):
             if line_no <= skip or not row or (comment and row[0].lstrip().startswith(comment)):
@@ -175,8 +221,8 @@ def _row_with_extra_fields(path: Path, mapping: LogMapping | None) -> tuple[int,
 
 
 def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
-                 max_rows: int | None, chunk_rows: int) -> np.ndarray:
-    est = _estimate_rows(path)
+                 max_rows: int | None, chunk_rows: int, kind: str | None, fmt: dict) -> np.ndarray:
+    est = _estimate_rows(path, kind)
     cap = int(est * 1.02) + chunk_rows if est else 4 * chunk_rows
     if max_rows is not None:
         cap = min(cap, max_rows)
@@ -187,8 +233,9 @@ def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
         reader = pd.read_csv(path, sep=mapping.delimiter if mapping else ",",
                              comment=mapping.comment if mapping else None, skipinitialspace=True,
                              skiprows=mapping.skip_rows if mapping else 0,
-                             chunksize=chunk_rows, nrows=max_rows, index_col=False)
-        for chunk in _chunks_without_lost_fields(reader, path, mapping):
+                             chunksize=chunk_rows, nrows=max_rows, index_col=False, **fmt,
+                             decimal=mapping.decimal if mapping else ".")
+        for chunk in _chunks_without_lost_fields(reader, path, mapping, fmt):
             chunk.columns = [str(c).strip() for c in chunk.columns]
             m = len(chunk)
             if n + m > data.shape[0]:
@@ -216,7 +263,8 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
              rate_hz: float | None = None, channels: Iterable[str] | None = None,
              max_rows: int | None = None, min_samples: int = 3,
              chunk_rows: int = CHUNK_ROWS) -> ImuLog:
-    """Read an IMU log CSV (plain or .gz/.bz2/.xz/.zip) into an :class:`ImuLog` (SI units).
+    """Read an IMU log CSV (plain, gzip, bzip2, xz or a one-file zip, found by content whatever
+    the file's name; UTF-8, or UTF-16/32 with a byte-order mark) into an :class:`ImuLog` (SI units).
 
     ``mapping`` renames non-canonical columns; ``rate_hz`` (or ``mapping.rate_hz``) is needed
     when there is no time column and overrides the rate derived from time stamps (with a
@@ -228,10 +276,11 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     require_file(path)
     if path.stat().st_size == 0:
         raise InputError("file is empty", file=path)
-    check_input_file(path)  # readable, complete, not an archive, size-limited when compressed
+    kind = check_input_file(path)  # readable, complete, not an archive, size-limited when compressed
+    fmt = _text_format(path, kind)
     if max_rows is not None and max_rows < 1:
         raise InputError("max_rows must be ≥ 1", field="max_rows", value=max_rows)
-    plan = plan_columns(_header(path, mapping), mapping, str(path))
+    plan = plan_columns(_header(path, mapping, fmt), mapping, str(path))
     if channels is not None:
         plan = _restrict(plan, list(channels), path)
     rate_given = rate_hz if rate_hz is not None else (mapping.rate_hz if mapping else None)
@@ -240,7 +289,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
                          expected="a time_s column, or rate_hz (--rate-hz / mapping rate_hz)")
     if rate_given is not None and not (math.isfinite(rate_given) and rate_given > 0):
         raise InputError("sampling rate must be a positive number", field="rate_hz", value=rate_given)
-    data = _read_chunks(path, plan, mapping, max_rows, chunk_rows)
+    data = _read_chunks(path, plan, mapping, max_rows, chunk_rows, kind, fmt)
     if data.shape[0] == 0:
         raise InputError("no data rows after the header", file=path)
     report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "column not read: not a "
@@ -251,6 +300,13 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     slip = lc.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
     if slip is not None:
         raise slip
+    stale = lc.stale_samples(data, plan.targets, plan.time_index, plan.channel_index, path)
+    if stale is not None:
+        raise stale
+    clip, clip_warnings = lc.clipped(data, plan.targets, plan.channel_index, path, plan.factors)
+    if clip is not None:
+        raise clip
+    report.issues += clip_warnings
     unchecked = lc.gravity_unchecked(plan.channel_index, plan.source_units)
     if unchecked is not None:
         report.issues.append(unchecked)
@@ -313,7 +369,11 @@ def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, 
     rate = 1.0 / period
     if lc.check_rate(rate) and given is None:
         raise InputError(lc.check_rate(rate), file=path, field="time")
-    if abs(rate - round(rate)) <= 1e-6 * rate:  # time stamps printed with finite decimals
+    # time stamps printed with finite decimals: a whole rate within what they resolve over the
+    # record's span (rounded stamps, lc.stamp_resolution) is that rate
+    res = lc.stamp_resolution(np.diff(time_s), period) or 0.0
+    span = float(np.nanmax(time_s) - np.nanmin(time_s))
+    if abs(rate - round(rate)) <= max(1e-6, res / span if span > 0 else 0.0) * rate:
         rate = float(round(rate))
     if given is not None:
         if abs(given - rate) > 0.01 * given:
