@@ -53,13 +53,16 @@ def _rename(err: InputError, filename: str, row: int | None = None) -> InputErro
 
 
 def _row_errors(text: str, tmp: Path, filename: str) -> tuple[list[InputError], bool]:
-    """Validate each data row alone; rows are numbered as ``read_parts`` numbers them."""
-    rows = [r for r in csv.reader(io.StringIO(text, newline="")) if any(c.strip() for c in r)]
+    """Validate each data row alone; rows are numbered as ``read_parts`` numbers them (as a
+    spreadsheet does: blank records are skipped but counted)."""
+    rows = [(i, r) for i, r in enumerate(csv.reader(io.StringIO(text, newline="")), start=1)
+            if any(c.strip() for c in r)]
     errors: list[InputError] = []
     truncated = len(rows) - 1 > MAX_SCANNED_ROWS
-    for number, row in enumerate(rows[1:MAX_SCANNED_ROWS + 1], start=2):
+    header = rows[0][1]
+    for number, row in rows[1:MAX_SCANNED_ROWS + 1]:
         buf = io.StringIO()
-        csv.writer(buf, lineterminator="\n").writerows([rows[0], row])
+        csv.writer(buf, lineterminator="\n").writerows([header, row])
         tmp.write_text(buf.getvalue(), encoding="utf-8")
         try:
             read_parts(tmp)

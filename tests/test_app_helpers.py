@@ -40,13 +40,14 @@ def test_valid_upload_gives_the_parts_read_parts_gives(tmp_path):
 def test_every_bad_row_is_reported_with_its_row_and_column(tmp_path):
     data = (HEADER + b"A-1,tactical,s,0.1,50\n"      # row 2 fine
             b"B-2,tactical,s,abc,50\n"                # row 3: not a number
-            b"\n"                                      # blank lines are skipped, as read_parts does
-            b"C-3,tactical,s,0.1,-5\n"                 # row 4: negative
-            b"D-4,tactical,s,0.1\n")                   # row 5: missing cell
+            b"\n"                                      # row 4: blank, skipped but counted
+            b"C-3,tactical,s,0.1,-5\n"                 # row 5: negative
+            b"D-4,tactical,s,0.1\n")                   # row 6: missing cell
     res = check_upload(data, "bad.csv")
     assert not res.ok and res.parts is None
-    assert [(e.row, e.field) for e in res.errors] == [(3, "gyro_arw_deg_rt_h"), (4, "accel_bias_instability_ug"),
-                                                      (5, None)]
+    # rows as a spreadsheet or an editor numbers them: the blank line is a row too
+    assert [(e.row, e.field) for e in res.errors] == [(3, "gyro_arw_deg_rt_h"), (5, "accel_bias_instability_ug"),
+                                                      (6, None)]
     f = tmp_path / "bad.csv"
     f.write_bytes(data)
     with pytest.raises(InputError) as first:  # read_parts' own (first-found) error is listed
