@@ -30,9 +30,38 @@ def error_text(err: BaseException) -> str:
     return printable(msg.text, 2000)
 
 
+def naming_upload(err: InputError, file: str, field: str | None = None) -> InputError:
+    """``err`` naming the uploaded ``file`` (and ``field``, e.g. the channel) when the library,
+    working on arrays, could not: "field x: 10 samples are too few" becomes
+    "log.csv, field gyro_z: 10 samples are too few"."""
+    if field is not None and err.field in (None, "x"):
+        err.field = field
+    return err.rename_file(err.file or file)
+
+
 def show_error(err: BaseException) -> None:
     """Show ``err`` on the page as :func:`error_text` (``st.error``)."""
     st.error(error_text(err), icon=":material/error:")
+
+
+#: At most this many of a log's findings are shown one by one above a page's results.
+MAX_FINDINGS_SHOWN = 5
+
+
+def show_log_findings(log_: ImuLog) -> None:
+    """The log reader's warnings (``st.warning``: a rate below 1 Hz — ms read as s? —, clipped or
+    constant channels, jittery stamps) and notes (``st.info``: an ignored column, an unchecked
+    accelerometer unit) on the page itself, each naming the file: a finding that changes every
+    number must not sit in a collapsed report only."""
+    shown = [i for i in log_.issues.issues if i.severity in ("warning", "info")]
+    for issue in shown[:MAX_FINDINGS_SHOWN]:
+        text = f"{log_.source}: {printable(issue.text(), 600)}"
+        if issue.severity == "warning":
+            st.warning(text, icon=":material/warning:")
+        else:
+            st.info(text, icon=":material/info:")
+    if len(shown) > MAX_FINDINGS_SHOWN:
+        st.caption(f"{len(shown) - MAX_FINDINGS_SHOWN} more finding(s) in the log report.")
 
 
 @st.cache_data(show_spinner="Reading the log …", max_entries=4)

@@ -20,13 +20,14 @@ from budget.gap import run_gap
 from budget.gap.inputs import log_from_arrays
 from budget.imu.generator import simulate_static_log
 from budget.imu.noise_model import NoiseModel
+from budget.units import CHANNELS
 from budget.plots.gap import adev_figure, gap_figure, psd_figure
 
 import components as c
 from formatting import fmt_value, tidy
 from page_frame import run_page
 from upload_tables import adev_inputs, is_adev_table, read_uploaded_adev, upload_log_or_table
-from uploads import read_uploaded_log, read_via_temp_copy
+from uploads import read_uploaded_log, read_via_temp_copy, show_log_findings
 
 SOURCES = ("built-in example (a part with a hidden effect)", "upload a log or an Allan table")
 #: The example: 30 min at 100 Hz of the chosen part, plus a sinusoid on gyro_z the part does not
@@ -57,6 +58,26 @@ def _run(model_json: str, from_catalog: bool, seed: int, realizations: int, meas
         return run_gap(measured, arg, seed=seed, realizations=realizations, rate_hz=rate_hz, samples=samples)
 
 
+def silent_channels(model: NoiseModel, channels) -> list[str]:
+    """Channels of ``channels`` for which ``model`` gives no noise term at all (no ARW/VRW, bias
+    instability, rate random walk or effect): a model of a constant signal, which no log can be
+    compared with (the workflow's whitening would divide by zero)."""
+    si = model.to_si()
+    return [ch for ch in channels if ch in CHANNELS and not si.channel_effects(ch)]
+
+
+def _refuse_silent(model: NoiseModel, origin: str, channels, what: str) -> bool:
+    """Show why ``model`` cannot be compared on ``channels`` (True) or nothing (False)."""
+    silent = silent_channels(model, channels)
+    if not silent:
+        return False
+    st.error(f"{origin}: the model gives no noise term for {', '.join(silent)}; expected for a gyro "
+             "gyro_arw_deg_rt_h, gyro_bias_instability_deg_h or gyro_rrw_deg_h_rt_h, for an accelerometer "
+             "accel_vrw_m_s_rt_h or accel_bias_instability_ug, or an effect on that channel — "
+             f"{what}.", icon=":material/error:")
+    return True
+
+
 def _model() -> tuple[NoiseModel | None, bool]:
     how = st.radio("model", ("catalog part", "noise-model JSON"), horizontal=True, key="gap_model_kind")
     if how == "catalog part":
@@ -74,10 +95,20 @@ def _model() -> tuple[NoiseModel | None, bool]:
     return read_via_temp_copy(up.getvalue(), up.name, lambda path: load_part(Path(path))), False
 
 
+def _origin(model: NoiseModel) -> str:
+    """Where the model comes from, for messages: the uploaded file or the catalog part."""
+    if st.session_state.get("gap_model_kind") == "noise-model JSON":
+        up = st.session_state.get("gap_model_upload")
+        return up.name if up is not None else "the model"
+    return f"part {model.part_id}"
+
+
 def _measured(model: NoiseModel, seed: int):
     """(request key, measured object, rate_hz, samples) or None while nothing is uploaded."""
     src = st.radio("measured", SOURCES, horizontal=True, key="gap_source")
     if src == SOURCES[0]:
+        if _refuse_silent(model, _origin(model), CHANNELS, "the example log would hold constant channels"):
+            return None
         return f"example-{seed}-{model.part_id}", _example(model.model_dump_json(), seed), None, None
     st.markdown("A static **log** (canonical columns, plain or .gz/.bz2/.xz/.zip, read in chunks as the "
                 "CLI reads it) or an **Allan table** `channel, tau_s, adev[, lci, uci]`.")
@@ -90,11 +121,16 @@ def _measured(model: NoiseModel, seed: int):
         rate, samples = adev_inputs("gap")
         tables = read_uploaded_adev(data, name, rate, samples)
         st.caption(f"{name}: Allan table, channels {', '.join(tables)} (compared by ADEV only).")
+        if _refuse_silent(model, _origin(model), tables, f"nothing to compare {name} with"):
+            return None
         return f"{name}-{digest}-{rate}-{samples}", tables, None, None
     max_rows = int(st.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
                                    step=100_000, key="gap_max_rows"))
     log = read_uploaded_log(data, name, max_rows, False)
     st.caption(f"{name}: {log.n_samples} samples at {log.rate_hz:.6g} Hz ({log.duration_s:.6g} s).")
+    show_log_findings(log)
+    if _refuse_silent(model, _origin(model), log.channels, f"nothing to compare {name} with"):
+        return None
     return f"{name}-{digest}-{max_rows}", log, None, None
 
 

@@ -22,6 +22,7 @@ import components as c
 import sidebar
 from formatting import tidy
 from page_frame import run_page
+from uploads import error_text
 
 DEFAULT_PART = "ADIS16405"
 #: Platform motions the page offers (a custom disturbance needs a file: CLI or API).
@@ -152,6 +153,13 @@ def _downloads(results: dict[str, McResult], scenario: Scenario, catalog: dict, 
                            mime="text/html", key="mc_dl_report", type="primary")
 
 
+def run_error(scenario: str, origin: str | None, parts: list[str], text: str) -> str:
+    """One line for a Monte Carlo the library refused: the scenario (and where its fields came
+    from), the parts it was asked for, and the library's message."""
+    where = f" (fields from {origin})" if origin else ""
+    return f"Monte Carlo of scenario {scenario}{where} for {', '.join(parts)} not run: {text}"
+
+
 def ctx_mode(mode: str) -> str:
     """Bounds mode of the report's check (no-autofocus has no grade advice: paper then)."""
     return mode if mode in ("paper", "derived") else "paper"
@@ -221,7 +229,9 @@ def render() -> None:
         st.info("The inputs changed since the last run; press **Run Monte Carlo** to update. "
                 "Showing the last run.")
     scen_json, run_parts, run_trials, run_seed, run_prefilter, run_motion = last
+    run_scenario = Scenario.model_validate_json(scen_json)
     results: dict[str, McResult] = {}
+    failed: dict[str, list[str]] = {}  # one message per distinct error, with the parts it hit
     for pid in run_parts:
         if pid not in catalog:
             st.warning(f"{pid} is no longer in the catalog.")
@@ -230,10 +240,12 @@ def render() -> None:
             results[pid] = _run(scen_json, catalog[pid].model_dump_json(), run_trials, run_seed,
                                 run_prefilter, run_motion)
         except InputError as err:
-            st.error(f"{pid}: {err}", icon=":material/error:")
+            failed.setdefault(error_text(err), []).append(pid)
+    origin = st.session_state.get(sidebar.BASE_ORIGIN_KEY) if last == request else None
+    for text, pids in failed.items():
+        st.error(run_error(run_scenario.name, origin, pids, text), icon=":material/error:")
     if not results:
         return
-    run_scenario = Scenario.model_validate_json(scen_json)
     _summary(results, run_scenario, run_seed)
     _check_vs_mc(results, run_scenario, catalog, ctx.mode)
     _downloads(results, run_scenario, catalog, ctx.mode, last)

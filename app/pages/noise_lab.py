@@ -24,7 +24,7 @@ from budget.units import channel_si_unit
 from formatting import tidy, value_table
 from page_frame import run_page
 from upload_tables import adev_inputs, is_adev_table, read_uploaded_adev, upload_log_or_table
-from uploads import read_uploaded_log
+from uploads import naming_upload, read_uploaded_log, show_log_findings
 
 DEFAULT_MAX_ROWS = 500_000
 DEFAULT_ARMA_SAMPLES = 20_000
@@ -114,6 +114,7 @@ def _load(data: bytes, name: str) -> ImuLog | None:
     st.markdown(f"<span id='noise-loaded'>**{name}**: {log.n_samples} samples at {log.rate_hz:.6g} Hz "
                 f"({log.duration_s:.6g} s)</span>; channels "
                 f"{', '.join(f'{c} [{log.source_units[c]}]' for c in log.channels)}", unsafe_allow_html=True)
+    show_log_findings(log)
     if log.issues.issues or log.issues.repairs:
         with st.expander(f"Log report: {len(log.issues.issues)} finding(s), {len(log.issues.repairs)} repair(s)"):
             st.text(log.issues.summary())
@@ -133,7 +134,10 @@ def _channel_sections(log: ImuLog, key: str) -> None:
     channel = left.selectbox("channel", list(log.channels), key="noise_channel")
     n_arma = int(right.number_input("samples for ARMA/Kalman (from the start)", min_value=100,
                                     value=DEFAULT_ARMA_SAMPLES, step=1000, key="noise_arma_samples"))
-    a, allan, terms, psd = _analyse(key, channel, n_arma, log)
+    try:
+        a, allan, terms, psd = _analyse(key, channel, n_arma, log)
+    except InputError as err:  # the library sees an array: name the file and the channel
+        raise naming_upload(err, log.source, channel) from None
     unit = a.unit
 
     st.subheader("Preprocessing and checks (seed 000 §3.1)")
@@ -186,7 +190,10 @@ def _allan_table_sections(data: bytes, name: str) -> dict | None:
     st.markdown(f"<span id='noise-loaded'>**{name}**: Allan table, {len(tables)} channel(s): "
                 f"{', '.join(tables)}</span>", unsafe_allow_html=True)
     channel = st.selectbox("channel", list(tables), key="noise_table_channel")
-    ch = _characterize(f"{name}:{rate}:{samples}", "measured_imu", tables)
+    try:
+        ch = _characterize(f"{name}:{rate}:{samples}", "measured_imu", tables)
+    except InputError as err:
+        raise naming_upload(err, name) from None
     terms = ch.channels.get(channel)
     st.subheader("Allan deviation and IEEE-952 terms")
     st.plotly_chart(allan_figure(tables[channel], {channel: terms} if terms else None, show_terms=True),

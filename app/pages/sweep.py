@@ -15,7 +15,7 @@ from budget.fileio import frame_csv_text, json_text
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS
 from budget.mc.sweep import not_simulated
 from budget.plots.sweep import pass_heatmap_figure, pass_vs_figure
-from budget.presets import PRESETS
+from budget.presets import PRESETS, get_preset
 
 import components as c
 import sidebar
@@ -66,14 +66,24 @@ def _downloads(table, stem: str, key: str) -> None:
                       mime="application/json", key=f"{key}_json")
 
 
+def _same_preset(scenario, names: list[str]) -> str | None:
+    """The preset of ``names`` that the sidebar scenario (listed as :data:`CURRENT`) equals, if any."""
+    if CURRENT not in names:
+        return None
+    return next((n for n in names if n in PRESETS and get_preset(n) == scenario), None)
+
+
 def _grid(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
     st.subheader("P(pass) over parts × scenarios")
     names = st.multiselect("scenarios", [CURRENT, *sorted(PRESETS)], default=[CURRENT, "automotive_77ghz"],
                            key="sw_scenarios")
-    n = len(parts) * len(names)
+    same = _same_preset(ctx.scenario, names)
+    n = len(parts) * (len(names) - bool(same))
     st.caption(f"{n} cells × {trials} trials (≈ {n * trials / 20:.0f} s at 20 trials/s)")
+    if same:  # the library refuses a scenario given twice; here it is one row of the list
+        st.caption(f"The sidebar scenario is the preset **{same}**, also picked in the list: swept once.")
     if st.button("Run the sweep", key="sw_run_grid", type="primary", disabled=not (parts and names) or n > MAX_CELLS):
-        scens = [ctx.scenario if s == CURRENT else s for s in names]
+        scens = [ctx.scenario if s == CURRENT else s for s in names if not (same and s == CURRENT)]
         from budget.api import load_scenarios
 
         bar, cb = _progress()

@@ -30,6 +30,7 @@ METRIC_LABELS: dict[str, str] = {
     "peak_loss_db": "peak loss (dB)",
     "residual_phase_rms_deg": "fast residual phase rms (deg)",
     "pga_error_rms_deg": "PGA estimate − truth rms (deg)",
+    "fast_phase_rms_deg": "true phase beyond PGA's window rms (deg)",
 }
 
 
