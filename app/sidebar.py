@@ -7,6 +7,7 @@ that pages read with :func:`context`.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import streamlit as st
@@ -45,6 +46,9 @@ class Context:
     derived: DerivedAssumptions | None
     no_autofocus: NoAutofocusAssumptions | None
     errors: tuple[str, ...] = field(default=())
+    #: The scenario's warnings (e.g. an echo delay longer than Tc: stop-and-go does not hold),
+    #: shown beside every result drawn from it.
+    notes: tuple[str, ...] = field(default=())
 
     def assumptions(self, mode: str | None = None):
         """Assumptions model for ``mode`` (default: the selected mode); None for ``paper``."""
@@ -169,13 +173,18 @@ def render() -> Context:
                   args=(NOAF_PREFIX, NoAutofocusAssumptions()))
 
     errors: list[str] = []
-    scenario = _build(Scenario, SCENARIO_PREFIX, "scenario", errors)
+    with warnings.catch_warnings(record=True) as caught:  # the library warns; the page must say it
+        warnings.simplefilter("always")
+        scenario = _build(Scenario, SCENARIO_PREFIX, "scenario", errors)
+    notes = tuple(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, UserWarning)))
+    for note in notes:
+        sb.warning(note, icon=":material/warning:")
     scenario = _named(scenario) if scenario is not None else None
     derived = _build(DerivedAssumptions, DERIVED_PREFIX, "derived assumptions", errors)
     noaf = _build(NoAutofocusAssumptions, NOAF_PREFIX, "no-autofocus assumptions", errors)
     for e in errors:
         sb.error(e, icon=":material/error:")
-    ctx = Context(scenario, st.session_state["bounds_mode"], derived, noaf, tuple(errors))
+    ctx = Context(scenario, st.session_state["bounds_mode"], derived, noaf, tuple(errors), notes)
     st.session_state["ctx"] = ctx
     return ctx
 
@@ -191,4 +200,6 @@ def require_context() -> Context | None:
     if not ctx.ok:
         st.warning("Fix the inputs in the sidebar first: " + "; ".join(ctx.errors), icon=":material/warning:")
         return None
+    for note in ctx.notes:
+        st.warning(note, icon=":material/warning:")
     return ctx

@@ -158,3 +158,19 @@ def test_every_trial_metric_has_a_label():
     from budget.plots.mc import METRIC_LABELS
 
     assert set(TRIAL_METRICS) <= set(METRIC_LABELS)
+
+
+def test_a_scenario_warning_is_shown_beside_the_results():
+    """A sonar flown at 150 m/s: the echo delay 2R/c exceeds Tc, so stop-and-go (the bounds' and
+    the simulator's geometry) does not hold. The library warns; the warning reached only the
+    server log while the check matrix showed its verdicts."""
+    at = _app("pages/check.py")
+    at.selectbox(key="scn_preset").set_value("sas_100khz").run()
+    at.sidebar.number_input(key="scn_platform_speed_m_s").set_value(150.0).run()
+    assert not at.exception and not at.error
+    main = [w.value for w in at.main.warning]
+    assert any("echo delay 2R/c" in w and "stop-and-go" in w for w in main), main
+    assert any("echo delay 2R/c" in w.value for w in at.sidebar.warning)
+    assert at.table  # the check is still shown, with the warning above it
+    at.sidebar.number_input(key="scn_platform_speed_m_s").set_value(1.5).run()
+    assert not [w for w in at.warning if "echo delay" in w.value]
