@@ -40,6 +40,10 @@ def add_parser(sub) -> None:
     p.set_defaults(func=run)
 
 
+#: Fields of a focusing error that come from the files (not from an option): named with the files.
+_DATA_FIELDS = ("antenna_m", "scene_range_m", "pulses", "samples", "frequency_hz")
+
+
 def _injected(spec: str) -> tuple[float, float, float, float]:
     try:
         q, c, s, n = (float(x) for x in spec.split(","))
@@ -59,7 +63,13 @@ def run(args) -> int:
     ph = read_afrl(args.files)
     if args.inject:
         ph = ph.with_smooth_phase_error(*_injected(args.inject))
-    result = focus(ph, options, args.autofocus, kernel=args.kernel)
+    try:
+        result = focus(ph, options, args.autofocus, kernel=args.kernel)
+    except InputError as err:
+        # a geometry or size the data cannot be imaged with: name the files it comes from
+        if err.file is None and (err.field or "").startswith(_DATA_FIELDS):
+            raise err.rename_file(args.files[0] if len(args.files) == 1 else ", ".join(args.files)) from None
+        raise
     if args.image:
         from ..plots.focus import write_before_after_png
         write_before_after_png(result, args.image)

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import require_file
-from .phase_history import PhaseHistory, track_order
+from .phase_history import RADAR_FREQUENCY_EXPECTED, PhaseHistory, radar_frequency_problem, track_order
 
 _REQUIRED = ("fp", "freq", "x", "y", "z", "r0")
 MAX_FILE_BYTES = 2_000_000_000
@@ -49,6 +49,52 @@ def _row(value, n: int, name: str, path: Path) -> np.ndarray:
     return out
 
 
+#: Most bytes a file's variables may hold once decompressed (a MATLAB v7 file compresses each
+#: variable with zlib: 1.4 GB of zero samples fit in a 1.3 MB file). 1 GB is ≈ 300,000 pulses of
+#: 424 complex64 samples, beyond what :func:`budget.sar.focus.check_cost` lets one image use.
+MAX_CONTENT_BYTES = 1_000_000_000
+
+
+def _content_bytes(path: Path, limit: int) -> int:
+    """Bytes of a MATLAB v5/v7 file's variables, decompressed, counted by streaming each
+    zlib-compressed element in 1 MB pieces (nothing is kept) and stopping once past ``limit``;
+    0 when the file is not a v5/v7 file (its reader then says what it is)."""
+    import struct
+    import zlib
+
+    total = 0
+    with open(path, "rb") as fh:
+        head = fh.read(128)
+        if len(head) < 128 or head[126:128] not in (b"IM", b"MI"):
+            return 0
+        order = "<" if head[126:128] == b"IM" else ">"
+        while total <= limit:
+            tag = fh.read(8)
+            if len(tag) < 8:
+                break
+            kind, size = struct.unpack(order + "II", tag)
+            if kind != 15:  # not miCOMPRESSED: stored as is, its size is on disk
+                total += size
+                fh.seek(size + (-size % 8), 1)
+                continue
+            inflate, left = zlib.decompressobj(), size
+            try:
+                while left > 0 and total <= limit:
+                    chunk = fh.read(min(left, 1 << 20))
+                    if not chunk:
+                        break
+                    left -= len(chunk)
+                    data = inflate.decompress(chunk, 1 << 22)
+                    while data:
+                        total += len(data)
+                        if total > limit:
+                            break
+                        data = inflate.decompress(inflate.unconsumed_tail, 1 << 22)
+            except zlib.error:
+                return total  # damaged: the reader names it
+    return total
+
+
 def _load_struct(path: Path):
     import scipy.io as sio
 
@@ -56,6 +102,11 @@ def _load_struct(path: Path):
     if path.stat().st_size > MAX_FILE_BYTES:
         raise InputError(f"file is {path.stat().st_size} bytes", file=path,
                          expected=f"at most {MAX_FILE_BYTES} bytes")
+    content = _content_bytes(path, MAX_CONTENT_BYTES)
+    if content > MAX_CONTENT_BYTES:
+        raise InputError(f"its variables decompress to more than {MAX_CONTENT_BYTES} bytes (a file of "
+                         f"{path.stat().st_size} bytes)", file=path,
+                         expected=f"at most {MAX_CONTENT_BYTES} bytes of phase history per file (fewer pulses)")
     try:
         mat = sio.loadmat(str(path))
     except Exception as err:  # noqa: BLE001 — any failure to parse an untrusted file is bad input
@@ -81,9 +132,16 @@ def read_afrl_file(path: str | Path) -> dict:
     k, n = fp.shape
     freq = np.asarray(_field(rec, names, "freq", path))
     if freq.size != k or (freq.ndim == 2 and min(freq.shape) != 1):
-        raise InputError(f"shape {freq.shape} does not match {k} frequency samples of data.fp", file=path,
+        hint = (f" (data.fp looks transposed: its {n} columns match the {freq.size} frequencies; it must be "
+                "frequencies × pulses)" if freq.size == n else "")
+        raise InputError(f"shape {freq.shape} does not match {k} frequency samples of data.fp{hint}", file=path,
                          field="data.freq", expected=f"({k}, 1) frequencies in Hz")
     freq = _row(freq, k, "freq", path)
+    problem = radar_frequency_problem(freq)
+    if problem:
+        raise InputError(problem, file=path, field="data.freq", expected=RADAR_FREQUENCY_EXPECTED)
+    if k > 1 and np.all(np.diff(freq) < 0):  # stored from the top of the band down: same samples, flipped
+        freq, fp = freq[::-1].copy(), fp[::-1]
     if not np.all(np.isfinite(fp)):
         bad = np.argwhere(~np.isfinite(fp))[0]
         raise InputError(f"non-finite sample at frequency {bad[0]}, pulse {bad[1]}", file=path, field="data.fp",
@@ -148,6 +206,11 @@ def _track_notes(paths: list[Path], parts: list[dict]) -> list[str]:
             raise InputError(f"the antenna goes back along its track between pulses {first} and {first + 1} of this "
                              "file (pulses out of order)", file=a, field="data.x/y/z",
                              expected="antenna positions in aperture order")
+        same = [paths[k].name for k in range(len(paths)) if k != src[i + 1] and _same_aperture(parts, k, src[i + 1])]
+        if same:
+            raise InputError(f"covers the same aperture as {same[0]} (the same first antenna position): another "
+                             "polarisation or pass of the same azimuth, or a copy", file=b, field="FILE",
+                             expected="one polarisation and pass, each azimuth once, in aperture order")
         raise InputError(f"the antenna jumps back along its track from the last pulse of {a.name} to the first of "
                          f"{b.name}: the files are not in aperture order", file=b, field="FILE",
                          expected="the files in aperture order" + _aperture_order(paths, parts))
@@ -160,6 +223,28 @@ def _track_notes(paths: list[Path], parts: list[dict]) -> list[str]:
                      "window and PGA treat the pulses as evenly spaced, so the image and the autofocus across "
                      "the gap are approximate")
     return notes
+
+
+def _zero_pulse_notes(paths: list[Path], parts: list[dict]) -> list[str]:
+    """Refuse files whose samples are all zero; a note counting the all-zero pulses (dropped
+    pulses recorded as zeros: they add nothing, and the azimuth window and PGA treat them as
+    pulses)."""
+    zero = np.concatenate([~np.any(part["samples"] != 0, axis=1) for part in parts])
+    if zero.all():
+        raise InputError("every sample is zero", file=paths[0] if len(paths) == 1 else ", ".join(p.name for p in paths),
+                         field="data.fp", expected="a recorded phase history")
+    if not zero.any():
+        return []
+    idx = np.flatnonzero(zero)
+    return [f"{idx.size} of {zero.size} pulses are all zero (first: pulse {idx[0]}; dropped pulses?): they add no "
+            "signal, and the azimuth window and PGA still count them as pulses"]
+
+
+def _same_aperture(parts: list[dict], i: int, j: int) -> bool:
+    """Whether files i and j start at the same antenna position (within a tenth of a pulse step)."""
+    a, b = parts[i]["antenna_m"], parts[j]["antenna_m"]
+    step = np.median(np.linalg.norm(np.diff(a, axis=0), axis=1)) if a.shape[0] > 1 else 0.0
+    return bool(np.linalg.norm(a[0] - b[0]) <= 0.1 * step)
 
 
 def read_afrl(paths) -> PhaseHistory:
@@ -180,7 +265,13 @@ def read_afrl(paths) -> PhaseHistory:
             raise InputError(f"given twice (also as {seen[key]})", file=p, field="FILE",
                              expected="each phase-history file once, in aperture order")
         seen[key] = p
-    parts = [read_afrl_file(p) for p in paths]
+    parts, held = [], 0
+    for p in paths:
+        parts.append(read_afrl_file(p))
+        held += parts[-1]["samples"].nbytes
+        if held > MAX_CONTENT_BYTES:
+            raise InputError(f"the files up to this one hold {held} bytes of samples", file=p, field="FILE",
+                             expected=f"at most {MAX_CONTENT_BYTES} bytes of phase history in all (fewer files)")
     f0 = parts[0]["frequency_hz"]
     for p, part in zip(paths[1:], parts[1:]):
         f = part["frequency_hz"]
@@ -188,6 +279,7 @@ def read_afrl(paths) -> PhaseHistory:
             raise InputError(f"frequency axis differs from that of {paths[0].name}", file=p, field="data.freq",
                              expected=f"the same {f0.size} frequencies in every file")
     notes = _track_notes(paths, parts)
+    notes += _zero_pulse_notes(paths, parts)
     has_af = all(part["r_correct_m"] is not None for part in parts)
     if not has_af and any(part["r_correct_m"] is not None for part in parts):
         notes.append("recorded autofocus dropped: not every file has one")

@@ -292,10 +292,107 @@ def deramp(grid: GroundGrid, reference_frequency_hz: float) -> np.ndarray:
     return np.exp(-1j * k_r * rng).reshape(grid.v_m.size, grid.u_m.size).astype(np.complex64)
 
 
+#: Largest stack of range profiles (pulses × FFT length, complex64) :func:`backproject` may build,
+#: bytes; the FFT and its copies take about four times this at the peak.
+MAX_PROFILE_BYTES = 512 * 2 ** 20
+
+#: Most pixel-pulse products (pixels × pulses) one image may cost: ≈ 10⁷ per second on 2 threads
+#: (469 Gotcha pulses on 401 × 401 pixels, 75 M, take ≈ 7 s), so this is ≈ 8 minutes.
+MAX_PIXEL_PULSES = 5_000_000_000
+
+
+def check_cost(ph: PhaseHistory, options: FocusOptions) -> None:
+    """Refuse, before any array is built, an image whose range profiles would exceed
+    :data:`MAX_PROFILE_BYTES` or whose backprojection would exceed :data:`MAX_PIXEL_PULSES`."""
+    n_fft = int(2 ** np.ceil(np.log2(ph.n_frequencies * options.upsample)))
+    size = ph.n_pulses * n_fft * 8
+    if size > MAX_PROFILE_BYTES:
+        raise InputError(f"{ph.n_pulses} pulses × {n_fft} range samples need {size / 2 ** 30:.3g} GiB of range "
+                         "profiles (≈ 4× that at the peak)", field="pulses",
+                         expected=f"at most {MAX_PROFILE_BYTES // (8 * n_fft)} pulses at "
+                                  f"{ph.n_frequencies} frequencies (fewer files, or a shorter aperture)")
+    n_u = int(round(options.range_extent_m / options.spacing_m)) + 1
+    n_v = int(round(options.azimuth_extent_m / options.spacing_m)) + 1
+    work = n_u * n_v * ph.n_pulses
+    if work > MAX_PIXEL_PULSES:
+        raise InputError(f"{n_v} × {n_u} pixels × {ph.n_pulses} pulses = {work:.3g} pixel-pulses "
+                         f"(≈ {work / 1e7 / 60:.0f} min to backproject)", field="pulses",
+                         expected=f"at most {MAX_PIXEL_PULSES:.2g} (fewer pulses, a smaller window or a larger "
+                                  "spacing)")
+
+
+def _unambiguous_azimuth_m(ph: PhaseHistory, grid: GroundGrid) -> float:
+    """Cross-range period of the image, m: 2π / (median step of the azimuth spatial frequency
+    between consecutive pulses at the highest frequency, eq. 3). A scatterer at v also appears
+    at v ± this (the pulses sample the aperture too sparsely beyond it: every other pulse
+    dropped halves it)."""
+    k_max = _wavenumber(float(ph.frequency_hz[-1]), C_M_S)
+    step = np.abs(np.diff(_unit(ph.antenna_m) @ grid.v_hat))
+    med = float(np.median(step)) if step.size else 0.0
+    return float("inf") if not med > 0 else 2.0 * np.pi / (k_max * med)
+
+
+def check_geometry(ph: PhaseHistory, grid: GroundGrid, options: FocusOptions) -> None:
+    """Refuse a window the phase history cannot image (:class:`InputError` saying what to change):
+
+    * an antenna that does not move across the pulses (no synthetic aperture);
+    * an antenna inside or at the edge of the window (the ranges are far too short: positions and
+      ``r0`` in km, say);
+    * pixels beyond the recorded range swath, |ΔR_n(p)| > c / (4 Δf) (the profile's unambiguous
+      half-span): they would be blank. When the scene centre itself (the origin) is beyond it the
+      positions and the ranges R0 disagree — another frame origin or another unit;
+    * a cross-range extent beyond :func:`_unambiguous_azimuth_m`: the image would hold ghosts of
+      its own scatterers (aliased azimuth: pulses dropped)."""
+    w = pulse_bins(ph, grid.v_hat, grid.reference_antenna_m)
+    if not np.ptp(w) > 0:
+        raise InputError("the antenna does not move across the pulses (no synthetic aperture)",
+                         field="antenna_m", expected="antenna positions along a track, m")
+    corners = np.array([[u, v] for u in (grid.u_m[0], grid.u_m[-1], 0.0) for v in (grid.v_m[0], grid.v_m[-1], 0.0)])
+    pix = corners[:, :1] * grid.u_hat + corners[:, 1:] * grid.v_hat  # (9, 3) on z = 0
+    reach = float(np.max(np.linalg.norm(pix[:-1], axis=1)))
+    ground = np.linalg.norm(ph.antenna_m[:, :2], axis=1)
+    if float(ground.min()) <= reach:
+        raise InputError(f"the antenna passes {ground.min():.4g} m (ground range) from the scene centre, inside the "
+                         f"image window (which reaches {reach:.4g} m): positions and r0 in m expected (in km?)",
+                         field="antenna_m", expected="an antenna far outside the imaged window, positions in m")
+    half = C_M_S / (4.0 * ph.frequency_step_hz)
+    d_r = np.linalg.norm(ph.antenna_m[:, None, :] - pix[None], axis=2) - ph.scene_range_m[:, None]  # (n, 9)
+    centre = d_r[:, -1]
+    if float(np.max(np.abs(centre))) > half:
+        ratio = float(np.median(np.linalg.norm(ph.antenna_m, axis=1) / ph.scene_range_m))
+        unit = ""
+        for factor, name in ((1e-3, "positions in km, ranges in m"), (1e3, "positions in m, ranges in km")):
+            if abs(ratio / factor - 1.0) < 0.05:
+                unit = f" ({name}?)"
+        raise InputError(f"the antenna's distance to the frame origin differs from the recorded range r0 by "
+                         f"{np.median(centre):.4g} m (median over the pulses){unit}: the data are not deramped to "
+                         f"this origin, which lies outside the ±{half:.4g} m range swath the "
+                         f"{ph.frequency_step_hz:.4g} Hz frequency step records", field="antenna_m, scene_range_m",
+                         expected="positions in m in a frame centred on the scene centre, r0 = their distance to it")
+    if float(np.max(np.abs(d_r))) > half:
+        far = float(np.max(np.abs(d_r)))
+        raise InputError(f"pixels up to {far:.4g} m in slant range from the scene centre, beyond the ±{half:.4g} m "
+                         f"swath the {ph.frequency_step_hz:.4g} Hz frequency step records (c/4Δf): they would be blank",
+                         field="range_extent_m", value=options.range_extent_m,
+                         expected="a window within the swath (smaller range extent or centre offsets)")
+    period = _unambiguous_azimuth_m(ph, grid)
+    extent = float(grid.v_m[-1] - grid.v_m[0])
+    if extent > period:
+        raise InputError(f"the pulses sample the aperture too sparsely for a {extent:.4g} m cross-range window: the "
+                         f"image repeats every {period:.4g} m (aliased azimuth: pulses dropped?), so it would show "
+                         "ghosts of its own scatterers", field="azimuth_extent_m", value=options.azimuth_extent_m,
+                         expected=f"at most {period:.4g} m, or the pulses at their full rate")
+
+
 def form_ground_image(ph: PhaseHistory, options: FocusOptions | None = None, label: str = "") -> GroundImage:
-    """Backprojected, deramped ground image of ``ph`` on the grid of ``options`` (module docstring)."""
+    """Backprojected, deramped ground image of ``ph`` on the grid of ``options`` (module docstring).
+
+    Refused before any work (:class:`InputError`): a cost beyond :func:`check_cost`'s limits, a
+    window :func:`check_geometry` refuses, a spacing that aliases the image."""
     options = options or FocusOptions()
+    check_cost(ph, options)
     grid = ground_grid(ph, options)
+    check_geometry(ph, grid, options)
     d_az, d_rg = max_spacing_m(ph, grid.u_hat, grid.v_hat, grid.reference_antenna_m)
     if options.spacing_m > d_az or options.spacing_m > d_rg:
         raise InputError("pixel spacing too coarse: the image would alias", field="spacing_m",

@@ -28,6 +28,28 @@ from ..units import C_LIGHT, two_way_wavenumber_at_frequency_rad_m
 C_M_S = C_LIGHT
 
 
+#: Radar frequencies a phase history may hold, Hz (the scenarios' radar carrier range).
+RADAR_FREQUENCY_RANGE_HZ = (1e6, 1e13)
+RADAR_FREQUENCY_EXPECTED = "radar frequencies in Hz, 1 MHz … 10 THz"
+
+
+def radar_frequency_problem(frequency_hz) -> str:
+    """"" when every frequency (Hz) is within :data:`RADAR_FREQUENCY_RANGE_HZ`, else what is wrong,
+    naming the unit that would fit (9.6 read in Hz is 9.6 GHz written in GHz)."""
+    f = np.asarray(frequency_hz, dtype=float).ravel()
+    lo, hi = RADAR_FREQUENCY_RANGE_HZ
+    if f.size == 0 or (f.min() >= lo and f.max() <= hi):
+        return ""
+    text = f"frequencies {f.min():.4g}–{f.max():.4g} Hz are not radar frequencies"
+    fits = [(abs(np.log10(np.sqrt(f.min() * f.max()) * factor) - 9.5), factor, unit)
+            for factor, unit in ((1e9, "GHz"), (1e6, "MHz"), (1e3, "kHz"))
+            if f.min() * factor >= lo and f.max() * factor <= hi]
+    if fits:  # the unit that puts the band nearest the usual radar bands (≈ 3 GHz in log)
+        _, factor, unit = min(fits)
+        return text + f" (in {unit}? × {factor:.0e} gives {f.min() * factor:.4g}–{f.max() * factor:.4g} Hz)"
+    return text
+
+
 @dataclass
 class PhaseHistory:
     """Complex ``samples`` (n_pulses, n_freq), pulses along axis 0, in the convention (1) above.
@@ -61,6 +83,9 @@ class PhaseHistory:
             raise InputError(f"{f.size} frequencies for {k} samples per pulse", field="frequency_hz")
         if not np.all(np.isfinite(f)) or np.any(f <= 0):
             raise InputError("frequencies must be finite and > 0", field="frequency_hz")
+        problem = radar_frequency_problem(f)
+        if problem:
+            raise InputError(problem, field="frequency_hz", expected=RADAR_FREQUENCY_EXPECTED)
         step = np.diff(f)
         if np.any(step <= 0) or np.ptp(step) > 1e-3 * abs(step.mean()):
             raise InputError("frequencies must increase in equal steps", field="frequency_hz",
