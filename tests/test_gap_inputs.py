@@ -202,3 +202,20 @@ def test_log_from_arrays_checks_its_input():
         log_from_arrays({"gyro_x": np.array([0.0, np.nan, 1.0])}, RATE)
     with pytest.raises(InputError, match="unknown channel"):
         log_from_arrays({"gyro_q": np.zeros(10)}, RATE)
+
+
+def test_a_channel_without_any_noise_term_in_the_model_is_refused_naming_it(tmp_path):
+    """A model with gyro figures only (the accelerometer triad left empty, as some catalog rows
+    are) has no spread to judge the accelerometer channels by: refused before any statistic is
+    formed, naming those channels; comparing the gyros alone is fine."""
+    log = write_log(tmp_path / "log.csv", BASE, 6000, 3)
+    gyros_only = NoiseModel(part_id="gyros-only", rate_hz=RATE, gyro_arw_deg_rt_h=0.5,
+                            gyro_bias_instability_deg_h=5.0)
+    with pytest.raises(InputError) as err:
+        run_gap(log, gyros_only, seed=0, max_steps=1, check_tau_range=False)
+    text = str(err.value)
+    assert err.value.field == "model" and "gyros-only" in text
+    assert "accel_x, accel_y, accel_z" in text and "gyro_x" not in text.split("expected")[0]
+    rep = run_gap(log, gyros_only, seed=0, max_steps=1, check_tau_range=False,
+                  channels=["gyro_x", "gyro_y", "gyro_z"])
+    assert set(rep.channels) == {"gyro_x", "gyro_y", "gyro_z"}

@@ -31,7 +31,7 @@ import numpy as np
 from ..catalog.schema import FLICKER_FLOOR
 from ..errors import InputError
 from ..imu import NoiseModel
-from ..imu.registry import TEMPERATURE_EFFECTS
+from ..imu.registry import DETERMINISTIC_EFFECTS, TEMPERATURE_EFFECTS
 from ..imu.resolve import resolve_noise_model
 from ..units import channel_si_unit
 from ..noise import ImuLog
@@ -192,6 +192,7 @@ def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,
                              f"but the model describes {model.rate_hz:g} Hz", field="rate_hz",
                              expected="a model for the log's rate (set rate_hz in MODEL.json, or "
                                       "resample the log)")
+    _check_random_terms(model, wanted, meas.source)
     temp_fx = [f.channel for f in model.effects if f.name in TEMPERATURE_EFFECTS and f.channel in wanted]
     if temp_fx and meas.temp_c is None:
         raise InputError(f"the model has a temperature effect on {', '.join(temp_fx)} but the "
@@ -200,6 +201,25 @@ def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,
     if check_tau_range:
         _check_tau(meas, model, wanted)
     return wanted, notes
+
+
+def _check_random_terms(model: NoiseModel, wanted, source) -> None:
+    """Every compared channel needs a random noise term in the model: the gap is judged against
+    the model's own realizations, which a channel without one (an empty model, a catalog part
+    with no noise figure for that triad) would make all equal — no spread to judge by."""
+    si = model.to_si()
+    bare = [ch for ch in wanted
+            if not any(f.name not in DETERMINISTIC_EFFECTS and any(v > 0 for v in f.params.values())
+                       for f in si.channel_effects(ch))]
+    if bare:
+        name = model.part_id or "the model"
+        raise InputError(f"{name} has no noise term for {', '.join(bare)}: the gap compares the log "
+                         "with the spread of the model's own noise, and there is none to compare with",
+                         file=source, field="model",
+                         expected="a noise figure for every compared channel (gyro_arw_deg_rt_h / "
+                                  "gyro_bias_instability_deg_h for gyros, accel_vrw_m_s_rt_h / "
+                                  "accel_bias_instability_ug for accelerometers, or a noise effect), "
+                                  "or compare only the channels it describes (channels= / --channels)")
 
 
 def _check_tau(meas: Measured, model: NoiseModel, wanted) -> None:
