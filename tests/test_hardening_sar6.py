@@ -275,3 +275,22 @@ def test_content_counter_stops_at_the_limit_without_inflating_everything(tmp_pat
     got = afrl._content_bytes(path, 1_000_000)
     assert 1_000_000 < got <= 1_000_000 + (1 << 22)
     assert afrl._content_bytes(path, 10 ** 9) == 50_000_000
+
+
+def test_an_aperture_of_a_few_pulses_is_refused_not_scored(tmp_path):
+    """Five pulses: with a constant and a linear term removed their phase has nothing left to
+    differ in, so a comparison with any solution would read as perfect agreement."""
+    ant = _track(5, span_deg=0.05)
+    ph = read_afrl(_write(tmp_path / "five.mat", ant))
+    with pytest.raises(InputError) as err:
+        form_ground_image(ph, _small())
+    assert err.value.field == "pulses" and "5 pulses" in str(err.value)
+    assert f"at least {focus_mod.MIN_FOCUS_PULSES} pulses" in str(err.value)
+
+
+def test_a_duplicated_pulse_is_noted(tmp_path):
+    ant = _track(40)
+    ant = np.insert(ant, 11, ant[10], axis=0)  # pulse 11 recorded at pulse 10's position
+    ph = read_afrl(_write(tmp_path / "dup.mat", ant))
+    notes = [n for n in ph.notes if "duplicated pulses" in n]
+    assert len(notes) == 1 and "1 pulse(s)" in notes[0] and "first: pulse 11" in notes[0]

@@ -53,6 +53,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from ..errors import InputError, from_validation_error
 from ..units import two_way_wavenumber_at_frequency_rad_m as _wavenumber
 from .phase_history import C_M_S, PhaseHistory
+from .geometry import MIN_PULSES
 from .sharpness import image_contrast, image_entropy
 from .windows import Window
 
@@ -301,6 +302,10 @@ MAX_PROFILE_BYTES = 512 * 2 ** 20
 MAX_PIXEL_PULSES = 5_000_000_000
 
 
+#: Fewest pulses an image is formed from (the simulator's own minimum, :data:`~budget.sar.geometry.MIN_PULSES`).
+MIN_FOCUS_PULSES = MIN_PULSES
+
+
 def check_cost(ph: PhaseHistory, options: FocusOptions) -> None:
     """Refuse, before any array is built, an image whose range profiles would exceed
     :data:`MAX_PROFILE_BYTES` or whose backprojection would exceed :data:`MAX_PIXEL_PULSES`."""
@@ -335,6 +340,8 @@ def _unambiguous_azimuth_m(ph: PhaseHistory, grid: GroundGrid) -> float:
 def check_geometry(ph: PhaseHistory, grid: GroundGrid, options: FocusOptions) -> None:
     """Refuse a window the phase history cannot image (:class:`InputError` saying what to change):
 
+    * fewer than :data:`MIN_FOCUS_PULSES` pulses (with a constant and a linear term removed, a
+      phase over 2–5 pulses has nothing left to autofocus or to compare);
     * an antenna that does not move across the pulses (no synthetic aperture);
     * an antenna inside or at the edge of the window (the ranges are far too short: positions and
       ``r0`` in km, say);
@@ -343,6 +350,11 @@ def check_geometry(ph: PhaseHistory, grid: GroundGrid, options: FocusOptions) ->
       positions and the ranges R0 disagree — another frame origin or another unit;
     * a cross-range extent beyond :func:`_unambiguous_azimuth_m`: the image would hold ghosts of
       its own scatterers (aliased azimuth: pulses dropped)."""
+    if ph.n_pulses < MIN_FOCUS_PULSES:
+        raise InputError(f"{ph.n_pulses} pulses are too few for an image to autofocus or to compare: with a "
+                         "constant and a linear term removed, a phase over so few pulses has (almost) nothing "
+                         "left to differ in", field="pulses", value=ph.n_pulses,
+                         expected=f"at least {MIN_FOCUS_PULSES} pulses (more files, or a longer aperture)")
     w = pulse_bins(ph, grid.v_hat, grid.reference_antenna_m)
     if not np.ptp(w) > 0:
         raise InputError("the antenna does not move across the pulses (no synthetic aperture)",
