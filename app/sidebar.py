@@ -7,7 +7,6 @@ that pages read with :func:`context`.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 
 import streamlit as st
@@ -173,10 +172,10 @@ def render() -> Context:
                   args=(NOAF_PREFIX, NoAutofocusAssumptions()))
 
     errors: list[str] = []
-    with warnings.catch_warnings(record=True) as caught:  # the library warns; the page must say it
-        warnings.simplefilter("always")
-        scenario = _build(Scenario, SCENARIO_PREFIX, "scenario", errors)
-    notes = tuple(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, UserWarning)))
+    scenario = _build(Scenario, SCENARIO_PREFIX, "scenario", errors)
+    # the scenario's notes from the scenario itself, not from the process-wide warnings filter
+    # (another user's session may be building a scenario at the same time)
+    notes = tuple(scenario.notes()) if scenario is not None else ()
     for note in notes:
         sb.warning(note, icon=":material/warning:")
     scenario = _named(scenario) if scenario is not None else None

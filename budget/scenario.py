@@ -292,19 +292,29 @@ class Scenario(BaseModel):
                              f"{tc:.3g} s, which no IMU budget can mean", field="tc_s (derived)",
                              expected=f"inputs giving {lo:g} s ≤ Tc ≤ {hi:g} s (check the units of "
                              "frequency, range, resolution and speed)")
-        # stop-and-go (seed 004's geometry, the simulator's echoes) assumes the platform does not
-        # cross the whole synthetic aperture while one pulse travels to the scene and back:
-        # Tc > 2R/c, i.e. V < a_w λ c / (4 δℓ sin θ); only a sonar flown fast misses it
+        for note in self.notes():
+            warnings.warn(note, UserWarning, stacklevel=2)
+
+    def notes(self) -> list[str]:
+        """What the scenario's numbers hold that the tool does not model (one sentence each;
+        empty for every preset). Also emitted as a :class:`UserWarning` when the scenario is
+        built; a caller that shows results (the dashboard) lists these beside them.
+
+        Stop-and-go (seed 004's geometry, the simulator's echoes) assumes the platform does not
+        cross the whole synthetic aperture while one pulse travels to the scene and back:
+        Tc > 2R/c, i.e. V < a_w λ c / (4 δℓ sin θ); only a sonar flown fast misses it."""
+        out = []
+        tc = self.tc_s
         delay = 2.0 * self.slant_range_m / self.c_m_s
         if delay >= tc:
             v_max = self.platform_speed_m_s * tc / delay
-            warnings.warn(f"{self.name}: the echo delay 2R/c = {delay:.3g} s is longer than the "
-                          f"aperture time Tc = {tc:.3g} s: the platform moves "
-                          f"{self.platform_speed_m_s * delay:.3g} m while one pulse travels, more than "
-                          f"the whole {self.aperture_length_m:.3g} m synthetic aperture; the bounds and "
-                          "the simulator assume stop-and-go and do not model this (platform_speed_m_s "
-                          f"< {v_max:.3g} m/s keeps Tc > 2R/c: check the speed's unit and the medium)",
-                          UserWarning, stacklevel=2)
+            out.append(f"{self.name}: the echo delay 2R/c = {delay:.3g} s is longer than the "
+                       f"aperture time Tc = {tc:.3g} s: the platform moves "
+                       f"{self.platform_speed_m_s * delay:.3g} m while one pulse travels, more than "
+                       f"the whole {self.aperture_length_m:.3g} m synthetic aperture; the bounds and "
+                       "the simulator assume stop-and-go and do not model this (platform_speed_m_s "
+                       f"< {v_max:.3g} m/s keeps Tc > 2R/c: check the speed's unit and the medium)")
+        return out
 
     # --- derived -----------------------------------------------------------------
     @property

@@ -205,11 +205,12 @@ def test_a_sonar_crossing_its_aperture_while_a_ping_travels_is_warned(capsys, tm
     assert s.tc_s == pytest.approx(tc)
     assert f"2R/c = {delay:.3g} s" in text and f"Tc = {tc:.3g} s" in text
     assert f"< {v_max:.3g} m/s" in text and "stop-and-go" in text
+    assert s.notes() == [text]  # what a page lists beside its results, from the scenario itself
     with warnings.catch_warnings():  # the presets and a sonar below that speed are quiet
         warnings.simplefilter("error")
         Scenario.from_dict({**data, "platform_speed_m_s": 2.0})
         from budget.presets import PRESETS
-        assert all(p.tc_s > 2 * p.slant_range_m / p.c_m_s for p in PRESETS.values())
+        assert all(p.tc_s > 2 * p.slant_range_m / p.c_m_s and p.notes() == [] for p in PRESETS.values())
     from budget.cli.main import main
     f = tmp_path / "fast.json"
     f.write_text(json.dumps(data))
