@@ -263,3 +263,24 @@ def test_the_report_states_the_values_the_monte_carlo_filled(tmp_path):
     assert "data-key='unspecified'><small><b>MINE</b>: unspecified datasheet terms" in text
     assert f"gyro_bias_repeatability_deg_h = {g:.4g} deg/h" in text
     assert "data-key='imu_rate'><small><b>MINE</b>: IMU simulated at the scenario" in text
+
+
+def test_a_part_whose_figures_contradict_its_grade_is_noted_where_fills_are_stated():
+    """HG9900's figures labelled consumer: the consumer grade's fills (10 mrad misalignment …)
+    would then be simulated for a navigation-grade sensor. The resolution, and the Monte Carlo
+    summary that states the fills, say so; no shipped part (whose figures sit within a rank of
+    their grade in the coarse seed 004 tables) gets the note. A figure written as 0 is named."""
+    from budget.catalog.fill import resolve_unspecified
+    from budget.catalog.io import get_part, load_catalog
+    from budget.mc import run_mc
+    from budget.presets import get_preset
+    odd = get_part("HG9900").model_copy(update={"grade": "consumer", "part_id": "NAV-AS-CONSUMER"})
+    notes = [n for n in resolve_unspecified(odd).notes if " is labelled " in n]
+    assert len(notes) == 1 and "navigation-grade part" in notes[0]
+    assert "gyro_arw_deg_rt_h = 0.002 deg/√h (navigation)" in notes[0]
+    assert notes[0] in run_mc(get_preset("automotive_24ghz"), odd, 2, 1).summary()
+    assert not [pid for pid, p in load_catalog().items()
+                if any(" is labelled " in n for n in resolve_unspecified(p).notes)]
+    zero = get_part("STIM300").model_copy(update={"gyro_arw_deg_rt_h": 0.0})
+    assert any(n.startswith("given as 0") and "gyro_arw_deg_rt_h" in n
+               for n in resolve_unspecified(zero).notes)

@@ -23,9 +23,11 @@ when empty and is listed under ``not_modelled``. A model without a grade cannot 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+import numpy as np
 import pandas as pd
 
 from ..errors import InputError
@@ -127,6 +129,60 @@ def unspecified_quantities(model) -> tuple[str, ...]:
     return tuple(out)
 
 
+#: Grade ranks (seed 004 Tables 3–4) between a part's label and what its own figures place it
+#: in that make the label's fills doubtful. The tables are coarse and modern MEMS beat them (an
+#: industrial ADIS1646x has a tactical ARW), so one rank apart is common and not noted.
+GRADE_MISMATCH_RANKS = 2
+
+
+def _nearest_rank(value: float, prm: Parameter, grades: Mapping[str, GradeSpec]) -> int:
+    """Rank of the grade whose range of ``prm`` (catalog unit) ``value`` lies in, or nearest to
+    on a log scale."""
+    def distance(g: GradeSpec) -> float:
+        lo, hi = grade_value(g, prm, "best"), grade_value(g, prm, "worst")
+        return 0.0 if lo <= value <= hi else abs(math.log10(value / (lo if value < lo else hi)))
+    return min(grades.values(), key=lambda g: (distance(g), g.rank)).rank
+
+
+def _grade_mismatch_note(model, grades: Mapping[str, GradeSpec], grade: str, label: str) -> tuple[str, ...]:
+    """A note when the part's own figures place it (median over its given figures of the grade
+    each lies in or nearest to) :data:`GRADE_MISMATCH_RANKS` or more ranks from its grade
+    column: the values filled from that grade then describe another class of sensor than the
+    row does (a part labelled consumer with navigation-grade figures, say). A grade's bias is a
+    turn-on / total figure, so an in-run bias instability is not compared with it."""
+    placed = []
+    for prm in PARAMETERS:
+        column = prm.column
+        if prm.family == "bias":
+            column = _REPEATABILITY[prm.triad] if getattr(model, _REPEATABILITY[prm.triad]) is not None else \
+                (prm.column if model.bias_is_constant else None)
+        v = getattr(model, column, None) if column else None
+        if v is None or v <= 0:
+            continue
+        placed.append((column, v, prm.unit, _nearest_rank(float(v), prm, grades)))
+    if not placed:
+        return ()
+    own = grades[grade].rank
+    implied = float(np.median([r for *_, r in placed]))
+    if abs(implied - own) < GRADE_MISMATCH_RANKS:
+        return ()
+    by_rank = {g.rank: name for name, g in grades.items()}
+    figures = "; ".join(f"{c} = {v:g} {u} ({by_rank[r]})" for c, v, u, r in placed)
+    return (f"{label} is labelled {grade}, but its own figures are those of a "
+            f"{by_rank[int(round(implied))]}-grade part ({figures}): the values filled from the "
+            f"{grade} grade may not describe it (check its grade column, or give the empty figures)",)
+
+
+def _zero_figures_note(model) -> tuple[str, ...]:
+    """A note naming the figures given as 0 (a perfect term: what a datasheet never states; an
+    unknown figure is an empty cell, filled from the grade and stated)."""
+    zero = [prm.column for prm in PARAMETERS if getattr(model, prm.column, None) == 0]
+    if not zero:
+        return ()
+    return (f"given as 0 (a perfect sensor term, simulated as such): {', '.join(zero)}; leave a cell empty "
+            "when the figure is unknown, so that it is filled from the grade and stated",)
+
+
 def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
                         grades: Mapping[str, GradeSpec] | None = None) -> Resolution:
     """Resolve the unspecified terms of ``model`` (a catalog ``PartSpec`` or a ``NoiseModel``).
@@ -145,8 +201,9 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
     missing = unspecified_quantities(model)
     not_modelled = tuple(c for c in _NO_GRADE_VALUE if getattr(model, c) is None)
     label = model.part_id or "the noise model"
+    zero_note = _zero_figures_note(model)
     if not missing:
-        return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled)
+        return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled, notes=zero_note)
     if policy == "refuse":
         raise InputError(f"{label} leaves {', '.join(missing)} unspecified", field="unspecified",
                          value=policy, expected="the datasheet values in the catalog row, or "
@@ -156,7 +213,7 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
         note = ("stated zero (policy 'zero')" if policy == "zero" else
                 "no grade to fill from: taken as 0 (give the model a grade, or use 'refuse')")
         return Resolution(model=model, policy=policy, grade=grade, unspecified=missing,
-                          zeroed=missing, not_modelled=not_modelled, notes=(note,))
+                          zeroed=missing, not_modelled=not_modelled, notes=(note,) + zero_note)
     if grades is None:
         from .io import load_grades
         grades = load_grades()
@@ -182,6 +239,7 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
             update[column] = value
     notes = (("in-run bias instability has no grade value (grade biases are turn-on / total "
               "figures): " + ", ".join(zeroed) + " not modelled"),) if zeroed else ()
+    notes += (_grade_mismatch_note(model, grades, grade, label) if fills else ()) + zero_note
     data = model.model_dump()
     data.update(update)
     filled_model = type(model).model_validate(data)
