@@ -219,3 +219,32 @@ def test_a_channel_without_any_noise_term_in_the_model_is_refused_naming_it(tmp_
     rep = run_gap(log, gyros_only, seed=0, max_steps=1, check_tau_range=False,
                   channels=["gyro_x", "gyro_y", "gyro_z"])
     assert set(rep.channels) == {"gyro_x", "gyro_y", "gyro_z"}
+
+
+def test_channels_narrow_what_the_reader_checks(tmp_path):
+    """An accelerometer clipped at its range (3 % of its samples at the top value) refuses the
+    log; comparing only the gyros reads and checks only their columns, so it goes ahead."""
+    log = write_log(tmp_path / "log.csv", BASE, 16_384, 5)
+    df = pd.read_csv(log)
+    top = float(np.quantile(df["accel_x_mps2"], 0.97))
+    df["accel_x_mps2"] = np.minimum(df["accel_x_mps2"], top)
+    df.to_csv(log, index=False, float_format="%.9g")
+    with pytest.raises(InputError, match="clipped"):
+        run_gap(log, BASE, max_steps=0)
+    gyros = ["gyro_x", "gyro_y", "gyro_z"]
+    rep = run_gap(log, BASE, channels=gyros, max_steps=0)
+    assert set(rep.channels) == set(gyros)
+
+
+def test_noise_characterize_channels_option(tmp_path, capsys):
+    """``noise characterize --channels`` reads and characterises only those columns: a clipped
+    accelerometer no longer refuses a gyro characterisation."""
+    log = write_log(tmp_path / "log.csv", BASE, 16_384, 6)
+    df = pd.read_csv(log)
+    df["accel_y_mps2"] = np.minimum(df["accel_y_mps2"], float(np.quantile(df["accel_y_mps2"], 0.97)))
+    df.to_csv(log, index=False, float_format="%.9g")
+    assert main(["noise", "characterize", str(log)]) == 2
+    assert "clipped" in capsys.readouterr().err
+    out = tmp_path / "c.json"
+    assert main(["noise", "characterize", str(log), "--channels", "gyro_x,gyro_y", "--json", str(out), "-q"]) == 0
+    assert set(json.loads(out.read_text())["channels"]) == {"gyro_x", "gyro_y"}

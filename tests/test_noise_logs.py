@@ -199,7 +199,7 @@ def test_channel_selection(tmp_path):
     t, d = _rows(50)
     p = _write(tmp_path / "log.csv", t, d)
     assert list(read_log(p, channels=["gyro_z"]).channels) == ["gyro_z"]
-    with pytest.raises(InputError, match="not in the log"):
+    with pytest.raises(InputError, match="gyro_w missing from the log"):
         read_log(p, channels=["gyro_w"])
 
 

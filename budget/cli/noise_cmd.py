@@ -32,6 +32,9 @@ def add_parser(sub) -> None:
     c.add_argument("--rate-hz", type=float, help="sampling rate (required for Allan tables)")
     c.add_argument("--samples", type=int, help="record length behind an Allan table (required there)")
     c.add_argument("--ci-level", type=float, default=0.95, help="confidence level of lci/uci (0.95)")
+    c.add_argument("--channels", metavar="CH,CH",
+                   help="characterise only these channels, e.g. gyro_x,gyro_y,gyro_z (a log's other "
+                        "columns are then neither read nor checked)")
     c.add_argument("--taus", default="octave", choices=("octave", "decade", "dense"),
                    help="τ list for logs (default octave)")
     c.add_argument("--grade", help="grade of the row (default: inferred from the grades table)")
@@ -76,8 +79,16 @@ def run_characterize(args) -> int:
     path = Path(args.input)
     if args.append and not args.as_part:
         raise InputError("--append needs --as-part ID (the part_id of the new row)", field="--as-part")
+    chans = [c.strip() for c in args.channels.split(",") if c.strip()] if args.channels else None
     data = read_measurement(path, rate_hz=args.rate_hz, samples=args.samples, mapping=_mapping(args),
-                            repair=args.repair, max_rows=args.max_rows, ci_level=args.ci_level)
+                            repair=args.repair, max_rows=args.max_rows, ci_level=args.ci_level,
+                            channels=chans)
+    if chans and not isinstance(data, ImuLog):  # an Allan table: keep its tables of those channels
+        missing = [c for c in chans if c not in data]
+        if missing:
+            raise InputError(f"channel(s) {', '.join(missing)} missing from the table", file=path,
+                             field="--channels", expected=f"channels the table has: {', '.join(data)}")
+        data = {c: data[c] for c in chans}
     if isinstance(data, ImuLog):
         for issue in data.issues.issues:
             if issue.severity != "info":

@@ -89,9 +89,10 @@ def log_from_arrays(channels: dict[str, np.ndarray], rate_hz: float, temp_c=None
 
 def load_measured(measured, *, rate_hz: float | None = None, samples: int | None = None,
                   mapping=None, repair: bool = False, max_rows: int | None = None,
-                  ci_level: float = 0.95) -> Measured:
+                  ci_level: float = 0.95, channels=None) -> Measured:
     """Resolve the measurement argument of :func:`budget.gap.run_gap` (``mapping``: a
-    :class:`~budget.noise.log_mapping.LogMapping` or the path of its JSON)."""
+    :class:`~budget.noise.log_mapping.LogMapping` or the path of its JSON; ``channels``: read
+    only those columns of a log file, :func:`~budget.noise.measurement.read_measurement`)."""
     if isinstance(measured, ImuLog):
         return _from_log(measured)
     if isinstance(measured, dict) and measured and all(isinstance(v, AllanResult) for v in measured.values()):
@@ -102,7 +103,8 @@ def load_measured(measured, *, rate_hz: float | None = None, samples: int | None
             mapping = LogMapping.load(mapping)
         data = read_measurement(measured, rate_hz=rate_hz, samples=samples, mapping=mapping,
                                 repair=repair, max_rows=max_rows, ci_level=ci_level,
-                                min_samples=MIN_SAMPLES)
+                                min_samples=MIN_SAMPLES,
+                                channels=None if channels is None else list(channels))
         if isinstance(data, ImuLog):
             return _from_log(data)
         return _from_tables(data, str(measured))

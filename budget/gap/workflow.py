@@ -351,7 +351,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         raise InputError("tolerance_db must be a number of dB in [0, 100)", field="tolerance_db",
                          value=tolerance_db)
     meas = load_measured(measured, rate_hz=rate_hz, samples=samples, mapping=mapping, repair=repair,
-                         max_rows=max_rows, ci_level=ci_level)
+                         max_rows=max_rows, ci_level=ci_level, channels=channels)
     if meas.kind != "log" and (low_frequency or decorrelate):
         # both act on statistics only a log has: the record's DCT bands, and the PSD block that
         # decorrelation needs; on an Allan table they would be silently ignored

@@ -338,8 +338,8 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
 def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
     unknown = [c for c in wanted if c not in plan.channel_index]
     if unknown:
-        raise InputError(f"channel(s) {unknown} not in the log", file=path, field="channel",
-                         expected=f"one of {sorted(plan.channel_index)}")
+        raise InputError(f"channel(s) {', '.join(unknown)} missing from the log", file=path, field="channel",
+                         expected=f"channels the log has: {', '.join(sorted(plan.channel_index))}")
     keep = [i for i in range(len(plan.sources))
             if i in (plan.time_index, plan.temp_index)
             or any(plan.channel_index[c] == i for c in wanted)]

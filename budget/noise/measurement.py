@@ -22,8 +22,11 @@ from .logs import ImuLog, read_log
 def read_measurement(path: str | Path, *, rate_hz: float | None = None, samples: int | None = None,
                      mapping: LogMapping | None = None, repair: bool = False,
                      max_rows: int | None = None, ci_level: float = 0.95,
-                     min_samples: int = 16) -> ImuLog | dict[str, AllanResult]:
-    """An :class:`ImuLog` (SI channels) or ``{channel: AllanResult}`` from ``path``."""
+                     min_samples: int = 16, channels=None) -> ImuLog | dict[str, AllanResult]:
+    """An :class:`ImuLog` (SI channels) or ``{channel: AllanResult}`` from ``path``. ``channels``
+    (a log only): read and check just those columns, so that a problem in a channel the caller
+    does not use (a clipped accelerometer when only the gyros are compared) does not refuse
+    the log."""
     path = Path(path)
     require_file(path, expected="an IMU log CSV or an Allan table")
     if looks_like_adev_table(path):
@@ -34,4 +37,4 @@ def read_measurement(path: str | Path, *, rate_hz: float | None = None, samples:
     if samples is not None:
         raise InputError("--samples is for Allan tables; a log has its own length", field="samples")
     return read_log(path, mapping, repair, rate_hz=rate_hz, max_rows=max_rows,
-                    min_samples=min_samples)
+                    min_samples=min_samples, channels=channels)
