@@ -311,7 +311,8 @@ def clipped(data: np.ndarray, names: tuple[str, ...], channel_index: dict[str, i
             if share >= CLIP_SHARE:
                 return InputError(text + " every noise figure of this channel would be off", file=path,
                                   field=names[j], expected="a static log within the sensor's range (a "
-                                  "larger range setting), or the file without this column"), warn
+                                  "larger range setting), or leave this channel out (--channels, or "
+                                  "channels= in the library)"), warn
             rows = np.flatnonzero(data[:, j] == values[end])
             warn.append(LogIssue("clipped", "warning", text, k, _rows(rows), names[j]))
     return None, warn
