@@ -21,7 +21,7 @@ Units
     carries its unit as a suffix: ``_m``, ``_s``, ``_hz``, ``_rad``, ``_m_s`` (m/s), ``_m_s2``,
     ``_rad_s``; datasheet fields ``_deg_h``, ``_deg_rt_h``, ``_ug``, ``_m_s_rt_h``, ``_ppm``,
     ``_mrad``. Identities (tested): 1 deg/√h = 1/60 deg/s/√Hz; 1 m/s/√h = 1/60 m/s²/√Hz
-    = 1699.7 µg/√Hz (g = 9.80665 m/s²); 1 deg/h = 4.848e-6 rad/s.
+    = 1699.5 µg/√Hz (g = 9.80665 m/s²); 1 deg/h = 4.848e-6 rad/s.
 Frames
     Navigation frame: x along the nominal track (the platform flies along +x at speed V), y to
     the imaged side, z up; the line of sight (LOS) points from the antenna to the scene at the
@@ -67,6 +67,7 @@ __version__ = "0.1.0"
 #: Names served by :mod:`budget.api` (lazily, PEP 562).
 _API = ("load_scenario", "load_scenarios", "load_catalog", "load_part", "load_parts", "check_parts",
         "run_mc", "sweep", "sweep_over", "vary_scenario", "cheapest_passing", "compute_bounds",
+        "consistency_table",
         "DEFAULT_TRIALS", "DEFAULT_SEED")
 _OTHER = {"Scenario": ("budget.scenario", "Scenario"), "McOptions": ("budget.mc.options", "McOptions"),
           "InputError": ("budget.errors", "InputError"), "PRESETS": ("budget.presets", "PRESETS"),

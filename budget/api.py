@@ -146,12 +146,31 @@ def cheapest_passing(table, target: float = 0.9, **kwargs):
 
 
 def compute_bounds(scenario, mode: str = "paper", assumptions=None):
-    """The bounds of one scenario (or preset name) at its Tc (:func:`budget.bounds.compute_bounds`)."""
-    from .bounds import compute_bounds as _bounds
+    """The bounds of one scenario (or preset name) at its Tc (:func:`budget.bounds.compute_bounds`),
+    as ``sar-budget bounds --scenario`` computes them: without ``assumptions``, ``derived`` and
+    ``no-autofocus`` take the scenario's ``platform_accel_m_s2`` and ``lever-arm`` its lever arm,
+    turn rate and verdict window (:func:`budget.bounds.scenario_assumptions`). The table carries
+    the scenario (``scenario`` in ``to_dict()``)."""
+    from dataclasses import replace
+
+    from .bounds import compute_bounds as _bounds, scenario_assumptions
 
     s = load_scenario(scenario)
-    return _bounds([s.tc_s], s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
-                   assumptions=assumptions)
+    table = _bounds([s.tc_s], s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
+                    assumptions=scenario_assumptions(mode, s, assumptions))
+    return replace(table, scenario=s.model_dump(mode="json"))
+
+
+def consistency_table(scenario, terms=None, scales=None, trials: int = DEFAULT_TRIALS, seed: int = 0, **kwargs):
+    """P(pass after PGA) of one error term at multiples of its paper bound, and the scale where it
+    crosses 50 % (:func:`budget.mc.consistency.consistency_table`; ``terms`` default the four
+    seed 004 budgets, ``scales`` 0.1 … 10 ×). ``scenario`` may be a preset name or a file;
+    ``options``, ``workers`` are passed on."""
+    from .mc.consistency import DEFAULT_TERMS, FINE_SCALES, consistency_table as _table
+
+    s = load_scenario(scenario)
+    return _table(s, DEFAULT_TERMS if terms is None else terms,
+                  tuple(FINE_SCALES) if scales is None else scales, trials, seed, **kwargs)
 
 
 #: Scenario quantities a trade study may vary (``vary_scenario``), with their axis labels.
@@ -169,6 +188,11 @@ def vary_scenario(base, field: str, values) -> list:
     if field not in Scenario.model_fields or field in ("name", "medium"):
         raise InputError(f"cannot vary {field!r}", field="field",
                          expected="a numeric scenario key, e.g. " + ", ".join(VARIABLE_FIELDS))
+    if isinstance(getattr(s, field), (tuple, list, str, bool)):  # lever_arm_m, aiding, aiding_mode
+        raise InputError(f"cannot vary {field!r}: it is not one number", field="field", value=field,
+                         expected="a numeric scenario key, e.g. " + ", ".join(VARIABLE_FIELDS) +
+                                  " (other values: one scenario each, e.g. budget.load_scenario("
+                                  f"{{**s.model_dump(), 'name': ..., {field!r}: ...}}), given to budget.sweep)")
     values = list(values) if isinstance(values, Iterable) and not isinstance(values, str) else [values]
     if not values:
         raise InputError(f"no value of {field} to vary over: the list is empty", field="values",

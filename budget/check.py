@@ -361,7 +361,8 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     refuse_repeats(parts, lambda p: getattr(p, "part_id", None), field="parts", what="part")
     tc = np.array([s.tc_s for s in scen])
     dr = np.array([s.range_resolution_m for s in scen])
-    if mode in ("no-autofocus", "no_autofocus", "derived"):  # per scenario: λ, the acceleration level
+    if mode in ("no-autofocus", "no_autofocus", "derived", "lever-arm", "lever_arm"):
+        # per scenario: λ, the acceleration level, the lever arm and turn rate
         from .bounds import scenario_assumptions
         rows = [bound_matrix(compute_bounds(t, d, mode, wavelength_m=s.wavelength_m,
                                             assumptions=scenario_assumptions(mode, s, assumptions)))[0]

@@ -43,6 +43,10 @@ PLAUSIBLE_TC_S = (1e-5, 1e5)
 #: Propagation speed per medium (m/s): radio waves are slowed at most ~9× (water, ε ≈ 80), sound
 #: travels at most ~12 km/s (diamond); outside, the medium and the speed do not belong together.
 RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S = 1e7, 2e4
+#: IMU → antenna lever arm (m) beyond which a scenario carries a note (:meth:`Scenario.notes`):
+#: longer than the installations that carry an IMU for motion compensation (the presets: ≤ 2 m),
+#: and what a lever arm written in cm (50 for 0.5 m) becomes; still simulated as given.
+LONG_LEVER_ARM_M = 20.0
 #: Wavelength (m) the limits above allow: 1 µm (radar at 10 THz slowed to 10⁷ m/s) … 2 km (sonar
 #: at 10 Hz and 20 km/s); what a wavelength given alone (``bounds --wavelength``) is checked against.
 PLAUSIBLE_WAVELENGTH_M = (
@@ -302,7 +306,8 @@ class Scenario(BaseModel):
 
         Stop-and-go (seed 004's geometry, the simulator's echoes) assumes the platform does not
         cross the whole synthetic aperture while one pulse travels to the scene and back:
-        Tc > 2R/c, i.e. V < a_w λ c / (4 δℓ sin θ); only a sonar flown fast misses it."""
+        Tc > 2R/c, i.e. V < a_w λ c / (4 δℓ sin θ); only a sonar flown fast misses it. A lever arm
+        longer than :data:`LONG_LEVER_ARM_M` is noted too (a length in cm read as m)."""
         out = []
         tc = self.tc_s
         delay = 2.0 * self.slant_range_m / self.c_m_s
@@ -314,6 +319,12 @@ class Scenario(BaseModel):
                        f"the whole {self.aperture_length_m:.3g} m synthetic aperture; the bounds and "
                        "the simulator assume stop-and-go and do not model this (platform_speed_m_s "
                        f"< {v_max:.3g} m/s keeps Tc > 2R/c: check the speed's unit and the medium)")
+        d = math.sqrt(sum(v * v for v in self.lever_arm_m))
+        if d > LONG_LEVER_ARM_M:
+            out.append(f"{self.name}: the lever arm lever_arm_m = {list(self.lever_arm_m)} is "
+                       f"{d:.4g} m long, more than the {LONG_LEVER_ARM_M:g} m between an IMU and its "
+                       "antenna on any platform the presets describe; it is in metres (a lever arm "
+                       f"written in cm, e.g. 50 for 0.5 m, reads as {d:.4g} m): check its unit")
         return out
 
     # --- derived -----------------------------------------------------------------

@@ -6,7 +6,7 @@ only at the edges (catalog CSV, CLI, dashboard) and are converted here, nowhere 
 Identities (tested in ``tests/test_units.py``):
 
 * 1 deg/√h  = 1/60 deg/s/√Hz
-* 1 m/s/√h  = 1/60 m/s²/√Hz = 1699.7 µg/√Hz (g = 9.80665 m/s²)
+* 1 m/s/√h  = 1/60 m/s²/√Hz = 1699.5 µg/√Hz (g = 9.80665 m/s²)
 * 1 deg/h   = 4.848e-6 rad/s
 * 1 ppm     = 1e-6
 
@@ -143,7 +143,7 @@ def m_s2_rt_hz_to_ug_rt_hz(x):
 
 
 def m_s_rt_h_to_ug_rt_hz(x):
-    """1 m/s/√h = 1699.7 µg/√Hz."""
+    """1 m/s/√h = 1699.5 µg/√Hz."""
     return m_s2_rt_hz_to_ug_rt_hz(m_s_rt_h_to_m_s2_rt_hz(x))
 
 

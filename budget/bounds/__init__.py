@@ -34,7 +34,12 @@ def scenario_assumptions(mode: str, scenario, assumptions=None):
     """The assumptions ``mode`` is computed with for ``scenario``: ``assumptions`` when given;
     otherwise, for ``derived`` and ``no-autofocus``, the defaults with the acceleration level the
     scale factor and misalignment see taken from the scenario (``platform_accel_m_s2``; g, seed
-    004's value, in the presets); None for the other modes (their defaults)."""
+    004's value, in the presets); for ``lever-arm`` the scenario's installation (its
+    ``lever_arm_m``, ``platform_rate_deg_s`` and verdict window,
+    :meth:`LeverArmAssumptions.from_scenario`, as ``sar-budget bounds --scenario`` uses); None for
+    ``paper`` (no assumption)."""
+    if assumptions is None and mode in ("lever-arm", "lever_arm"):
+        return LeverArmAssumptions.from_scenario(scenario)
     if assumptions is not None or mode not in ("derived", "no-autofocus", "no_autofocus"):
         return assumptions
     a = float(scenario.platform_accel_m_s2)

@@ -46,6 +46,9 @@ class BoundsTable:
     #: the assumptions the bounds were derived with (``model_dump`` of ``DerivedAssumptions`` …);
     #: None for seed 004's printed equations (``paper``)
     assumptions: dict | None = None
+    #: the scenario the bounds were computed for (``model_dump(mode="json")``; set by
+    #: :func:`budget.compute_bounds`), None for bare arrays of Tc and δr
+    scenario: dict | None = None
 
     def datasheet(self) -> dict[str, np.ndarray]:
         """Bounds in datasheet units keyed as in the CLI JSON (``accel_bias_ug`` …)."""
@@ -55,16 +58,30 @@ class BoundsTable:
         data = {"tc_s": np.ravel(self.tc_s), "range_resolution_m": np.ravel(
             np.broadcast_to(self.range_resolution_m, np.shape(self.tc_s)))}
         data.update({k: np.ravel(v) for k, v in self.datasheet().items()})
-        return pd.DataFrame(data)
+        frame = pd.DataFrame(data)
+        # what the summary's head line says: the mode, its assumptions, the scenario (if any)
+        frame.attrs.update({"mode": self.mode, "assumptions": self.assumptions, "scenario": self.scenario})
+        return frame
 
     def to_dict(self) -> dict:
         """JSON-ready: the ``mode``, its ``assumptions`` and ``notes``, and under ``rows`` one dict per
-        Tc with ``tc_s`` and the datasheet-unit keys (the CLI JSON list)."""
+        Tc with ``tc_s`` and the datasheet-unit keys (the CLI JSON list); ``scenario`` (in full)
+        when the bounds were computed for one."""
         frame = self.to_frame().drop(columns="range_resolution_m")
-        return {"mode": self.mode, "assumptions": self.assumptions, "notes": list(self.notes),
-                "range_resolution_m": np.ravel(self.range_resolution_m).tolist(),
-                "rows": frame.to_dict(orient="records")}
+        out = {"mode": self.mode, "assumptions": self.assumptions, "notes": list(self.notes),
+               "range_resolution_m": np.ravel(self.range_resolution_m).tolist(),
+               "rows": frame.to_dict(orient="records")}
+        if self.scenario is not None:
+            out["scenario"] = self.scenario
+        return out
 
     def summary(self) -> str:
         head = f"Bounds ({self.mode} mode)"
+        if self.scenario is not None:
+            head += f" for {self.scenario.get('name')}"
+        if self.mode == "lever_arm" and self.assumptions:
+            arm = self.assumptions.get("lever_arm_m")
+            if arm is not None:
+                head += (", lever arm [" + ", ".join(f"{v:.3g}" for v in arm) + "] m, platform rate "
+                         f"{self.assumptions.get('platform_rate_deg_s'):g} deg/s")
         return head + "\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}")

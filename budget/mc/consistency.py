@@ -20,6 +20,7 @@ interval is that bracket (``crossing_method`` says which).
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
 from collections.abc import Sequence
 
@@ -87,6 +88,22 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = DEFAULT_TERMS,
     model no noise model accepts (10× a paper bound on a short aperture can ask for a gyro bias
     above 10⁶ deg/h) is not simulated: its row has ``simulated`` False, P = NaN and a ``note``
     saying why, and the crossing is fitted over the other scales (``crossing_method`` says so)."""
+    if not isinstance(scenario, Scenario):
+        raise InputError(f"cannot use a {type(scenario).__name__} as the scenario", field="scenario",
+                         value=scenario, expected="a Scenario (budget.consistency_table also takes a "
+                                                  "preset name or a scenario file)")
+    terms = [terms] if isinstance(terms, str) else list(terms)
+    if not terms:
+        raise InputError("no error term to check: the list of terms is empty", field="terms",
+                         expected=", ".join(TERMS))
+    scales = [scales] if isinstance(scales, numbers.Real) else list(scales)
+    bad = [v for v in scales if isinstance(v, bool) or not isinstance(v, numbers.Real)
+           or not (math.isfinite(v) and v > 0)]
+    if bad or not scales:
+        raise InputError("a scale must be a finite multiple > 0 of the paper bound" if bad else
+                         "no scale to check: the list of scales is empty", field="scales",
+                         value=bad[0] if bad else scales,
+                         expected="numbers > 0 (1 = the paper bound; default 0.1 … 10, 17 scales)")
     # a single-term model: its other terms are zero by construction, not unspecified
     options = (options or McOptions()).model_copy(update={"keep_trial_metrics": False,
                                                           "unspecified": "zero"})

@@ -95,10 +95,18 @@ class McResult:
         return out
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per metric: p50/p95 before and after PGA."""
+        """One row per metric: p50/p95 before and after PGA. ``attrs`` hold what the summary's
+        head line says — part, scenario, Tc, trials, seed, P(pass) with its Wilson intervals — and
+        the options, so the frame still says which verdict it belongs to."""
         b, a = self.percentiles("before"), self.percentiles("after")
-        return pd.DataFrame([{"metric": m, "p50_before": b[m]["p50"], "p95_before": b[m]["p95"],
-                              "p50_after": a[m]["p50"], "p95_after": a[m]["p95"]} for m in TRIAL_METRICS])
+        frame = pd.DataFrame([{"metric": m, "p50_before": b[m]["p50"], "p95_before": b[m]["p95"],
+                               "p50_after": a[m]["p50"], "p95_after": a[m]["p95"]} for m in TRIAL_METRICS])
+        frame.attrs.update({"model": self.model_label, "scenario": self.scenario_name, "tc_s": self.tc_s,
+                            "trials": self.trials, "seed": self.seed, "p_pass_before": self.p_pass_before,
+                            "p_pass_after": self.p_pass_after, "ci_before": list(self.ci_before),
+                            "ci_after": list(self.ci_after), "cancelled": self.cancelled,
+                            "options": self.options.model_dump(mode="json") if self.options is not None else None})
+        return frame
 
     def _judged_line(self) -> str:
         j = self.judged_on

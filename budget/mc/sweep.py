@@ -42,6 +42,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
           progress=None, cancel=None, sources: Sequence | None = None) -> pd.DataFrame:
     """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
     ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`),
+    ``seed`` (the one seed of every cell; ``table.attrs`` also hold it and the options in full),
     ``platform_motion`` (what the platform flew, :mod:`budget.nav.manoeuvre`),
     ``unspecified_terms`` (how the part's empty datasheet terms were resolved — each value filled
     from its grade, with its unit, or taken as 0 — as the Monte Carlo's own summary line says) and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
@@ -81,7 +82,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
         except InputError as e:
             status = f"not simulated: {name_scenario_file(e, source)}"
             for part in parts:
-                rows.append(_cell(scen, part) | {"trials": 0, "status": status,
+                rows.append(_cell(scen, part) | {"trials": 0, "seed": seed, "status": status,
                                                  "platform_motion": options.platform_motion.kind})
                 done += 1
                 if progress:
@@ -89,7 +90,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             continue
         for part in parts:
             if cancel is not None and cancel.is_set():
-                return pd.DataFrame(rows)
+                return _table(rows, seed, options)
             try:
                 r = run_mc(scen, part, trials, seed, options=options, workers=workers, backend=backend,
                            client=client, cancel=cancel)
@@ -97,7 +98,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
                 raise name_scenario_file(err, source) from None
             pct = r.percentiles("after")
             row = _cell(scen, part) | {
-                "trials": r.trials, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
+                "trials": r.trials, "seed": seed, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
                 "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
                 "twin_passes": r.agg.twin_pass, "platform_motion": r.judged_on.get("platform_motion"),
                 "unspecified_terms": (r.unspecified_summary()
@@ -109,7 +110,15 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             done += 1
             if progress:
                 progress(done, total)
-    return pd.DataFrame(rows)
+    return _table(rows, seed, options)
+
+
+def _table(rows: list[dict], seed: int, options: McOptions) -> pd.DataFrame:
+    """The sweep's rows as a DataFrame that says how it was made: ``seed`` is a column (it
+    survives a CSV export) and ``attrs`` hold the seed and the Monte Carlo options in full."""
+    table = pd.DataFrame(rows)
+    table.attrs.update({"seed": seed, "options": options.model_dump(mode="json")})
+    return table
 
 
 def not_simulated(table: pd.DataFrame) -> dict[str, str]:
