@@ -34,8 +34,8 @@ Correction modes (what a motion-compensation chain does with the filter's correc
 * ``smoothed`` — fixed-interval RTS smoothing of the whole record (post-processing; what
   offline image formation uses).
 
-This module sits on the scenario's floor (it imports only pydantic and the error type), so the
-scenario can hold typed aiding configs without importing the aiding library.
+This module sits on the scenario's floor (it imports only pydantic, the error type and the unit
+table), so the scenario can hold typed aiding configs without importing the aiding library.
 """
 
 from __future__ import annotations
@@ -48,6 +48,7 @@ from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
                       ValidationInfo, field_validator)
 
 from .errors import BOOL_FOR_NUMBER, InputError, bool_number_field, refuse_bool_numbers
+from .units import split_value_unit, value_unit_to_si
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -185,6 +186,30 @@ def _field_path(loc: tuple) -> str:
     return out
 
 
+#: Unit of an aiding field, by the suffix of its name (longest first).
+_FIELD_UNITS = (("_m_s", "m/s"), ("_arcsec", "arcsec"), ("_hz", "Hz"), ("_m", "m"), ("_s", "s"))
+
+
+def _unit_text_hint(field: str, value) -> tuple[str, str] | None:
+    """(reason, expected) for text such as ``'2 cm'`` given to the number field ``field``
+    (``aiding[0].sigma_m``): the unit is in the field's name; the number to write is converted
+    by :func:`budget.units.value_unit_to_si` when the written unit is one of that quantity's."""
+    if not isinstance(value, str):
+        return None
+    name = field.rsplit(".", 1)[-1].split("[")[0]
+    unit = next((u for suffix, u in _FIELD_UNITS if name.endswith(suffix)), None)
+    if unit is None:
+        return None
+    split = split_value_unit(value)
+    if split is None:
+        return "not a number", f"a plain number in {unit} (the unit is in the field's name, {name})"
+    number, written = split
+    si = number if written.strip().lower() == unit.lower() else value_unit_to_si(number, written, unit)
+    reason = f"a unit written in the value: the unit is in the field's name, {name} = {unit}"
+    return reason, (f"the number alone in {unit}: {si:.6g} for {value.strip()}" if si is not None else
+                    f"the number alone in {unit} ({written!r} is not a unit this field converts)")
+
+
 def parse_aiding(data, *, imu_rate_hz: float | None = None,
                  source: str | Path | None = None) -> list:
     """Validate the ``aiding`` list of a scenario; returns typed configs or raises InputError.
@@ -223,6 +248,9 @@ def parse_aiding(data, *, imu_rate_hz: float | None = None,
             value = None
         field = _field_path(tuple(first.get("loc", ())))
         msg = first.get("msg", "invalid value").removeprefix("Value error, ")
+        hint = _unit_text_hint(field, value)
+        if hint is not None:
+            raise InputError(hint[0], file=source, field=field, value=value, expected=hint[1]) from None
         raise InputError(msg, file=source, field=field,
                          value=value) from None
 

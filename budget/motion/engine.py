@@ -20,6 +20,14 @@ filter's initial 1σ (or the caller's ``initial_errors``) and the APC error is r
 to its value at the aperture start (a constant offset only moves the image). With no aiding
 sensor the aided path *is* the free-inertial path.
 
+Limits stated or refused: the propagation is flat-earth; the result's ``earth_model`` gives
+the estimated size of the Schuler, Earth-rate and transport-rate terms it leaves out over Tc
+(:func:`budget.nav.earth.flat_earth_neglect`), and a free-inertial (or ``frozen``) coast whose
+estimate exceeds :data:`MAX_FLAT_EARTH_NEGLECT` (Tc ≳ 790 s) is refused. An aperture cut to
+whole IMU intervals more than 1 % away from Tc, and an aided run in which no fix reaches the
+filter in time (``frozen`` with a warm-up shorter than the first fix), are warned of and said in
+the result.
+
 Reproducibility: trials are processed in fixed blocks of :func:`block_trials` trials; the block
 starting at trial i draws from ``trial_generator(seed, i, stream)`` with the streams of
 :data:`budget.rng.STREAMS` (IMU, disturbance, initial errors, aiding). A block is always
@@ -30,6 +38,7 @@ not on the number of trials, the chunk size (rounded up to whole blocks) or the 
 from __future__ import annotations
 
 import math
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -37,10 +46,12 @@ from pydantic import ValidationError
 
 from ..aiding import InitialUncertainty, correct_free_inertial
 from ..aiding.flexure import antenna_flexure_error, simulate_flexure
+from ..aiding.measurements import measurement_from_config
 from ..aiding_spec import AidingPlan
 from ..errors import InputError, from_validation_error, whole_number
 from ..imu.generator import generate_imu_errors
 from ..imu.noise_model import NoiseModel, NoiseModelSI, as_noise_model_si
+from ..nav.earth import flat_earth_neglect
 from ..nav.platform import Disturbance, true_motion
 from ..nav.strapdown import InitialErrors, cross, propagate_errors
 from ..rng import STREAMS, trial_generator
@@ -65,6 +76,44 @@ DEFAULT_CHUNK = 1024
 #: Refuse to keep series larger than this (bytes); use keep_series=False.
 MAX_SERIES_BYTES = 3_000_000_000
 MAX_SAMPLES = 2_000_000
+#: Largest relative effect (dimensionless) of the Schuler, Earth-rate and transport-rate terms
+#: the flat-earth propagation leaves out (:func:`budget.nav.earth.flat_earth_neglect`) over a
+#: free-inertial coast of Tc: 10 %, reached at Tc ≈ 790 s. Beyond it the flat model's t³ growth
+#: overstates the Schuler-bounded error (2× at Tc = 3000 s), so the run is refused.
+MAX_FLAT_EARTH_NEGLECT = 0.10
+#: Aperture simulated over (N − 1)/rate s; a departure from Tc above this fraction is warned of.
+APERTURE_ROUNDING_NOTE = 0.01
+
+
+def earth_model_note(scenario: Scenario, coasting: bool) -> str:
+    """What the navigation model leaves out, for results: the flat-earth error propagation and
+    the relative size of its neglected terms over the aperture (a free-inertial coast of Tc when
+    ``coasting``; aided modes other than ``frozen`` correct the error inside the aperture)."""
+    neglect = flat_earth_neglect(scenario.tc_s, scenario.platform_speed_m_s)
+    where = f"over the {scenario.tc_s:.3g} s free-inertial coast" if coasting else \
+        f"over a {scenario.tc_s:.3g} s coast (less here: the aiding corrects inside the aperture)"
+    return (f"flat earth (Schuler, Earth-rate and transport-rate terms neglected: "
+            f"≈ {100 * neglect:.2g} % of the error {where})")
+
+
+def first_fix_note(plan: AidingPlan, n_warm: int, n_total: int, rate_hz: float) -> str | None:
+    """None if some aiding measurement reaches the filter in time; otherwise why none does —
+    in ``frozen`` mode by the aperture start (sample ``n_warm``: validity + latency, the epochs of
+    :meth:`budget.aiding.measurements.Measurement.epochs`), in the other modes within the
+    ``n_total`` samples of the record. The aperture is then free-inertial from the initial errors."""
+    dt = 1.0 / rate_hz
+    frozen = plan.mode == "frozen"
+    for i, cfg in enumerate(plan.aiding):
+        m = measurement_from_config(cfg, i)
+        ep = m.epochs(n_total, dt)
+        if ep.size and (not frozen or ep[0] + m.latency_steps(dt) <= n_warm):
+            return None
+    first = min(1.0 / cfg.rate_hz + cfg.latency_s for cfg in plan.aiding)
+    if frozen:
+        return (f"no aiding fix reaches the filter by the aperture start (first after {first:.3g} s, "
+                f"warm-up {plan.warmup_s:g} s): the aperture is free-inertial from the initial errors")
+    return (f"no aiding fix falls within the {n_total * dt:.3g} s record (first after {first:.3g} s): "
+            "the aperture is free-inertial from the initial errors")
 
 
 def block_trials(n_samples: int, aided: bool = False) -> int:
@@ -279,11 +328,34 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                          f"{MAX_SERIES_BYTES / 1e9:g} GB", field="n_trials",
                          expected="fewer trials or keep_series=False")
 
-    warm = round(aiding.warmup_s * scenario.imu_rate_hz) if (aiding is not None and aiding.aiding) else 0
+    aided = aiding is not None and bool(aiding.aiding)
+    coasting = not aided or aiding.mode == "frozen"
+    neglect = flat_earth_neglect(scenario.tc_s, scenario.platform_speed_m_s)
+    if coasting and neglect > MAX_FLAT_EARTH_NEGLECT:
+        raise InputError(
+            f"a free-inertial coast of Tc = {scenario.tc_s:.4g} s is beyond the flat-earth navigation "
+            f"model: the Schuler, Earth-rate and transport-rate terms it neglects change the error by "
+            f"≈ {100 * neglect:.0f} %", field="tc_s (derived)",
+            expected=f"Tc ≤ {_max_coast_s(scenario.platform_speed_m_s):.0f} s free-inertial or with "
+                     "aiding_mode frozen (smoothed / feedforward / realtime aiding corrects inside "
+                     "the aperture)")
+    span = (n - 1) / scenario.imu_rate_hz
+    if abs(span - scenario.tc_s) > APERTURE_ROUNDING_NOTE * scenario.tc_s:
+        warnings.warn(f"{scenario.name}: the aperture is simulated over {n - 1} IMU intervals = "
+                      f"{span:.4g} s, {100 * (span / scenario.tc_s - 1):+.1f} % of Tc = {scenario.tc_s:.4g} s "
+                      "(a bias's quadratic phase scales with its square): raise imu_rate_hz",
+                      UserWarning, stacklevel=2)
+    warm = round(aiding.warmup_s * scenario.imu_rate_hz) if aided else 0
     if n + warm > MAX_SAMPLES:
         raise InputError(f"the warm-up and aperture span more than {MAX_SAMPLES:,} IMU samples",
                          field="aiding_warmup_s", value=aiding.warmup_s, expected="a shorter warm-up")
     ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series, prefilter, aiding)
+    aiding_label = ctx.plan.label() if ctx.plan else "none"
+    if ctx.plan is not None:
+        no_fix = first_fix_note(ctx.plan, ctx.n_warm, ctx.n_total, ctx.rate)
+        if no_fix is not None:
+            aiding_label += f"; {no_fix}"
+            warnings.warn(f"{scenario.name}: {no_fix}", UserWarning, stacklevel=2)
     first = whole_number("first_trial", first_trial, 0)
     if first % ctx.block:
         raise InputError(f"first_trial must be a multiple of the {ctx.block}-trial random-stream block",
@@ -311,11 +383,20 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     return MotionResult(scenario=scenario, model_label=_label(model), seed=seed, time_s=ctx.time_s,
                         targets_m=pts, position_error_m=out.pop("position_error_m", None),
                         range_error_m=out.pop("range_error_m", None),
-                        aiding=ctx.plan.label() if ctx.plan else "none",
+                        aiding=aiding_label, earth_model=earth_model_note(scenario, coasting),
                         prefilter=prefilter.kind if prefilter is not None else "none",
                         options={"disturbance": _dump(disturbance), "initial_errors": _dump(initial_errors),
                                  "aiding_plan": _dump(aiding), "first_trial": first, "keep_series": keep_series},
                         **out)
+
+
+def _max_coast_s(speed_m_s: float) -> float:
+    """Longest coast (s) whose :func:`flat_earth_neglect` stays within MAX_FLAT_EARTH_NEGLECT."""
+    lo, hi = 0.0, 1e5
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if flat_earth_neglect(mid, speed_m_s) <= MAX_FLAT_EARTH_NEGLECT else (lo, mid)
+    return lo
 
 
 def _dump(options) -> dict | None:

@@ -30,7 +30,9 @@ class MotionResult:
     correction mode and warm-up — the APC error is then relative to its aperture-start value)
     and ``prefilter`` which IMU pre-filter ran (``none``, ``kalman``, ``rts``). ``options``: the
     other inputs of :func:`~budget.motion.simulate_motion` (disturbance, initial errors, aiding plan,
-    first trial), JSON-ready.
+    first trial), JSON-ready. ``earth_model`` names the error-propagation model (flat earth) and
+    the estimated size of the Schuler, Earth-rate and transport-rate terms it leaves out over
+    the aperture (:func:`budget.nav.earth.flat_earth_neglect`).
     """
 
     scenario: Scenario
@@ -50,6 +52,7 @@ class MotionResult:
     aiding: str = "none"
     prefilter: str = "none"
     options: dict = field(default_factory=dict)
+    earth_model: str = "flat earth"
 
     @property
     def n_trials(self) -> int:
@@ -81,9 +84,13 @@ class MotionResult:
     def summary(self) -> str:
         """Trials, aperture and a table of :meth:`statistics` (one line per metric)."""
         stats = self.statistics()
-        lines = [f"{self.scenario.name} / {self.model_label}: {self.n_trials} trials, Tc = {self.tc_s:.3g} s, "
+        span = float(self.time_s[-1]) if self.time_s.size else 0.0
+        aperture = "" if abs(span - self.tc_s) <= 0.01 * self.tc_s else \
+            f" (simulated over {span:.4g} s: whole IMU intervals)"
+        lines = [f"{self.scenario.name} / {self.model_label}: {self.n_trials} trials, Tc = {self.tc_s:.3g} s{aperture}, "
                  f"{self.time_s.size} samples, λ = {self.wavelength_m:.4g} m (seed {self.seed}); "
                  f"aiding: {self.aiding}; IMU pre-filter: {self.prefilter}",
+                 f"earth model: {self.earth_model}",
                  f"{'metric (|x|)':<22}{'rms':>12}{'median':>12}{'p95':>12}"]
         for name in METRICS:
             m = stats[name]
@@ -103,7 +110,8 @@ class MotionResult:
         :meth:`statistics` and per-trial lists for scene point 0."""
         return {"trials": self.n_trials, "tc_s": self.tc_s, "seed": self.seed,
                 "scenario": self.scenario.name, "model": self.model_label,
-                "aiding": self.aiding, "prefilter": self.prefilter,
+                "aiding": self.aiding, "prefilter": self.prefilter, "earth_model": self.earth_model,
+                "aperture_simulated_s": float(self.time_s[-1]) if self.time_s.size else 0.0,
                 "n_samples": int(self.time_s.size), "wavelength_m": self.wavelength_m,
                 "range_resolution_m": self.scenario.range_resolution_m,
                 "scenario_spec": self.scenario.model_dump(mode="json"), "options": dict(self.options),

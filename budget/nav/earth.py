@@ -29,6 +29,21 @@ from .strapdown import NavErrors, cross
 
 EARTH_RATE_RAD_S = 7.292115e-5
 EARTH_RADIUS_M = 6_371_000.0
+#: Schuler angular frequency ω_s = √(g/R) (rad/s); period 2π/ω_s ≈ 84.4 min.
+SCHULER_RAD_S = math.sqrt(G0 / EARTH_RADIUS_M)
+
+
+def flat_earth_neglect(duration_s: float, speed_m_s: float = 0.0) -> float:
+    """Relative size (dimensionless) of what a flat-earth error propagation leaves out over a
+    free-inertial coast of ``duration_s`` (s) at ``speed_m_s`` (m/s): the leading terms of the
+    model above against the flat one, (ω_s·t)²/12 (Schuler coupling) + Ω·t/3 (Coriolis and
+    Earth-rate couplings) + V·t/(3R) (transport rate), as stated in
+    :mod:`budget.nav.strapdown`. Against :func:`propagate_errors_earth` for constant sensor
+    biases (45° latitude): 0.4 % estimated / 0.5 % measured at 100 s, 6 % / 5 % at 600 s,
+    15 % / 13 % at 1000 s; at 3000 s the flat model doubles the Schuler-bounded error."""
+    t = float(duration_s)
+    return ((SCHULER_RAD_S * t) ** 2 / 12.0 + EARTH_RATE_RAD_S * t / 3.0
+            + abs(float(speed_m_s)) * t / (3.0 * EARTH_RADIUS_M))
 
 
 def _enu_derivative(x: np.ndarray, *, speed_m_s: float, latitude_rad: float, heading_rad: float,
