@@ -5,8 +5,6 @@ trade-study page, and the ARMA pipeline shared with the CLI."""
 from __future__ import annotations
 
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,13 +12,7 @@ import pytest
 from budget.errors import InputError
 from budget.presets import get_preset
 
-AppTest = pytest.importorskip("streamlit.testing.v1", reason="streamlit not installed").AppTest
-
-REPO = Path(__file__).resolve().parents[1]
-APP_DIR = REPO / "app"
-MAIN = str(APP_DIR / "main.py")
-if str(APP_DIR) not in sys.path:
-    sys.path.insert(0, str(APP_DIR))
+from app_harness import MAIN, REPO, AppTest
 
 
 def _app(page: str | None = None) -> AppTest:

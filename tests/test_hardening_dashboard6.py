@@ -4,20 +4,13 @@ what was expected, and every result states what it assumed."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 
-AppTest = pytest.importorskip("streamlit.testing.v1", reason="streamlit not installed").AppTest
-
-REPO = Path(__file__).resolve().parents[1]
-APP_DIR = REPO / "app"
-MAIN = str(APP_DIR / "main.py")
-if str(APP_DIR) not in sys.path:
-    sys.path.insert(0, str(APP_DIR))
+from app_harness import MAIN, AppTest
 
 
 def _app(page: str) -> AppTest:

@@ -8,7 +8,6 @@ Gotcha checks skip when ../shared is absent."""
 from __future__ import annotations
 
 import zlib
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,23 +20,12 @@ from budget.sar.afrl import read_afrl
 from budget.sar.focus import FocusOptions, backproject, form_ground_image, ground_grid
 from budget.sar.phase_history import C_M_S, PhaseHistory
 
-GOTCHA_FILES = [f"data_3dsar_pass1_az00{i}_HH.mat" for i in range(1, 5)]
+from gotcha_synth import circular_track
+
 F0, DF, NF = 9.288e9, 1.4713e6, 424  # the Gotcha band: Hz, Hz, samples
 
 
-@pytest.fixture(scope="module")
-def gotcha(shared_data) -> list[Path]:
-    d = shared_data / "sar" / "gotcha"
-    files = [d / f for f in GOTCHA_FILES]
-    if not all(f.is_file() for f in files):
-        pytest.skip(f"Gotcha phase-history files not found in {d}")
-    return files
-
-
-def _track(n=469, span_deg=4.0, ground_m=7090.0, height_m=7276.0):
-    """Circular pass about the scene centre (m), centred on azimuth 0."""
-    th = np.radians(np.linspace(-span_deg / 2, span_deg / 2, n))
-    return np.stack([ground_m * np.cos(th), ground_m * np.sin(th), np.full(n, height_m)], axis=1)
+_track = circular_track
 
 
 def _samples(antenna, targets=(np.zeros(3),), r0=None, n_freq=NF):

@@ -20,24 +20,12 @@ from budget.sar.focus_pga import focus
 from budget.sar.phase import smooth_phase_error
 from budget.sar.phase_history import C_M_S, PhaseHistory
 
-GOTCHA_FILES = [f"data_3dsar_pass1_az00{i}_HH.mat" for i in range(1, 5)]
-
-
-@pytest.fixture(scope="module")
-def gotcha(shared_data) -> list[Path]:
-    d = shared_data / "sar" / "gotcha"
-    files = [d / f for f in GOTCHA_FILES]
-    if not all(f.is_file() for f in files):
-        pytest.skip(f"Gotcha phase-history files not found in {d}")
-    return files
+from gotcha_synth import circular_track
 
 
 # --- synthetic phase histories (generator independent of the image former) -------------------
 
-def _track(n_pulses=469, span_deg=4.0, ground_m=7090.0, height_m=7276.0):
-    """Circular pass about the scene centre, centred on azimuth 0 (antenna along +x at mid-aperture)."""
-    th = np.radians(np.linspace(-span_deg / 2, span_deg / 2, n_pulses))
-    return np.stack([ground_m * np.cos(th), ground_m * np.sin(th), np.full(n_pulses, height_m)], axis=1)
+_track = circular_track
 
 
 def _point_history(antenna, targets, amplitudes=None, n_freq=424, f0=9.288e9, df=1.4713e6):
@@ -148,7 +136,6 @@ def test_reader_rejects_non_finite_samples_and_mismatched_frequencies(tmp_path):
         read_afrl([good, shifted])
     with pytest.raises(InputError, match="file not found"):
         read_afrl([tmp_path / "missing.mat"])
-
 
 
 def test_reader_refuses_files_out_of_aperture_order_and_names_the_order(tmp_path):
