@@ -92,6 +92,9 @@ class CheckResult:
     #: (:meth:`budget.bounds.rotation.RotationExcursion.to_dict`) when a platform motion was given;
     #: empty: the bounds' own assumption (seed 004: an attitude change of 1 rad)
     rotation: tuple[dict, ...] = ()
+    #: per scenario, the scenario checked against (``Scenario.model_dump(mode="json")``: Tc, δr,
+    #: λ, lever arm …), so that a result read later says what it was computed for
+    scenarios: tuple[dict, ...] = ()
 
     def fast_phase(self, i: int, s: int) -> float:
         """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
@@ -198,14 +201,15 @@ class CheckResult:
         return out
 
     def to_dict(self) -> dict:
-        """JSON-ready: the bounds ``mode``, the checked ``params`` and per scenario (``name``, ``tc_s``)
-        one record per part under ``parts`` (``part_id, grade, verdict, binding, margins`` as
+        """JSON-ready: the bounds ``mode``, the checked ``params`` and per scenario (``name``, ``tc_s``,
+        the whole ``scenario``) one record per part under ``parts`` (``part_id, grade, verdict, binding, margins`` as
         bound/spec, ``unspecified``, ``bias_convention``, ``flag``, ``flag_reason``,
         ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`;
         ``fast_phase_residual_deg``: :meth:`fast_phase`)."""
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
                 "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s),
-                               "rotation": self.rotation[s] if self.rotation else None}
+                               "rotation": self.rotation[s] if self.rotation else None,
+                               "scenario": self.scenarios[s] if self.scenarios else None}
                               for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
 
     def to_frame(self) -> pd.DataFrame:
@@ -386,7 +390,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        assumptions=_assumptions_dict(assumptions),
                        fast_phase_deg=_fast_phase_matrix(parts, scen, assumed),
                        fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed),
-                       rotation=rotation)
+                       rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen))
 
 
 def _platform_motion(value):

@@ -136,3 +136,16 @@ def test_vrw_unit_identity_in_the_docs():
 
     assert units.m_s_rt_h_to_ug_rt_hz(1.0) == pytest.approx(1699.53, abs=0.01)
     assert "1699.5 µg/√Hz" in budget.__doc__
+
+
+def test_check_result_carries_the_scenarios_it_was_computed_for():
+    """A check read back later says what it was computed for: each scenario in full (δr, λ and
+    the lever arm of a custom scenario, not only its name and Tc)."""
+    from budget.catalog.io import get_part
+    from budget.check import check_parts
+    from budget.presets import get_preset
+    s = get_preset("missile_borne").model_copy(update={"name": "my missile", "lever_arm_m": (1.0, 0.0, -0.5)})
+    rec = check_parts([get_part("STIM300")], s, "lever-arm").to_dict()["scenarios"][0]
+    assert rec["name"] == "my missile" and rec["scenario"]["lever_arm_m"] == [1.0, 0.0, -0.5]
+    assert rec["scenario"]["range_resolution_m"] == s.range_resolution_m
+    assert rec["tc_s"] == pytest.approx(s.tc_s)
