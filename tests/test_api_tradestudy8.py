@@ -149,3 +149,15 @@ def test_check_result_carries_the_scenarios_it_was_computed_for():
     assert rec["name"] == "my missile" and rec["scenario"]["lever_arm_m"] == [1.0, 0.0, -0.5]
     assert rec["scenario"]["range_resolution_m"] == s.range_resolution_m
     assert rec["tc_s"] == pytest.approx(s.tc_s)
+
+
+def test_sweep_rows_say_what_the_verdict_was_judged_on():
+    """A sweep exported to CSV still says the scene, the window and the navigation it was judged
+    with (``attrs`` do not survive the export)."""
+    from budget.catalog.io import get_part
+    from budget.mc.sweep import sweep
+    from budget.presets import get_preset
+    t = sweep([get_part("STIM300")], [get_preset("automotive_77ghz")], 2, 1)
+    row = t.iloc[0]
+    assert row["scene"] == "points" and row["window"].startswith("taylor")
+    assert row["navigation"].startswith("free inertial")

@@ -43,7 +43,9 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
     ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`),
     ``seed`` (the one seed of every cell; ``table.attrs`` also hold it and the options in full),
-    ``platform_motion`` (what the platform flew, :mod:`budget.nav.manoeuvre`),
+    ``platform_motion`` (what the platform flew, :mod:`budget.nav.manoeuvre`), ``scene``,
+    ``window`` and ``navigation`` (what the verdict was judged on: points or realistic scene, the
+    azimuth window, free-inertial or the aiding mode),
     ``unspecified_terms`` (how the part's empty datasheet terms were resolved — each value filled
     from its grade, with its unit, or taken as 0 — as the Monte Carlo's own summary line says) and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
     simulator's sampling limits; module docstring). ``sources``: the file each scenario was read
@@ -101,6 +103,9 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
                 "trials": r.trials, "seed": seed, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
                 "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
                 "twin_passes": r.agg.twin_pass, "platform_motion": r.judged_on.get("platform_motion"),
+                # what the verdict was judged on, as columns: a CSV export loses ``attrs``
+                "scene": r.judged_on.get("scene"), "window": r.judged_on.get("window"),
+                "navigation": r.judged_on.get("navigation"),
                 "unspecified_terms": (r.unspecified_summary()
                                       or f"no unspecified datasheet terms ({options.unspecified})")}
             row.update({f"fail_{k}": v for k, v in r.agg.failure_reasons().items()})
