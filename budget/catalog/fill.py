@@ -72,11 +72,15 @@ class Resolution:
     zeroed: tuple[str, ...] = ()
     not_modelled: tuple[str, ...] = ()
     notes: tuple[str, ...] = field(default=())
+    #: what the user should look at in the row itself (a grade its figures contradict, a figure
+    #: written as 0); result summaries state these beside the fills
+    warnings: tuple[str, ...] = field(default=())
 
     def to_dict(self) -> dict:
         return {"policy": self.policy, "grade": self.grade, "unspecified": list(self.unspecified),
                 "filled": [f.to_dict() for f in self.filled], "zero": list(self.zeroed),
-                "not_modelled": list(self.not_modelled), "notes": list(self.notes)}
+                "not_modelled": list(self.not_modelled), "notes": list(self.notes),
+                "warnings": list(self.warnings)}
 
     def to_frame(self) -> pd.DataFrame:
         """One row per unspecified column: how it was resolved (``filled``, ``zero``, ``not modelled``),
@@ -92,14 +96,14 @@ class Resolution:
     def summary(self) -> str:
         """One line for result summaries."""
         if not self.unspecified:
-            return f"no unspecified datasheet terms ({self.policy})"
+            return "; ".join([f"no unspecified datasheet terms ({self.policy})", *self.warnings])
         parts = []
         if self.filled:
             parts.append("filled from the " + (self.grade or "?") + " grade's typical values: "
                          + ", ".join(f"{f.column} = {f.value:.4g} {f.unit}" for f in self.filled))
         if self.zeroed:
             parts.append("taken as 0: " + ", ".join(self.zeroed))
-        return f"unspecified datasheet terms ({self.policy}): " + "; ".join(parts)
+        return f"unspecified datasheet terms ({self.policy}): " + "; ".join(parts + list(self.warnings))
 
 
 def _effect_triads(model, names: tuple[str, ...]) -> set[str]:
@@ -203,7 +207,7 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
     label = model.part_id or "the noise model"
     zero_note = _zero_figures_note(model)
     if not missing:
-        return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled, notes=zero_note)
+        return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled, warnings=zero_note)
     if policy == "refuse":
         raise InputError(f"{label} leaves {', '.join(missing)} unspecified", field="unspecified",
                          value=policy, expected="the datasheet values in the catalog row, or "
@@ -213,7 +217,7 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
         note = ("stated zero (policy 'zero')" if policy == "zero" else
                 "no grade to fill from: taken as 0 (give the model a grade, or use 'refuse')")
         return Resolution(model=model, policy=policy, grade=grade, unspecified=missing,
-                          zeroed=missing, not_modelled=not_modelled, notes=(note,) + zero_note)
+                          zeroed=missing, not_modelled=not_modelled, notes=(note,), warnings=zero_note)
     if grades is None:
         from .io import load_grades
         grades = load_grades()
@@ -239,10 +243,11 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
             update[column] = value
     notes = (("in-run bias instability has no grade value (grade biases are turn-on / total "
               "figures): " + ", ".join(zeroed) + " not modelled"),) if zeroed else ()
-    notes += (_grade_mismatch_note(model, grades, grade, label) if fills else ()) + zero_note
+    warned = (_grade_mismatch_note(model, grades, grade, label) if fills else ()) + zero_note
     data = model.model_dump()
     data.update(update)
     filled_model = type(model).model_validate(data)
     return Resolution(model=filled_model, policy=policy, grade=grade, unspecified=missing,
                       filled=tuple(fills), zeroed=tuple(zeroed),
-                      not_modelled=tuple(c for c in not_modelled if c not in update), notes=notes)
+                      not_modelled=tuple(c for c in not_modelled if c not in update), notes=notes,
+                      warnings=warned)

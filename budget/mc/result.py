@@ -148,8 +148,7 @@ class McResult:
         texts = [f"filled from the {u.get('grade')} grade's typical values: {fills}" if fills else "",
                  f"taken as 0: {zero}" if zero else "",
                  f"empty and without a grade value, simulated as 0: {absent}" if absent else ""]
-        # the notes a user acts on: a grade the part's own figures do not match, figures given as 0
-        texts += [n for n in u.get("notes", []) if n.startswith("given as 0") or " is labelled " in n]
+        texts += list(u.get("warnings", []))  # a grade the row's own figures contradict, a 0 figure
         text = "; ".join(t for t in texts if t)
         return f"unspecified datasheet terms ({u.get('policy')}): {text}" if text else ""
 
