@@ -48,7 +48,7 @@ from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
                       ValidationInfo, field_validator)
 
 from .errors import BOOL_FOR_NUMBER, InputError, bool_number_field, refuse_bool_numbers
-from .units import split_value_unit, value_unit_to_si
+from .units import unit_of_name, value_text_hint
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -186,28 +186,14 @@ def _field_path(loc: tuple) -> str:
     return out
 
 
-#: Unit of an aiding field, by the suffix of its name (longest first).
-_FIELD_UNITS = (("_m_s", "m/s"), ("_arcsec", "arcsec"), ("_hz", "Hz"), ("_m", "m"), ("_s", "s"))
-
-
 def _unit_text_hint(field: str, value) -> tuple[str, str] | None:
     """(reason, expected) for text such as ``'2 cm'`` given to the number field ``field``
-    (``aiding[0].sigma_m``): the unit is in the field's name; the number to write is converted
-    by :func:`budget.units.value_unit_to_si` when the written unit is one of that quantity's."""
+    (``aiding[0].sigma_m``), :func:`budget.units.value_text_hint`; None when it does not apply."""
     if not isinstance(value, str):
         return None
     name = field.rsplit(".", 1)[-1].split("[")[0]
-    unit = next((u for suffix, u in _FIELD_UNITS if name.endswith(suffix)), None)
-    if unit is None:
-        return None
-    split = split_value_unit(value)
-    if split is None:
-        return "not a number", f"a plain number in {unit} (the unit is in the field's name, {name})"
-    number, written = split
-    si = number if written.strip().lower() == unit.lower() else value_unit_to_si(number, written, unit)
-    reason = f"a unit written in the value: the unit is in the field's name, {name} = {unit}"
-    return reason, (f"the number alone in {unit}: {si:.6g} for {value.strip()}" if si is not None else
-                    f"the number alone in {unit} ({written!r} is not a unit this field converts)")
+    unit = unit_of_name(name)
+    return None if unit is None else value_text_hint(name, value, unit, noun="field")
 
 
 def parse_aiding(data, *, imu_rate_hz: float | None = None,

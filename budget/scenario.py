@@ -22,7 +22,7 @@ from pydantic import (BaseModel, ConfigDict, Field, ValidationError, ValidationI
 from .aiding_spec import CORRECTION_MODES, DEFAULT_CORRECTION_MODE, AidingConfig, parse_aiding
 from .errors import InputError, from_validation_error, refuse_bool_numbers, short_repr
 from .fileio import atomic_write_text, read_structured
-from .units import C_LIGHT, C_SOUND_WATER, G0, split_value_unit, value_unit_to_si
+from .units import C_LIGHT, C_SOUND_WATER, G0, unit_of_name, value_text_hint
 
 
 #: Physically plausible ranges (SI) of the scenario inputs and of Tc, with the reason: a value
@@ -90,35 +90,17 @@ def _unknown_keys_named(e: InputError, err: ValidationError) -> InputError:
     return e
 
 
-#: SI unit of a scenario key, by the suffix of its name (longest first).
-_KEY_UNITS = (("_m_s2", "m/s²"), ("_deg_s", "deg/s"), ("_m_s", "m/s"), ("_hz", "Hz"),
-              ("_deg", "deg"), ("_m", "m"), ("_s", "s"))
-
-
 def key_unit(field: str | None) -> str | None:
     """SI unit of the scenario key ``field`` (``lever_arm_m.0`` → ``m``), from its suffix, or None."""
     base = (field or "").split(".")[0]
-    if base not in Scenario.model_fields:
-        return None
-    return next((unit for suffix, unit in _KEY_UNITS if base.endswith(suffix)), None)
+    return unit_of_name(base) if base in Scenario.model_fields else None
 
 
 def _number_text_hint(field: str, text: str) -> tuple[str, str] | None:
-    """(reason, what to write) for text given to the number key ``field``: the unit is in the
-    key's name and, for a number written with a unit (``16.7 GHz``), the number to write
-    (1.67e+10) — converted by :func:`budget.units.value_unit_to_si`, never taken silently."""
+    """(reason, what to write) for text given to the number key ``field``
+    (:func:`budget.units.value_text_hint`), or None for a key without a unit."""
     unit = key_unit(field)
-    if unit is None:
-        return None
-    base = field.split(".")[0]
-    split = split_value_unit(text)
-    if split is None:
-        return "not a number", f"a plain number in {unit} (the unit is in the key's name, {base})"
-    number, written = split
-    si = value_unit_to_si(number, written, unit)
-    reason = f"a unit written in the value: the unit is in the key's name, {base} = {unit}"
-    return reason, (f"the number alone in {unit}: {si:.6g} for {text.strip()}" if si is not None else
-                    f"the number alone in {unit} ({written!r} is not a unit of {unit})")
+    return None if unit is None else value_text_hint(field.split(".")[0], text, unit)
 
 
 def _number_text_named(e: InputError, err: ValidationError) -> InputError:

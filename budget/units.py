@@ -260,7 +260,31 @@ VALUE_UNITS: dict[str, dict[str, float]] = {
     "deg": {"deg": 1.0, "°": 1.0, "degrees": 1.0, "rad": 1.0 / DEG, "mrad": 1e-3 / DEG},
     "deg/s": {"deg/s": 1.0, "°/s": 1.0, "dps": 1.0, "rad/s": 1.0 / DEG},
     "s": {"s": 1.0, "ms": 1e-3, "min": 60.0},
+    "arcsec": {"arcsec": 1.0, "deg": 3600.0, "°": 3600.0, "mrad": 3.6e3 * 1e-3 / DEG, "rad": 3600.0 / DEG},
 }
+#: Unit of an input key by the suffix of its name (longest first): ``slant_range_m`` → m.
+NAME_SUFFIX_UNITS = (("_m_s2", "m/s²"), ("_deg_s", "deg/s"), ("_m_s", "m/s"), ("_arcsec", "arcsec"),
+                     ("_hz", "Hz"), ("_deg", "deg"), ("_m", "m"), ("_s", "s"))
+
+
+def unit_of_name(name: str) -> str | None:
+    """The unit a key's name carries (:data:`NAME_SUFFIX_UNITS`), or None."""
+    return next((unit for suffix, unit in NAME_SUFFIX_UNITS if name.endswith(suffix)), None)
+
+
+def value_text_hint(name: str, text: str, unit: str, noun: str = "key") -> tuple[str, str]:
+    """(reason, what to write) for ``text`` given where the number key ``name`` (unit ``unit``)
+    expects a number: the unit is in the name, and for a number written with one of that
+    quantity's units (``16.7 GHz``) the number to write (1.67e+10) — never taken silently.
+    ``noun``: how messages call the key (``key`` in a scenario, ``field`` in its aiding list)."""
+    split = split_value_unit(text)
+    if split is None:
+        return "not a number", f"a plain number in {unit} (the unit is in the {noun}'s name, {name})"
+    number, written = split
+    si = value_unit_to_si(number, written, unit)
+    reason = f"a unit written in the value: the unit is in the {noun}'s name, {name} = {unit}"
+    return reason, (f"the number alone in {unit}: {si:.6g} for {text.strip()}" if si is not None else
+                    f"the number alone in {unit} ({written!r} is not a unit of {unit})")
 
 
 def split_value_unit(text: str) -> tuple[float, str] | None:
