@@ -222,12 +222,10 @@ def _track_notes(paths: list[Path], parts: list[dict]) -> list[str]:
                      f"{order.median_step_m:.3g} m (≈ {max(1, round(steps) - 1)} pulse(s) missing); the azimuth "
                      "window and PGA treat the pulses as evenly spaced, so the image and the autofocus across "
                      "the gap are approximate")
-    if order.median_step_m > 0:
-        still = np.flatnonzero(np.linalg.norm(np.diff(track, axis=0), axis=1) < 1e-3 * order.median_step_m)
-        if still.size:
-            notes.append(f"{still.size} pulse(s) recorded at the antenna position of the pulse before (first: pulse "
-                         f"{still[0] + 1}; duplicated pulses?): the azimuth window and PGA count each as a pulse of "
-                         "its own")
+    if order.repeated:
+        notes.append(f"{len(order.repeated)} pulse(s) recorded at the antenna position of the pulse before (first: "
+                     f"pulse {order.repeated[0]}; duplicated pulses?): the azimuth window and PGA count each as a "
+                     "pulse of its own")
     return notes
 
 

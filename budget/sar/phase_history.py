@@ -265,11 +265,14 @@ class TrackOrder:
     """How the antenna advances from pulse to pulse (:func:`track_order`). ``backward``: the first
     pulse index i whose step i → i+1 goes back along the track (None when none does); ``gaps``:
     (i, steps) for every step i → i+1 that is a gap (:func:`track_order`), with its length in
-    median steps; ``median_step_m``: the median distance between consecutive pulses."""
+    median steps; ``median_step_m``: the median distance between consecutive pulses;
+    ``repeated``: the pulses recorded where the pulse before was."""
 
     median_step_m: float
     backward: int | None
     gaps: tuple[tuple[int, float], ...]
+    #: pulses i + 1 recorded at the position of pulse i (a step < 10⁻³ median steps: duplicated)
+    repeated: tuple[int, ...] = ()
 
 
 def track_order(antenna_m) -> TrackOrder:
@@ -297,4 +300,5 @@ def track_order(antenna_m) -> TrackOrder:
     # 5 robust σ out of that spread (1.4826 × the median absolute deviation)
     sigma = 1.4826 * float(np.median(np.abs(step - med)))
     long = np.flatnonzero(step > max(GAP_FACTOR * med, med + 5.0 * sigma))
-    return TrackOrder(med, backward, tuple((int(i), float(step[i] / med)) for i in long))
+    repeated = tuple(int(i) + 1 for i in np.flatnonzero(step < 1e-3 * med))
+    return TrackOrder(med, backward, tuple((int(i), float(step[i] / med)) for i in long), repeated)
