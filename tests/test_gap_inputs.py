@@ -248,3 +248,17 @@ def test_noise_characterize_channels_option(tmp_path, capsys):
     out = tmp_path / "c.json"
     assert main(["noise", "characterize", str(log), "--channels", "gyro_x,gyro_y", "--json", str(out), "-q"]) == 0
     assert set(json.loads(out.read_text())["channels"]) == {"gyro_x", "gyro_y"}
+
+
+def test_noise_characterize_channels_missing_from_an_allan_table(tmp_path, capsys):
+    """``--channels`` on an Allan table keeps only those tables; a channel the table lacks is
+    named, with the channels it has."""
+    m = 2 ** np.arange(10)
+    tau = m / RATE
+    rows = ["channel,tau_s,adev"] + [f"gyro_x_rps,{float(t)!r},{float(1e-3 / np.sqrt(t))!r}" for t in tau]
+    table = tmp_path / "adev.csv"
+    table.write_text("\n".join(rows) + "\n")
+    args = ["noise", "characterize", str(table), "--rate-hz", "100", "--samples", "100000"]
+    assert main(args + ["--channels", "gyro_y"]) == 2
+    err = capsys.readouterr().err
+    assert "gyro_y missing from the table" in err and "channels the table has: gyro_x" in err
