@@ -30,12 +30,15 @@ def fmt_value(v, sig: int = SIG_FIGS) -> str:
 
 def tidy(frame: pd.DataFrame, sig: int = SIG_FIGS):
     """A Styler showing ``frame`` with :func:`fmt_value` in every cell (numbers stay numbers, so
-    sorting keeps working; empty cells become "–"). Downloads use the frame itself."""
+    sorting keeps working; empty cells become "–"). Downloads use the frame itself.
+
+    A column with an empty cell is shown as text throughout: Streamlit draws a null cell as
+    "None" whatever the Styler says, and a column mixing numbers with "–" cannot be sent as an
+    Arrow table (Streamlit would convert it to text itself, after logging a traceback)."""
     shown = frame.copy()
-    for col in shown.columns:  # Streamlit draws a null cell as "None" whatever the Styler says
-        nulls = shown[col].isna()
-        if nulls.any():
-            shown[col] = shown[col].astype(object).where(~nulls, EMPTY)
+    for col in shown.columns:
+        if shown[col].isna().any():
+            shown[col] = shown[col].map(lambda v: fmt_value(v, sig)).astype(object)
     return shown.style.format(lambda v: fmt_value(v, sig))
 
 

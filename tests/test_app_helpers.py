@@ -111,3 +111,20 @@ def test_registry_lists_existing_page_modules_with_unique_urls():
     assert [p.url_path for p in avail][:3] == ["scenario", "catalog", "check"]
     assert len({p.url_path for p in page_registry.PAGES}) == len(page_registry.PAGES)
     assert sum(p.default for p in avail) == 1
+
+
+def test_tidy_tables_with_empty_cells_convert_to_arrow_as_streamlit_sends_them():
+    """A number column with an empty cell is shown as text throughout ("–" for the empty cell),
+    so the table converts to Arrow without Streamlit's logged fallback; full columns stay
+    numbers (sortable)."""
+    import pyarrow as pa
+
+    from formatting import EMPTY, tidy
+
+    frame = pd.DataFrame({"part": ["A", "B", "C"], "p_pass": [0.5, float("nan"), 0.123456],
+                          "trials": [64, 64, 128], "margin": [1.0, 2.0, 3.0]})
+    shown = tidy(frame).data
+    table = pa.Table.from_pandas(shown)            # raises ArrowInvalid on a mixed column
+    assert table.column("p_pass").to_pylist() == ["0.5", EMPTY, "0.1235"]
+    assert pd.api.types.is_numeric_dtype(shown["margin"])
+    assert pd.api.types.is_numeric_dtype(shown["trials"])
