@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..motion.engine import simulate_motion
+import sys
+
+from ..aiding_spec import AidingPlan
+from ..motion.engine import estimate_cost, simulate_motion
 from ..nav.platform import Disturbance
 from .common import add_part_or_model_options, add_scenario_options, part_or_model_from_args, scenario_from_args
 from .output import add_json_option, write_json
+from .progress import add_quiet_option, progress
 
 MAX_TRIALS = 1_000_000
 
@@ -22,6 +26,7 @@ def add_parser(sub) -> None:
     p.add_argument("--disturbance", metavar="D.json", help="platform disturbance JSON")
     p.add_argument("--workers", type=int, default=1, help="worker threads (results do not depend on it)")
     add_json_option(p)
+    add_quiet_option(p)
     p.set_defaults(func=run)
 
 
@@ -34,8 +39,14 @@ def run(args) -> int:
     scen = scenario_from_args(args)
     model = part_or_model_from_args(args)
     dist = Disturbance.load(args.disturbance) if args.disturbance else None
-    res = simulate_motion(scen, model, args.trials, args.seed, disturbance=dist,
-                          workers=args.workers, keep_series=False)
+    quiet = getattr(args, "quiet", False)
+    cost = estimate_cost(scen, args.trials, AidingPlan.from_scenario(scen), args.workers)
+    if not quiet and cost["cpu_s"] > 10.0:  # say what a large run costs before it starts
+        print(f"motion: {cost['samples']:,} IMU samples per trial, ≈ {cost['cpu_s']:.0f} s CPU and "
+              f"≈ {cost['bytes'] / 1e9:.2g} GB", file=sys.stderr, flush=True)
+    with progress(f"motion {getattr(model, 'part_id', None) or 'model'}", quiet=quiet) as bar:
+        res = simulate_motion(scen, model, args.trials, args.seed, disturbance=dist,
+                              workers=args.workers, keep_series=False, progress=bar)
     if args.json:
         write_json(res.to_dict(), args.json)
     else:

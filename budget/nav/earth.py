@@ -46,6 +46,25 @@ def flat_earth_neglect(duration_s: float, speed_m_s: float = 0.0) -> float:
             + abs(float(speed_m_s)) * t / (3.0 * EARTH_RADIUS_M))
 
 
+def navigation_frame_rate(speed_m_s: float, latitude_rad: float, heading_rad: float) -> np.ndarray:
+    """ω_in = ω_ie + ω_en (rad/s, (3,)) in the along-track frame of :func:`system_matrix`
+    (x along-track at heading ``heading_rad`` from north, y to the left, z up) for level flight
+    at ``speed_m_s``: the rate at which the local-level frame turns, which turns an attitude
+    error φ at −ω_in × φ (the first term of φ̇ above)."""
+    lat, h, r = latitude_rad, heading_rad, EARTH_RADIUS_M
+    v_e, v_n = speed_m_s * math.sin(h), speed_m_s * math.cos(h)
+    w_enu = EARTH_RATE_RAD_S * np.array([0.0, math.cos(lat), math.sin(lat)]) \
+        + np.array([-v_n / r, v_e / r, v_e * math.tan(lat) / r])
+    return _along_track_rotation(h) @ w_enu
+
+
+def _along_track_rotation(h: float) -> np.ndarray:
+    """Rows: the along-track frame's axes in ENU at heading ``h`` (rad from north)."""
+    return np.array([[math.sin(h), math.cos(h), 0.0],      # x̂ (along-track) in ENU
+                     [-math.cos(h), math.sin(h), 0.0],     # ŷ (left)
+                     [0.0, 0.0, 1.0]])                     # ẑ (up)
+
+
 def _enu_derivative(x: np.ndarray, *, speed_m_s: float, latitude_rad: float, heading_rad: float,
                     earth: bool) -> np.ndarray:
     """ẋ (without inputs) for state x = [φ, δv, δp] in ENU (9,)."""
@@ -73,9 +92,7 @@ def _enu_derivative(x: np.ndarray, *, speed_m_s: float, latitude_rad: float, hea
 def system_matrix(speed_m_s: float, latitude_rad: float, heading_rad: float, earth: bool = True) -> np.ndarray:
     """9×9 state matrix in the along-track frame (columns by probing the linear ENU model)."""
     h = heading_rad
-    rot = np.array([[math.sin(h), math.cos(h), 0.0],      # x̂ (along-track) in ENU
-                    [-math.cos(h), math.sin(h), 0.0],     # ŷ (left)
-                    [0.0, 0.0, 1.0]])                     # ẑ (up)
+    rot = _along_track_rotation(h)
     big = np.kron(np.eye(3), rot)                         # nav ← ENU for the three 3-vectors
     a_enu = np.column_stack([
         _enu_derivative(e, speed_m_s=speed_m_s, latitude_rad=latitude_rad, heading_rad=h, earth=earth)

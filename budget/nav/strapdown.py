@@ -19,9 +19,21 @@ Why flat earth is enough: the neglected terms are the Schuler coupling (period 8
 effect ≈ (ω_s·Tc)²/12 = 0.18 % at Tc = 120 s), Coriolis and Earth-rate couplings
 (≈ Ω·Tc/3 ≈ 0.3 % at 120 s) and transport-rate terms (≈ V·Tc/(3R) ≈ 0.13 % at 200 m/s, 120 s).
 ``budget.nav.earth`` integrates the model with those terms; the tests compare both: < 2 % apart
-for Tc ≤ 2 min, tens of % at 30 min. One caveat: an initial heading error ψ acts through
-Earth rate as an extra tilt rate Ω·cos L·ψ (0.15 deg/h for ψ = 10 mrad), which the flat model
-leaves out — fold it into the gyro bias if it matters for a navigation-grade IMU.
+for Tc ≤ 2 min, tens of % at 30 min.
+
+One Earth term is kept, because it is first order in an *initial* error rather than a small
+correction to one: the local-level frame turns at ω_in = ω_ie + ω_en (Earth and transport rate),
+which turns an initial attitude error at −ω_in × φ0. For an initial heading error ψ this is a
+tilt rate Ω·cos L·ψ (0.15 deg/h for ψ = 10 mrad at the equator) plus up to V·ψ/R about the
+other horizontal axis (0.065 deg/h at 200 m/s): the flat model without it gives *no* position
+error for a heading error in level flight, with it the g·|ω_in × φ0|·t³/6 the full model gives.
+``frame_rate_n_rad_s`` (ω_in in the nav frame, :func:`budget.nav.earth.navigation_frame_rate`)
+adds it as a constant nav-frame rate −ω_in × φ0 per trial (a gyro-equivalent −Cᵀ(ω_in × φ0)).
+What still differs from the full model for a heading error alone is O(Ω·t) (the frame rate
+acting on the tilt the term builds, Coriolis, the transport rate of the velocity error) and
+O((ω_s·t)²) (Schuler), bounded relative to the error by
+(|ω_in| + |2ω_ie + ω_en| + V/(R·cos L))·t/4 + (ω_s·t)²/20: at 45° latitude and 200 m/s 0.27 %
+at 30 s and 1.2 % at 120 s (measured against ``budget.nav.earth``: ≤ 0.16 % and ≤ 0.66 %).
 """
 
 from __future__ import annotations
@@ -91,13 +103,15 @@ def _shifted_cumsum(x: np.ndarray) -> np.ndarray:
 def propagate_errors(gyro_err_rad_s: np.ndarray, accel_err_m_s2: np.ndarray, dt_s: float, *,
                      force_n_m_s2: np.ndarray | None = None, c_b_n: np.ndarray | None = None,
                      lever_arm_b_m=None, phi0=None, dv0=None, dp0=None,
-                     keep_states: bool = False) -> NavErrors:
+                     frame_rate_n_rad_s=None, keep_states: bool = False) -> NavErrors:
     """Propagate body-frame sensor errors (T, N, 3) into navigation errors (computed − true).
 
     ``force_n_m_s2``: true specific force in the nav frame, (N, 3) or (T, N, 3); default
     (0, 0, +G0) (level unaccelerated flight). ``c_b_n``: body→nav DCM (N|T,N, 3, 3); default
     identity. ``lever_arm_b_m``: IMU → APC in the body frame (m). ``phi0``/``dv0``/``dp0``:
-    initial errors (T, 3) or (3,). Returns :class:`NavErrors`; states at t_k = k·dt.
+    initial errors (T, 3) or (3,). ``frame_rate_n_rad_s``: the nav frame's rate ω_in (3,) rad/s
+    (Earth + transport rate); with ``phi0`` it adds the attitude rate −ω_in × φ0 (module
+    docstring); default None (none). Returns :class:`NavErrors`; states at t_k = k·dt.
     """
     eps = np.asarray(gyro_err_rad_s, dtype=float)
     dfb = np.asarray(accel_err_m_s2, dtype=float)
@@ -109,6 +123,9 @@ def propagate_errors(gyro_err_rad_s: np.ndarray, accel_err_m_s2: np.ndarray, dt_
 
     # Scale the inputs once so that each cumulative sum gives a state directly.
     rot_step = eps * -dt_s                                   # −ε·dt: attitude increment
+    if phi0 is not None and frame_rate_n_rad_s is not None:  # − ω_in × φ0: the frame turning φ0
+        rot_step -= cross(np.asarray(frame_rate_n_rad_s, dtype=float),
+                          np.asarray(phi0, dtype=float).reshape(-1, 1, 3)) * dt_s
     phi = _shifted_cumsum(rot_step)                          # φ_k − φ0
     if phi0 is not None:
         phi += np.asarray(phi0, dtype=float).reshape(-1, 1, 3)
