@@ -3,12 +3,19 @@
 The parser class is handed to the sub-command parsers by ``main.build_parser``, so every
 sub-command (and nested ones such as ``noise arma``) shows its defaults without each module
 asking. A help text that already names its default, and flags whose default is "off" or "none",
-get no second note.
+get no second note; an option without a help text gets its default as its help (argparse leaves
+the help column of such an option empty, and the default with it).
 """
 
 from __future__ import annotations
 
 import argparse
+import copy
+
+
+def _no_default(value) -> bool:
+    """``None``, ``False``, ``""`` and ``SUPPRESS`` mean "no default"; ``0`` is a value."""
+    return value is None or value is False or value is argparse.SUPPRESS or (isinstance(value, str) and value == "")
 
 
 class DefaultsFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -16,11 +23,18 @@ class DefaultsFormatter(argparse.ArgumentDefaultsHelpFormatter):
 
     def _get_help_string(self, action: argparse.Action) -> str:
         text = action.help or ""
-        if "default" in text.lower() or action.default in (None, False, argparse.SUPPRESS):
+        if "default" in text.lower() or _no_default(action.default):
             return text
         if isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
             return text
         return super()._get_help_string(action)
+
+    def _format_action(self, action: argparse.Action) -> str:
+        if (action.option_strings and not (action.help or "").strip() and not _no_default(action.default)
+                and not isinstance(action, (argparse._HelpAction, argparse._VersionAction))):
+            action = copy.copy(action)
+            action.help = "(default: %(default)s)"
+        return super()._format_action(action)
 
 
 class DefaultsParser(argparse.ArgumentParser):

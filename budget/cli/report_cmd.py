@@ -13,6 +13,7 @@ provenance (version, seed, trials, options).
 from __future__ import annotations
 
 import re
+import sys
 from pathlib import Path
 
 from ..catalog.io import load_catalog
@@ -72,8 +73,10 @@ def run(args) -> int:
         _write_figures(rep.figures, Path(args.figures), args.figure_format)
     if args.json:
         write_json(rep.to_dict(), args.json)
-    print(rep.summary())
-    print(f"wrote {args.out}")
+    # with --json - stdout carries the JSON alone; the summary then goes to stderr
+    text_out = sys.stderr if args.json == "-" else sys.stdout
+    print(rep.summary(), file=text_out)
+    print(f"wrote {args.out}", file=text_out)
     return 0
 
 
