@@ -87,3 +87,26 @@ def test_report_json_to_stdout_is_json_alone(tmp_path, monkeypatch, capsys):
                  "--json", str(tmp_path / "r.json"), "--quiet"]) == 0
     captured = capsys.readouterr()
     assert "report: scenario automotive_77ghz" in captured.out and captured.err == ""
+
+
+def test_bounds_wavelength_help_says_what_needs_it(capsys):
+    """``--wavelength`` was "needed by --mode no-autofocus"; lever-arm mode refuses to run without
+    it too, and bare ``--tc`` prints no fast-phase limits without it (README, Bounds)."""
+    with pytest.raises(SystemExit):
+        main(["bounds", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "and lever-arm, and for the fast-phase VRW/ARW limits" in text
+    assert main(["bounds", "--tc", "1", "--range-resolution", "0.1", "--mode", "lever-arm"]) == 2
+    assert "--wavelength" in capsys.readouterr().err
+    assert main(["bounds", "--tc", "1", "10", "--range-resolution", "0.1", "--json", "-"]) == 0
+    assert json.loads(capsys.readouterr().out)["fast_phase"] is None
+    assert main(["bounds", "--tc", "1", "10", "--range-resolution", "0.1", "--wavelength", "0.03"]) == 0
+    assert "Tc = 10 s: VRW ≤" in capsys.readouterr().out
+
+
+def test_mc_help_names_the_scene_defaults(capsys):
+    with pytest.raises(SystemExit):
+        main(["mc", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "receiver SNR in dB (default: 30 on the realistic scene" in text
+    assert "image weighting (default auto" in text

@@ -17,7 +17,8 @@ def add_parser(sub) -> None:
     p.add_argument("--range-resolution", type=float, metavar="M",
                    help="range resolution δr in m (with --tc)")
     p.add_argument("--wavelength", type=float, metavar="M",
-                   help="wavelength in m (with --tc; needed by --mode no-autofocus)")
+                   help="wavelength in m (with --tc; needed by --mode no-autofocus and lever-arm, and for "
+                        "the fast-phase VRW/ARW limits)")
     add_scenario_options(p)
     p.add_argument("--mode", choices=("paper", "derived", "no-autofocus", "lever-arm"), default="paper",
                    help="lever-arm: seed 004's bounds with attitude error × lever arm (which binds)")

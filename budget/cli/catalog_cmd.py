@@ -19,7 +19,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser("catalog", help="validate, list or show catalog parts")
     csub = p.add_subparsers(dest="catalog_command", metavar="ACTION", required=True)
     v = csub.add_parser("validate", help="validate a catalog CSV (default: the shipped one)")
-    v.add_argument("csv", nargs="?", help="CSV to validate")
+    v.add_argument("csv", nargs="?", help="CSV to validate (default: the shipped catalog)")
     v.set_defaults(func=run_validate)
     lst = csub.add_parser("list", help="list parts (shipped merged with the user catalog)")
     add_catalog_option(lst)

@@ -127,9 +127,10 @@ def _add_verdict_options(p) -> None:
                         "many scatterers, judged against a perfect IMU on the same scene; auto: realistic")
     p.add_argument("--clutter-db", dest="clutter_to_target_db", type=float, default=None,
                    help="realistic scene: clutter-to-target ratio in dB (default −25)")
-    p.add_argument("--snr-db", dest="snr_db", type=float, default=None, help="receiver SNR in dB")
+    p.add_argument("--snr-db", dest="snr_db", type=float, default=None,
+                   help="receiver SNR in dB (default: 30 on the realistic scene, none on the points)")
     p.add_argument("--window", choices=("auto", "rect", "taylor"), default=None,
-                   help="image weighting (auto: Taylor −35 dB for radar)")
+                   help="image weighting (default auto: Taylor −35 dB for radar, the scenario's own for sonar)")
     p.add_argument("--acceptance", metavar="A.json",
                    help="acceptance spec: max_broadening, max_pslr_db, max_islr_db, "
                         "max_peak_loss_db, max_range_migration_cells, max_residual_phase_rms_deg …")
