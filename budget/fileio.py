@@ -216,10 +216,34 @@ def read_bytes(path: str | Path, max_bytes: int) -> bytes:
         return fh.read()
 
 
-def read_text(path: Path, max_bytes: int = 10_000_000, expected: str | None = None) -> str:
+#: Byte-order marks → the codec that reads the text they start (Excel's "CSV UTF-8" writes the
+#: UTF-8 one, a spreadsheet's "Unicode text" export UTF-16). Longest first: the UTF-32 LE mark
+#: begins with the UTF-16 LE one. The "utf-16"/"utf-32" codecs read the mark's byte order.
+BYTE_ORDER_MARKS = ((b"\xff\xfe\x00\x00", "utf-32"), (b"\x00\x00\xfe\xff", "utf-32"),
+                    (b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
+
+
+def text_encoding(head: bytes) -> str:
+    """The codec of text whose first bytes are ``head`` (4 are enough): the one its byte-order
+    mark names (:data:`BYTE_ORDER_MARKS`), else UTF-8. The one place where a reader of delimited
+    text (IMU logs, Allan tables) finds its encoding."""
+    return next((codec for bom, codec in BYTE_ORDER_MARKS if head.startswith(bom)), "utf-8")
+
+
+def input_encoding(path: str | Path) -> str:
+    """:func:`text_encoding` of ``path``'s (decompressed) first bytes."""
+    with open_input(path) as fh:
+        return text_encoding(fh.read(4))
+
+
+def read_text(path: Path, max_bytes: int = 10_000_000, expected: str | None = None, *,
+              wide: bool = False) -> str:
     """Read a small UTF-8 text file (optionally compressed); a missing, non-regular, empty, huge,
     unreadable, non-UTF-8 or binary (NUL bytes) file raises :class:`InputError`, whose
-    ``expected`` says what the file should be (``expected``, e.g. "a catalog CSV file")."""
+    ``expected`` says what the file should be (``expected``, e.g. "a catalog CSV file").
+    ``wide``: UTF-16/32 text with its byte-order mark is read too (:func:`text_encoding`) — for
+    readers that never write the file back (a catalog is appended to in UTF-8, so it stays
+    UTF-8 only)."""
     path = Path(path)
     if not path.exists():
         raise InputError("file not found", file=path, expected=expected)
@@ -231,10 +255,16 @@ def read_text(path: Path, max_bytes: int = 10_000_000, expected: str | None = No
         raise InputError(f"file is {path.stat().st_size} bytes", file=path,
                          expected=f"at most {max_bytes} bytes")
     data = read_bytes(path, max_bytes)
+    codec = text_encoding(data[:4])
+    if codec in ("utf-8", "utf-8-sig") or not wide:
+        codec = "utf-8-sig"
     try:
-        text = data.decode("utf-8-sig")
+        text = data.decode(codec)
     except UnicodeDecodeError as err:
-        raise InputError(f"not UTF-8 text (byte {err.start})", file=path, expected="UTF-8 encoding") from None
+        wide_mark = text_encoding(data[:4]) not in ("utf-8", "utf-8-sig")
+        reason = (f"{text_encoding(data[:4]).upper()} text (its byte-order mark), not UTF-8" if wide_mark and not wide
+                  else f"not {codec.replace('-sig', '').upper()} text (byte {err.start})")
+        raise InputError(reason, file=path, expected="UTF-8 encoding") from None
     if "\x00" in text:
         raise InputError("contains NUL bytes (binary file?)", file=path, expected=expected or "UTF-8 text")
     if not text.strip():

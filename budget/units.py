@@ -179,8 +179,25 @@ def channel_si_unit(channel: str) -> str:
 
 def split_channel_column(name: str) -> tuple[str, str]:
     """``'gyro_x_dps'`` → ``('gyro_x', 'dps')``; the package's suffix spelling is read as the
-    same unit (``'gyro_x_rad_s'`` → ``('gyro_x', 'rps')``, :data:`CHANNEL_UNIT_ALIASES`); raises
-    ``ValueError`` naming what is expected."""
+    same unit (``'gyro_x_rad_s'`` → ``('gyro_x', 'rps')``, :data:`CHANNEL_UNIT_ALIASES`), and so
+    is a unit written in brackets after the channel (``'gyro_x [deg/s]'``, ``'acc_z (m/s^2)'``,
+    :func:`header_channel_unit`); raises ``ValueError`` naming what is expected."""
+    base, written = split_header_unit(name)
+    if written is not None:
+        ch = CHANNEL_NAME_ALIASES.get(base.lower(), base.lower())
+        if ch in CHANNELS:
+            return ch, header_channel_unit(ch, written, name)
+        if base.startswith(("gyro_", "accel_")):  # gyro_x_dps [deg/s]: two units, must agree
+            ch, tag = _split_tagged(base)
+            said = header_channel_unit(ch, written, name)
+            if said != tag:
+                raise ValueError(f"column {name!r} names two units, {tag} in its name and "
+                                 f"{written!r} in brackets: write one")
+            return ch, tag
+    return _split_tagged(name)
+
+
+def _split_tagged(name: str) -> tuple[str, str]:
     for ch in CHANNELS:
         if name.startswith(ch + "_"):
             unit = name[len(ch) + 1 :]
@@ -195,8 +212,64 @@ def split_channel_column(name: str) -> tuple[str, str]:
     raise ValueError(
         f"channel column {name!r} not understood: expected <channel>_<unit> with channel in "
         f"{', '.join(CHANNELS)} and unit dps|rps|dph (or deg_s|rad_s|deg_h) for a gyro, "
-        "mps2|g|mg (or m_s2) for an accelerometer"
+        "mps2|g|mg (or m_s2) for an accelerometer, or <channel> [unit] (gyro_x [deg/s], "
+        "accel_z (m/s^2))"
     )
+
+
+# --- a unit written in a column header: ``gyro_x [deg/s]``, ``adev (deg/h)``, ``tau [s]`` -----
+
+#: Units a column header may write in brackets for a channel (compared in lower case, without
+#: spaces) → its tag in :data:`CHANNEL_UNIT_TO_SI`, the one table of factors to SI.
+HEADER_CHANNEL_UNITS: dict[str, dict[str, str]] = {
+    "gyro": {"deg/s": "dps", "°/s": "dps", "deg/sec": "dps", "dps": "dps",
+             "rad/s": "rps", "rad/sec": "rps", "rps": "rps",
+             "deg/h": "dph", "deg/hr": "dph", "°/h": "dph", "°/hr": "dph", "dph": "dph"},
+    "accel": {"m/s^2": "mps2", "m/s²": "mps2", "m/s2": "mps2", "m/s/s": "mps2", "mps2": "mps2",
+              "g": "g", "mg": "mg"},
+}
+#: Other spellings of a channel before a bracketed unit (``acc_z [m/s^2]``).
+CHANNEL_NAME_ALIASES: dict[str, str] = {f"acc_{a}": f"accel_{a}" for a in "xyz"}
+
+
+def split_header_unit(name: str) -> tuple[str, str | None]:
+    """``'gyro_x [deg/s]'`` → ``('gyro_x', 'deg/s')``, ``'adev (deg/h)'`` → ``('adev', 'deg/h')``:
+    a header name and the unit written after it in square or round brackets; ``(name, None)``
+    when there is none."""
+    import re
+
+    m = re.fullmatch(r"\s*(.*?)\s*(?:\[([^\[\]]*)\]|\(([^()]*)\))\s*", str(name))
+    if m is None or not m.group(1):
+        return str(name).strip(), None
+    return m.group(1), (m.group(2) if m.group(2) is not None else m.group(3)).strip()
+
+
+def _unit_key(text: str) -> str:
+    return text.strip().lower().replace(" ", "")
+
+
+def header_channel_unit(channel: str, written: str, column: str | None = None) -> str:
+    """The :data:`CHANNEL_UNIT_TO_SI` tag of the unit ``written`` in a header for ``channel``
+    (``'deg/h'`` on ``gyro_z`` → ``'dph'``); ``ValueError`` listing the accepted units when it is
+    none of them (an accelerometer unit on a gyro included)."""
+    kind = "gyro" if channel.startswith("gyro") else "accel"
+    tag = HEADER_CHANNEL_UNITS[kind].get(_unit_key(written))
+    if tag is None:
+        where = f"column {column!r}" if column else channel
+        raise ValueError(f"{where}: unit {written!r} not understood for {channel}; accepted: "
+                         + ", ".join(HEADER_CHANNEL_UNITS[kind]))
+    return tag
+
+
+def header_time_factor(written: str, column: str | None = None) -> float:
+    """Factor to seconds of the time unit ``written`` in a header (``tau [ms]`` → 1e-3), from
+    :data:`VALUE_UNITS` ``["s"]``; ``ValueError`` listing the accepted units."""
+    factor = VALUE_UNITS["s"].get(_unit_key(written))
+    if factor is None:
+        where = f"column {column!r}: " if column else ""
+        raise ValueError(f"{where}time unit {written!r} not understood; accepted: "
+                         + ", ".join(VALUE_UNITS["s"]))
+    return factor
 
 
 # --- range and phase (two-way propagation, seed 003 (12)) -------------------------------------
@@ -259,7 +332,8 @@ VALUE_UNITS: dict[str, dict[str, float]] = {
     "m/s²": {"m/s²": 1.0, "m/s2": 1.0, "m/s^2": 1.0, "g": G0},
     "deg": {"deg": 1.0, "°": 1.0, "degrees": 1.0, "rad": 1.0 / DEG, "mrad": 1e-3 / DEG},
     "deg/s": {"deg/s": 1.0, "°/s": 1.0, "dps": 1.0, "rad/s": 1.0 / DEG},
-    "s": {"s": 1.0, "ms": 1e-3, "min": 60.0},
+    "s": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6, "ns": 1e-9, "min": 60.0,
+          "h": 3600.0},
     "arcsec": {"arcsec": 1.0, "deg": 3600.0, "°": 3600.0, "mrad": 3.6e3 * 1e-3 / DEG, "rad": 3600.0 / DEG},
 }
 #: Unit of an input key by the suffix of its name (longest first): ``slant_range_m`` → m.

@@ -45,7 +45,8 @@ def add_parser(sub) -> None:
     p.add_argument("--alpha", type=float, default=0.01, help="false-alarm level (default 0.01)")
     p.add_argument("--min-gain", type=float, default=0.05,
                    help="share of its channel's excess gap an effect must remove (default 0.05)")
-    p.add_argument("--channels", help=f"comma-separated subset of {','.join(CHANNELS)}")
+    p.add_argument("--channels", help=f"comma-separated subset of {','.join(CHANNELS)} (for an Allan "
+                                      "table without a channel column, the one channel of its curve)")
     p.add_argument("--rate-hz", type=float, help="sampling rate (Allan tables; logs without time)")
     p.add_argument("--samples", type=int, help="record length behind an Allan table")
     p.add_argument("--ci-level", type=float, default=0.95, help="confidence level of lci/uci (0.95)")

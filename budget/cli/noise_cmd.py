@@ -34,7 +34,8 @@ def add_parser(sub) -> None:
     c.add_argument("--ci-level", type=float, default=0.95, help="confidence level of lci/uci (0.95)")
     c.add_argument("--channels", metavar="CH,CH",
                    help="characterise only these channels, e.g. gyro_x,gyro_y,gyro_z (a log's other "
-                        "columns are then neither read nor checked)")
+                        "columns are then neither read nor checked); for an Allan table without a "
+                        "channel column (tau_s, adev [deg/h]), the one channel its curve belongs to")
     c.add_argument("--taus", default="octave", choices=("octave", "decade", "dense"),
                    help="τ list for logs (default octave)")
     c.add_argument("--grade", help="grade of the row (default: inferred from the grades table)")

@@ -2,7 +2,8 @@
 
 Measurement: an IMU log (CSV path or :class:`~budget.noise.ImuLog`, channels in SI) or a
 measured Allan-deviation table (CSV ``channel, tau_s, adev[, lci, uci]`` with the record's
-``rate_hz`` and ``samples``, or ``{channel: AllanResult}``). Model: a
+``rate_hz`` and ``samples``, or ``{channel: AllanResult}``; a one-curve table ``tau_s, adev [deg/h]``
+without a channel column is read as the one channel ``channels`` names). Model: a
 :class:`~budget.imu.NoiseModel`, a catalog :class:`~budget.catalog.schema.PartSpec`, a catalog
 ``part_id`` or a MODEL.json/.yaml path.
 

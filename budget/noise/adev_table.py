@@ -20,14 +20,25 @@ carries a note saying so (``AllanResult.notes``); farther off is an error (wrong
 Files other tools write are read as they are: delimited by ``,``, ``;`` or a tab (the one that
 splits the header into a τ column), ``#`` comment lines before the header (rows in messages are
 the file's lines), quoted header names, trailing delimiters, τ in ms or µs (``tau_ms``,
-``tau_us``), compressed under any name (gzip, bzip2, xz, zip found by content). A decimal comma
-is refused with its row and said to be one.
+``tau_us``), compressed under any name (gzip, bzip2, xz, zip found by content), UTF-8 with or
+without a byte-order mark or UTF-16/32 with one (:func:`budget.fileio.text_encoding`, as for
+logs). A decimal comma is refused with its row and said to be one.
+
+Units written in brackets after a header name are read through :mod:`budget.units`: ``tau [s]``,
+``tau (ms)``; ``adev (deg/h)`` (with ``lci``/``uci`` in the same unit, an ``avar`` as its square,
+``avar [(deg/h)^2]``) for channels named without a unit (``gyro_z``); ``gyro_x [deg/s]`` as a
+channel of the wide layout. A unit in brackets that disagrees with the channel's own
+(``gyro_z_dps`` under ``adev [deg/h]``) is refused, and an unknown one is an error listing the
+accepted units. A table of one curve without a channel column (``tau_s, adev``) is read as the
+channel the caller names (``channels=["gyro_z"]``, ``--channels gyro_z``), refused with how to
+name it otherwise.
 """
 
 from __future__ import annotations
 
 import io
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -36,7 +47,7 @@ from scipy import optimize, stats
 
 from .. import units as u
 from ..errors import InputError
-from ..fileio import open_input, read_text, require_file
+from ..fileio import open_input, read_text, require_file, text_encoding
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
 from .logs import decimal_comma
 
@@ -47,15 +58,15 @@ TAU_TOLERANCE = 0.15
 OPTIONAL = ("lci", "uci")
 
 
-#: τ header names in another time unit → factor to seconds
-_TAU_UNITS = {"tau_ms": 1e-3, "tau(ms)": 1e-3, "tau[ms]": 1e-3, "tau_us": 1e-6, "tau(us)": 1e-6,
-              "tau[us]": 1e-6}
+#: τ header names that carry their time unit in the name → factor to seconds (a unit written in
+#: brackets, ``tau [ms]``, is read by :func:`budget.units.header_time_factor`)
+_TAU_UNITS = {"tau_s": 1.0, "tau_ms": 1e-3, "tau_us": 1e-6}
 #: Delimiters an Allan table may use; the one that splits the header into a τ column is taken.
 _DELIMITERS = (",", ";", "\t")
 
 #: Header names read as each column of a table (compared lower-case, without spaces): other
 #: tools write ``Tau``, ``tau (s)``, ``ADEV``, or the Allan variance instead of the deviation.
-_ALIASES = {"tau_s": ("tau_s", "tau", "taus", "tau(s)", "tau[s]") + tuple(_TAU_UNITS), "channel": ("channel",),
+_ALIASES = {"tau_s": ("tau", "taus") + tuple(_TAU_UNITS), "channel": ("channel",),
             "adev": ("adev",), "avar": ("avar",), "lci": ("lci",), "uci": ("uci",)}
 _CANON = {a: c for c, names in _ALIASES.items() for a in names}
 
@@ -65,8 +76,15 @@ def _key(col) -> str:
     return str(col).strip().strip("\"'").lower().replace(" ", "")
 
 
+def _split(col) -> tuple[str, str | None]:
+    """(name, unit written in brackets after it or None): ``'adev (deg/h)'`` → ``('adev', 'deg/h')``."""
+    return u.split_header_unit(str(col).strip().strip("\"'"))
+
+
 def _canonical(col: str) -> str | None:
-    return _CANON.get(_key(col))
+    """The column a header cell reads as (:data:`_ALIASES`), a unit in brackets after it
+    left aside (``tau [s]``, ``adev (deg/h)``); None for any other cell."""
+    return _CANON.get(_key(_split(col)[0]))
 
 
 #: Lines read from the top of a file to find an Allan table's header (comment lines first).
@@ -83,7 +101,7 @@ def table_header(path: str | Path) -> tuple[str, int] | None:
             raw = fh.read(1 << 16)
     except InputError:
         return None
-    lines = raw.decode("utf-8-sig", errors="replace").splitlines()
+    lines = raw.decode(text_encoding(raw[:4]), errors="replace").splitlines()
     for pre, line in enumerate(lines[:_HEADER_LINES]):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
@@ -102,12 +120,15 @@ def looks_like_adev_table(path: str | Path) -> bool:
     return table_header(path) is not None
 
 
-def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1) -> tuple[pd.DataFrame, np.ndarray, bool]:
+def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1,
+                 channels: list[str] | None = None) -> tuple[pd.DataFrame, np.ndarray, bool]:
     """(table in the long layout ``channel, tau_s, adev[, lci, uci]``, the file's 0-based data row
     of each of its rows, whether it came from the wide layout). Accepted: the long layout with
     header names as in :data:`_ALIASES` (any case), ``avar`` instead of ``adev`` (its square
     root is taken, and of ``lci``/``uci`` with it), and the wide layout ``tau_s, <channel>, …``
-    (one ADEV column per channel, named with its unit like a log column, e.g. ``gyro_x_dps``)."""
+    (one ADEV column per channel, named with its unit like a log column, e.g. ``gyro_x_dps``).
+    A long table without a channel column (``tau_s, adev``: one curve) is read as the one
+    channel ``channels`` names, and refused with how to name it when it names none."""
     expected = ("channel, tau_s, adev[, lci, uci] (one row per channel and τ; avar instead of adev "
                 "is read too), or tau_s and one ADEV column per channel named with its unit (gyro_x_dps, …)")
     names = {c: _canonical(c) for c in df.columns}
@@ -131,6 +152,8 @@ def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1) -> tuple[pd.
         return long, rows, True
     df = df.rename(columns=known)
     value = "avar" if "avar" in df.columns else "adev"
+    if "channel" not in df.columns and "tau_s" in df.columns and value in df.columns and not rest:
+        df = df.assign(channel=_only_channel(channels, path, header_row))
     missing = [c for c in ("channel", "tau_s") if c not in df.columns] + ([] if value in df.columns else ["adev"])
     if missing or rest or ("avar" in df.columns and "adev" in df.columns):
         what = "; ".join(t for t in (missing and f"missing {missing}", rest and f"unknown {rest}",
@@ -145,6 +168,119 @@ def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1) -> tuple[pd.
                 df[col] = np.sqrt(v.where(v >= 0))  # a negative variance stays NaN: refused below
         df = df.rename(columns={"avar": "adev"})
     return df, np.arange(len(df)), False
+
+
+def _only_channel(channels: list[str] | None, path: Path, header_row: int) -> str:
+    """The channel of a table with one curve and no channel column: the one ``channels`` names."""
+    how = ("name its channel: --channels gyro_z on the command line, channels=['gyro_z'] in Python; or "
+           "add a channel column (channel, tau_s, adev), or name the ADEV column after its channel "
+           "and unit (tau_s, gyro_z_dps)")
+    if not channels:
+        raise InputError("the table has no channel column: whose curve it is is not said", file=path,
+                         row=header_row, field="channel", expected=how)
+    if len(channels) > 1:
+        raise InputError(f"the table has no channel column, so it holds one curve, but {len(channels)} "
+                         f"channels are named ({', '.join(channels)})", file=path, field="channels",
+                         expected="one channel, e.g. --channels gyro_z")
+    if channels[0] not in u.CHANNELS:
+        raise InputError(f"unknown channel {channels[0]!r}", file=path, field="channels",
+                         expected=f"one of {', '.join(u.CHANNELS)} (the unit goes in the ADEV column's "
+                                  "header: adev [deg/h])")
+    return channels[0]
+
+
+def _tau_factor(columns, path: Path, header_row: int) -> float:
+    """Factor to seconds of the τ column: from its name (``tau_ms``) or the unit in brackets after
+    it (``tau [ms]``, :func:`budget.units.header_time_factor`); both given must agree."""
+    col = next((c for c in columns if _canonical(c) == "tau_s"), None)
+    if col is None:
+        return 1.0
+    base, written = _split(col)
+    named = _TAU_UNITS.get(_key(base))
+    if written is None:
+        return named or 1.0
+    try:
+        factor = u.header_time_factor(written, col)
+    except ValueError as err:
+        raise InputError(str(err), file=path, row=header_row, field=col,
+                         expected="τ in a time unit: tau [s], tau [ms], tau_s") from None
+    if named is not None and not math.isclose(named, factor):
+        raise InputError(f"column {col!r} names two time units, in its name and {written!r} in brackets",
+                         file=path, row=header_row, field=col, expected="one unit: tau [s] or tau_s")
+    return factor
+
+
+#: An Allan variance's unit as written in a header: the square of a rate unit, ``(deg/h)^2``.
+_SQUARED = re.compile(r"\(\s*(.*?)\s*\)\s*(?:\^\s*2|²)")
+
+
+def _value_unit(columns, path: Path, header_row: int) -> tuple[str | None, str | None]:
+    """(the unit written in brackets after the ADEV, AVAR, LCI and UCI columns — one for all, an
+    AVAR's as a square ``avar [(deg/h)^2]`` — and the column it was read from), or (None, None);
+    columns that write different units are refused."""
+    found: dict[str, str] = {}
+    variance = any(_canonical(c) == "avar" for c in columns)  # lci, uci are variances then too
+    for col in columns:
+        name = _canonical(col)
+        written = _split(col)[1] if name in ("adev", "avar", "lci", "uci") else None
+        if written is None:
+            continue
+        if variance:
+            m = _SQUARED.fullmatch(written)
+            if m is None:
+                raise InputError(f"column {col!r}: an Allan variance's unit is a square", file=path,
+                                 row=header_row, field=col, expected="avar [(deg/h)^2], or adev [deg/h]")
+            written = m.group(1)
+        found[col] = written
+    keys = {k.strip().lower().replace(" ", "") for k in found.values()}
+    if len(keys) > 1:
+        shown = ", ".join(f"{c!r}" for c in found)
+        raise InputError(f"columns {shown} write different units", file=path, row=header_row,
+                         field=next(iter(found)), expected="one unit for the ADEV and its bounds")
+    return next(iter(found.values()), None), next(iter(found), None)
+
+
+def _channel_unit(name, written: str | None, column: str | None, path: Path, row: int,
+                  header_row: int, named: bool = False) -> tuple[str, str]:
+    """(channel, unit tag) of a table's channel ``name`` — a cell of the channel column (file row
+    ``row``), or the channel the caller ``named`` for a table without one — its unit from the name
+    (``gyro_x_dps``) or the one ``written`` in the ``column`` header (``adev [deg/h]``, row
+    ``header_row``); two that disagree are refused."""
+    text = str(name).strip()
+    bare = u.CHANNEL_NAME_ALIASES.get(text.lower(), text.lower())
+    at, field = (header_row, column or "adev") if named else (row, "channel")
+    if written is None:
+        if bare in u.CHANNELS:
+            kind = "gyro" if bare.startswith("gyro") else "accel"
+            tags = "dps|rps|dph" if kind == "gyro" else "mps2|g|mg"
+            raise InputError(f"no unit for {bare}: the table writes it neither in the channel name "
+                             f"({bare}_{tags}) nor in brackets after the ADEV column's name", file=path,
+                             row=at, field=field, value=None if named else name,
+                             expected="adev [unit] with unit one of " + ", ".join(u.HEADER_CHANNEL_UNITS[kind]))
+        try:
+            return u.split_channel_column(text)
+        except ValueError as err:
+            raise InputError(str(err), file=path, row=row, field="channel") from None
+    if bare in u.CHANNELS:
+        try:
+            return bare, u.header_channel_unit(bare, written, column)
+        except ValueError as err:
+            raise InputError(str(err), file=path, row=header_row, field=column,
+                             expected=f"a unit of {bare} in the ADEV column's header") from None
+    try:
+        ch, tag = u.split_channel_column(text)
+    except ValueError as err:
+        raise InputError(str(err), file=path, row=row, field="channel") from None
+    try:
+        said = u.header_channel_unit(ch, written, column)
+    except ValueError as err:
+        raise InputError(str(err), file=path, row=header_row, field=column,
+                         expected=f"a unit of {ch} in the ADEV column's header") from None
+    if said != tag:
+        raise InputError(f"channel {text!r} is in {tag} but the column {column!r} says {written!r}: "
+                         "the two units disagree", file=path, row=row, field="channel", value=name,
+                         expected="one unit: in the channel name or in the ADEV column's header")
+    return ch, tag
 
 
 def edf_from_interval(adev: np.ndarray, lo: np.ndarray, hi: np.ndarray, ci_level: float) -> np.ndarray:
@@ -173,8 +309,12 @@ def edf_from_interval(adev: np.ndarray, lo: np.ndarray, hi: np.ndarray, ci_level
 
 
 def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
-                    ci_level: float = 0.95) -> dict[str, AllanResult]:
-    """Read a measured Allan-deviation table → ``{'gyro_x': AllanResult, …}`` in SI units."""
+                    ci_level: float = 0.95, channels=None) -> dict[str, AllanResult]:
+    """Read a measured Allan-deviation table → ``{'gyro_x': AllanResult, …}`` in SI units.
+
+    ``channels``: the channel (one, e.g. ``["gyro_z"]``) whose curve a table without a channel
+    column (``tau_s, adev [deg/h]``) holds; a table that names its channels keeps them all (the
+    caller picks)."""
     path = Path(path)
     require_file(path)
     if not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
@@ -187,15 +327,18 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
         raise InputError("confidence level must be in (0, 1)", field="ci_level", value=ci_level)
     delim, pre = table_header(path) or (",", 0)
     try:
-        df = pd.read_csv(io.StringIO(read_text(path)), sep=delim, skiprows=pre, skipinitialspace=True,
+        df = pd.read_csv(io.StringIO(read_text(path, wide=True)), sep=delim, skiprows=pre, skipinitialspace=True,
                          dtype={"channel": str}, comment="#")
     except pd.errors.ParserError as err:
         raise InputError(f"malformed CSV: {str(err).split('C error: ')[-1]}", file=path) from None
     df.columns = [str(c).strip().strip("\"'") for c in df.columns]
     # trailing delimiters (``1,2,3,``) make unnamed empty columns: they hold nothing
     df = df.drop(columns=[c for c in df.columns if c.startswith("Unnamed:") and df[c].isna().all()])
-    tau_factor = next((_TAU_UNITS[_key(c)] for c in df.columns if _key(c) in _TAU_UNITS), 1.0)
-    df, file_rows, wide = _long_layout(df, path, header_row=1 + pre)
+    tau_factor = _tau_factor(df.columns, path, 1 + pre)
+    written, written_col = _value_unit(df.columns, path, 1 + pre)
+    wanted = None if channels is None else [str(c).strip() for c in channels]
+    has_channel_column = any(_canonical(c) == "channel" for c in df.columns)
+    df, file_rows, wide = _long_layout(df, path, header_row=1 + pre, channels=wanted)
     file_rows = file_rows + pre
     has_ci = "lci" in df.columns or "uci" in df.columns
     if has_ci and not ("lci" in df.columns and "uci" in df.columns):
@@ -219,10 +362,8 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
     for name in dict.fromkeys(df["channel"]):
         pos = np.flatnonzero((df["channel"] == name).to_numpy())
         rows = file_rows[pos]
-        try:
-            ch, unit = u.split_channel_column(str(name).strip())
-        except ValueError as err:
-            raise InputError(str(err), file=path, row=int(rows[0]) + 2, field="channel") from None
+        ch, unit = _channel_unit(name, None if wide else written, written_col, path, int(rows[0]) + 2,
+                                 1 + pre, named=not has_channel_column)
         if ch in out:
             raise InputError(f"channel {ch} appears under two unit tags", file=path,
                              row=int(rows[0]) + 2, field="channel", value=name)

@@ -2,12 +2,17 @@
 
 Canonical columns: ``time_s, gyro_x_dps … accel_z_mps2[, temp_c]``. Any channel column may
 carry another unit tag (``gyro_x_rps``, ``accel_y_g`` …, see :data:`budget.units.CHANNEL_UNIT_TO_SI`),
-the time column may be ``time_ms``, ``time_us`` or ``time_ns``. Other layouts are read through an
-explicit :class:`LogMapping` (source column → canonical name); nothing is guessed.
+the time column may be ``time_ms``, ``time_us`` or ``time_ns``. A unit written in brackets after
+the channel or the time is read too (``gyro_x [deg/s]``, ``acc_z (m/s^2)``, ``time [ms]``,
+:func:`budget.units.split_channel_column`); an unknown one is an error listing the accepted units,
+and one that disagrees with a mapping's target (``"GyrX [deg/s]": "gyro_x_rps"``) is refused.
+Other layouts are read through an explicit :class:`LogMapping` (source column → canonical name);
+nothing is guessed.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -92,6 +97,94 @@ class LogMapping(BaseModel):
             raise from_validation_error(err, file=path) from None
 
 
+#: Header names of a time column whose unit is written in brackets (``time [s]``, ``t (ms)``).
+TIME_NAMES = ("time", "t", "timestamp")
+
+
+def is_channel_column(name: str) -> bool:
+    """True when ``name`` is meant as a sensor channel — ``gyro_…``/``accel_…``, or a channel
+    with its unit in brackets (``gyro_x [deg/s]``, ``acc_z (m/s^2)``) — so that a unit it gets
+    wrong is an error rather than an ignored column."""
+    if name.startswith(("gyro_", "accel_")):
+        return True
+    base, written = u.split_header_unit(name)
+    return written is not None and (base.lower() in u.CHANNELS or base.lower() in u.CHANNEL_NAME_ALIASES)
+
+
+def _time_column(name: str, path) -> float | None:
+    """Factor to seconds when ``name`` is a time column (``time_s``, ``time_ms`` …, or ``time``
+    with a time unit in brackets, ``time [s]``), else None. ``Time (UTC)`` (clock text some
+    loggers add) is no time column: left out, and named by :func:`time_unit_hint` when the log
+    then lacks one."""
+    if name in TIME_COLUMNS:
+        return TIME_COLUMNS[name]
+    base, written = u.split_header_unit(name)
+    if written is None or not (base.lower() in TIME_NAMES or base in TIME_COLUMNS):
+        return None
+    try:
+        factor = u.header_time_factor(written, name)
+    except ValueError:
+        return None
+    if base in TIME_COLUMNS and not math.isclose(TIME_COLUMNS[base], factor):
+        raise InputError(f"column {name!r} names two time units, {base[5:]} in its name and {written!r} "
+                         "in brackets", file=path, row=1, field=name, expected="one unit: write one")
+    return factor
+
+
+def time_unit_hint(ignored) -> str:
+    """Why a time column among the ``ignored`` ones (``time [fortnight]``) was not read — its unit
+    is none of the accepted ones — or ``""``."""
+    for name in ignored:
+        base, written = u.split_header_unit(name)
+        if written is not None and base.lower() in TIME_NAMES:
+            try:
+                u.header_time_factor(written, name)
+            except ValueError as err:
+                return f"; {err}"
+    return ""
+
+
+def _written_channel_unit(written: str) -> tuple[str, str] | None:
+    """(``gyro``/``accel``, tag) of a channel unit written in a header, or None if it is none."""
+    key = written.strip().lower().replace(" ", "")
+    return next(((kind, tags[key]) for kind, tags in u.HEADER_CHANNEL_UNITS.items() if key in tags), None)
+
+
+def _check_mapped_unit(col: str, target: str, path, row: int) -> None:
+    """A mapped source column whose header writes a unit (``GyrX [deg/s]``, ``t (ms)``) must agree
+    with the unit of the canonical name the mapping gives it: two sources of a unit that disagree
+    are refused, never one of them chosen. A bracketed word that is no rate, specific-force or
+    time unit (``[raw]``, ``[LSB]``, ``(°C)``) is no claim."""
+    _, written = u.split_header_unit(col)
+    if written is None:
+        return
+    said = _written_channel_unit(written)
+    try:
+        seconds = u.header_time_factor(written)
+    except ValueError:
+        seconds = None
+    if said is None and seconds is None:
+        return
+    if target in TIME_COLUMNS:
+        agree = seconds is not None and math.isclose(seconds, TIME_COLUMNS[target])
+        expected = "the mapping's time column in the header's unit (time_s, time_ms, time_us, time_ns)"
+    elif is_channel_column(target):
+        try:
+            ch, tag = u.split_channel_column(target)
+        except ValueError:
+            return  # the target's own error is raised where it is planned
+        agree = said == ("gyro" if ch.startswith("gyro") else "accel", tag)
+        expected = ("the mapping's target in the header's unit"
+                    + (f" ({ch}_{said[1]})" if said and said[0] == ch.split("_")[0] else "")
+                    + ", or the header without a unit")
+    else:
+        return
+    if not agree:
+        raise InputError(f"column {col!r} writes its unit as {written!r} but the mapping reads it as "
+                         f"{target}: the two units disagree", file=path, row=row, field=col,
+                         expected=expected)
+
+
 @dataclass(frozen=True)
 class ColumnPlan:
     """Which source columns are read, and into what (canonical name, factor to SI)."""
@@ -123,17 +216,20 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
     time_index = temp_index = None
     for col in header:
         name = rename.get(col, col)
-        if name in TIME_COLUMNS:
+        if col in rename:
+            _check_mapped_unit(col, name, path, 1 + (mapping.skip_rows if mapping else 0))
+        time_factor = _time_column(name, path)
+        if time_factor is not None:
             if time_index is not None:
                 raise InputError("more than one time column", file=path, row=1, field=col)
             time_index = len(sources)
-            factor = TIME_COLUMNS[name]
+            factor = time_factor
         elif name == TEMP_COLUMN:
             if temp_index is not None:
                 raise InputError("more than one temperature column", file=path, row=1, field=col)
             temp_index = len(sources)
             factor = 1.0
-        elif name.startswith(("gyro_", "accel_")):
+        elif is_channel_column(name):
             try:
                 ch, unit = u.split_channel_column(name)
             except ValueError as err:

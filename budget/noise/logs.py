@@ -26,10 +26,10 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..fileio import check_input_file, compression_of, open_input, require_file
+from ..fileio import check_input_file, compression_of, input_encoding, open_input, require_file
 from ..units import CHANNELS
 from . import log_checks as lc
-from .log_mapping import ColumnPlan, LogMapping, plan_columns
+from .log_mapping import ColumnPlan, LogMapping, plan_columns, time_unit_hint
 
 CHUNK_ROWS = 250_000
 
@@ -88,25 +88,14 @@ class ImuLog:
 
 #: pandas ``compression`` of each container :func:`~budget.fileio.check_input_file` detects
 _PANDAS_COMPRESSION = {None: None, "gzip": "gzip", "bzip2": "bz2", "xz": "xz", "zip": "zip"}
-#: byte-order marks of UTF-16/32 text (spreadsheet "Unicode text" exports) → their codec
-_WIDE_BOMS = ((b"\xff\xfe\x00\x00", "utf-32"), (b"\x00\x00\xfe\xff", "utf-32"),
-              (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
-
-
 def _text_format(path: Path, kind: str | None) -> dict:
     """How pandas reads ``path``: its compression as detected by content (``kind``, not the
-    suffix: a gzip log named ``log`` or ``log.gzip`` is still gzip), the text encoding (UTF-8,
-    or UTF-16/32 when the text starts with their byte-order mark), and bytes that are not
-    valid in it replaced (a Latin-1 ``°`` in a column the reader ignores must not refuse the
-    log; in a number it is reported as not a number, with its row)."""
-    encoding = "utf-8"
-    with open_input(path) as fh:
-        head = fh.read(4)
-    for bom, codec in _WIDE_BOMS:
-        if head.startswith(bom):
-            encoding = codec
-            break
-    return {"compression": _PANDAS_COMPRESSION[kind], "encoding": encoding,
+    suffix: a gzip log named ``log`` or ``log.gzip`` is still gzip), the text encoding its
+    byte-order mark names (UTF-8 without one; :func:`~budget.fileio.input_encoding`, shared with
+    the Allan-table reader), and bytes that are not valid in it replaced (a Latin-1 ``°`` in a
+    column the reader ignores must not refuse the log; in a number it is reported as not a
+    number, with its row)."""
+    return {"compression": _PANDAS_COMPRESSION[kind], "encoding": input_encoding(path),
             "encoding_errors": "replace"}
 
 
@@ -264,7 +253,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
              max_rows: int | None = None, min_samples: int = 3,
              chunk_rows: int = CHUNK_ROWS) -> ImuLog:
     """Read an IMU log CSV (plain, gzip, bzip2, xz or a one-file zip, found by content whatever
-    the file's name; UTF-8, or UTF-16/32 with a byte-order mark) into an :class:`ImuLog` (SI units).
+    the file's name; UTF-8 with or without a byte-order mark, or UTF-16/32 with one) into an :class:`ImuLog` (SI units).
 
     ``mapping`` renames non-canonical columns; ``rate_hz`` (or ``mapping.rate_hz``) is needed
     when there is no time column and overrides the rate derived from time stamps (with a
@@ -285,8 +274,9 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
         plan = _restrict(plan, list(channels), path)
     rate_given = rate_hz if rate_hz is not None else (mapping.rate_hz if mapping else None)
     if plan.time_index is None and rate_given is None:
-        raise InputError("no time column and no sampling rate", file=path,
-                         expected="a time_s column, or rate_hz (--rate-hz / mapping rate_hz)")
+        raise InputError("no time column and no sampling rate" + time_unit_hint(plan.ignored), file=path,
+                         expected="a time_s column (or time [s], time [ms]), or rate_hz (--rate-hz / "
+                                  "mapping rate_hz)")
     if rate_given is not None and not (math.isfinite(rate_given) and rate_given > 0):
         raise InputError("sampling rate must be a positive number", field="rate_hz", value=rate_given)
     data = _read_chunks(path, plan, mapping, max_rows, chunk_rows, kind, fmt)

@@ -23,17 +23,18 @@ def read_measurement(path: str | Path, *, rate_hz: float | None = None, samples:
                      mapping: LogMapping | None = None, repair: bool = False,
                      max_rows: int | None = None, ci_level: float = 0.95,
                      min_samples: int = 16, channels=None) -> ImuLog | dict[str, AllanResult]:
-    """An :class:`ImuLog` (SI channels) or ``{channel: AllanResult}`` from ``path``. ``channels``
-    (a log only): read and check just those columns, so that a problem in a channel the caller
+    """An :class:`ImuLog` (SI channels) or ``{channel: AllanResult}`` from ``path``. ``channels``:
+    of a log, read and check just those columns, so that a problem in a channel the caller
     does not use (a clipped accelerometer when only the gyros are compared) does not refuse
-    the log."""
+    the log; of an Allan table without a channel column (``tau_s, adev [deg/h]``), the one
+    channel its curve belongs to."""
     path = Path(path)
     require_file(path, expected="an IMU log CSV or an Allan table")
     if looks_like_adev_table(path):
         if rate_hz is None or samples is None:
             raise InputError("an Allan table needs the record's rate and length", file=path,
                              expected="--rate-hz F --samples N")
-        return read_adev_table(path, rate_hz, samples, ci_level=ci_level)
+        return read_adev_table(path, rate_hz, samples, ci_level=ci_level, channels=channels)
     if samples is not None:
         raise InputError("--samples is for Allan tables; a log has its own length", field="samples")
     return read_log(path, mapping, repair, rate_hz=rate_hz, max_rows=max_rows,
