@@ -110,3 +110,17 @@ def test_mc_help_names_the_scene_defaults(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "receiver SNR in dB (default: 30 on the realistic scene" in text
     assert "image weighting (default auto" in text
+
+
+def test_sweep_csv_to_stdout_is_csv_alone(capsys):
+    """``sweep --out -`` wrote the CSV to stdout and then the cheapest-part table after it."""
+    import io
+
+    import pandas as pd
+
+    assert main(["sweep", "--preset", "automotive_24ghz", "--part", "STIM300", "--trials", "1",
+                 "--out", "-", "--quiet"]) == 0
+    captured = capsys.readouterr()
+    table = pd.read_csv(io.StringIO(captured.out))
+    assert list(table["part_id"]) == ["STIM300"] and list(table["scenario"]) == ["automotive_24ghz"]
+    assert "basis" in captured.err  # the cheapest-part table, beside the CSV

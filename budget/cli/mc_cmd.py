@@ -110,7 +110,7 @@ def add_parser(sub) -> None:
     s.add_argument("--seed", type=int, default=DEFAULT_SEED, help="random seed (common to every cell)")
     s.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
     s.add_argument("--target", type=float, default=0.9, help="P(pass after PGA) wanted")
-    s.add_argument("--out", metavar="CSV", required=True, help="tidy result table (CSV)")
+    s.add_argument("--out", metavar="CSV", required=True, help="tidy result table (CSV; '-' for stdout)")
     _add_verdict_options(s)
     _add_unspecified_option(s)
     add_quiet_option(s)
@@ -235,5 +235,7 @@ def run_sweep(args) -> int:
         print(f"sar-budget sweep: warning: scenario {scen!r} {status}", file=sys.stderr)
     # '-' where no part passes (the basis column says why), not Python's None
     best = cheapest_passing(table, args.target)
-    print(best.astype(object).where(best.notna(), "-").to_string(index=False))
+    # with --out - stdout carries the CSV alone; the cheapest-part table then goes to stderr
+    print(best.astype(object).where(best.notna(), "-").to_string(index=False),
+          file=sys.stderr if args.out == "-" else sys.stdout)
     return 0
