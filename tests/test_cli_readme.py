@@ -124,3 +124,22 @@ def test_sweep_csv_to_stdout_is_csv_alone(capsys):
     table = pd.read_csv(io.StringIO(captured.out))
     assert list(table["part_id"]) == ["STIM300"] and list(table["scenario"]) == ["automotive_24ghz"]
     assert "basis" in captured.err  # the cheapest-part table, beside the CSV
+
+
+@pytest.mark.parametrize("argv", [["gap"], ["noise", "characterize"]])
+def test_ci_level_names_its_default_once(argv, capsys):
+    with pytest.raises(SystemExit):
+        main([*argv, "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "confidence level of an Allan table's lci/uci (default: 0.95)" in text
+    assert "(0.95) (default: 0.95)" not in text
+
+
+def test_characterize_vendor_and_model_say_they_are_catalog_columns(capsys):
+    """``noise characterize --model`` is the row's model name, not a noise-model file as
+    ``mc --model M.json``; it had no help text."""
+    with pytest.raises(SystemExit):
+        main(["noise", "characterize", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "--vendor VENDOR vendor column of the catalog row" in text
+    assert "--model MODEL model column of the catalog row" in text

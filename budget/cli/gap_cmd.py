@@ -49,7 +49,7 @@ def add_parser(sub) -> None:
                                       "table without a channel column, the one channel of its curve)")
     p.add_argument("--rate-hz", type=float, help="sampling rate (Allan tables; logs without time)")
     p.add_argument("--samples", type=int, help="record length behind an Allan table")
-    p.add_argument("--ci-level", type=float, default=0.95, help="confidence level of lci/uci (0.95)")
+    p.add_argument("--ci-level", type=float, default=0.95, help="confidence level of an Allan table's lci/uci")
     p.add_argument("--mapping", metavar="MAP.json", help="column/unit mapping for other log layouts")
     p.add_argument("--repair", action="store_true", help="repair the log (listed in the report notes)")
     p.add_argument("--max-rows", type=int, metavar="N", help="read only the first N rows of the log")

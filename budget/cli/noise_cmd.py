@@ -31,7 +31,7 @@ def add_parser(sub) -> None:
                                  "(channel, tau_s, adev[, lci, uci])")
     c.add_argument("--rate-hz", type=float, help="sampling rate (required for Allan tables)")
     c.add_argument("--samples", type=int, help="record length behind an Allan table (required there)")
-    c.add_argument("--ci-level", type=float, default=0.95, help="confidence level of lci/uci (0.95)")
+    c.add_argument("--ci-level", type=float, default=0.95, help="confidence level of an Allan table's lci/uci")
     c.add_argument("--channels", metavar="CH,CH",
                    help="characterise only these channels, e.g. gyro_x,gyro_y,gyro_z (a log's other "
                         "columns are then neither read nor checked); for an Allan table without a "
@@ -39,8 +39,8 @@ def add_parser(sub) -> None:
     c.add_argument("--taus", default="octave", choices=("octave", "decade", "dense"),
                    help="τ list for logs (default octave)")
     c.add_argument("--grade", help="grade of the row (default: inferred from the grades table)")
-    c.add_argument("--vendor", default="")
-    c.add_argument("--model", default="")
+    c.add_argument("--vendor", default="", help="vendor column of the catalog row")
+    c.add_argument("--model", default="", help="model column of the catalog row (the part's model name)")
     c.add_argument("--keep-spikes", action="store_true",
                    help="keep isolated spikes that would decide the short-τ Allan deviation (default: "
                         "replaced before the fit, named in a warning)")
