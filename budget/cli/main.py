@@ -86,9 +86,8 @@ def _one_line_warning(label: str):
     """``warnings.showwarning`` for the CLI: ``<label>: warning: <message>`` on one line (the
     default also prints the file, line and source line of the code that warned)."""
     def show(message, category, filename, lineno, file=None, line=None):
-        from ..fileio import printable
-        text = " ".join(str(message).split())
-        print(f"{label}: warning: {printable(text)}", file=file or sys.stderr)
+        from .output import warning_line
+        print(warning_line(label, str(message)), file=file or sys.stderr)
     return show
 
 

@@ -229,10 +229,10 @@ def run_sweep(args) -> int:
                   quiet=args.quiet) as bar:
         table = sweep(parts, scens, args.trials, args.seed, options=_options(args), workers=args.workers,
                       progress=bar, sources=list(args.scenario or []) + [None] * len(args.preset or []))
-    from .output import write_frame_csv  # text cells (scenario names …) spreadsheet-safe
+    from .output import warn, write_frame_csv  # text cells (scenario names …) spreadsheet-safe
     write_frame_csv(table, args.out)
     for scen, status in not_simulated(table).items():
-        print(f"sar-budget sweep: warning: scenario {scen!r} {status}", file=sys.stderr)
+        warn(args, f"scenario {scen!r} {status}")
     # '-' where no part passes (the basis column says why), not Python's None
     best = cheapest_passing(table, args.target)
     # with --out - stdout carries the CSV alone; the cheapest-part table then goes to stderr

@@ -11,7 +11,7 @@ from ..noise.arma import DEFAULT_ORDERS, MAX_ORDER
 from ..noise.measurement import read_measurement
 from ..noise.pipeline import AIC_DEFINITION, ArmaOptions, analyse_arma  # noqa: F401
 from ..noise.preprocess import DETREND_ORDERS
-from .output import add_json_option, write_json
+from .output import add_json_option, warn, write_json
 from .progress import add_quiet_option, working
 
 
@@ -108,7 +108,7 @@ def run_characterize(args) -> int:
                               keep_spikes=args.keep_spikes)
     if args.json:  # the summary printed below lists them itself
         for warning in result.warnings:  # e.g. a log that is not one stationary regime
-            print(f"warning: {path.name}: {warning}", file=sys.stderr)
+            warn(args, f"{path.name}: {warning}")
     if args.append:
         from ..catalog.io import append_part
         append_part(args.append, result.part, replace=args.replace)
@@ -146,7 +146,7 @@ def run_arma(args) -> int:
         except InputError as err:  # about the log's channel: name the log
             raise (err if err.file else err.rename_file(args.log)) from None
     for flag in res.checks.flags():
-        print(f"warning: {args.channel}: {flag} — modelled anyway, see 'checks'", file=sys.stderr)
+        warn(args, f"{args.channel}: {flag} — modelled anyway, see 'checks'")
     if args.json:
         write_json(res.to_dict(), args.json)
         return 0

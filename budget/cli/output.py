@@ -8,6 +8,17 @@ from pathlib import Path
 from ..fileio import atomic_write_text, frame_csv_text, json_text, printable  # noqa: F401
 
 
+def warning_line(label: str, text: str) -> str:
+    """The one form of a command-line warning: ``<label>: warning: <text>`` on one line, with no
+    terminal escapes from file contents (``label`` is ``sar-budget <command>``)."""
+    return f"{label}: warning: {printable(' '.join(str(text).split()))}"
+
+
+def warn(args, text: str) -> None:
+    """Print ``text`` as a warning of the command ``args`` runs (:func:`warning_line`, stderr)."""
+    print(warning_line(f"sar-budget {args.command}", text), file=sys.stderr)
+
+
 def write_json(obj, dest: str) -> None:
     """Write ``obj`` as JSON to ``dest`` (a path, or ``-`` for stdout; files written atomically)."""
     text = json_text(obj)
