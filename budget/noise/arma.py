@@ -8,7 +8,11 @@ from the least-squares estimate.
 Criteria (normalised by the number n of residuals, as MATLAB's ``aic``/``fpe`` that the paper
 used): AIC = ln σ̂² + 2k/n and FPE = σ̂² (n + k)/(n − k), with k = p + q (σ² not counted).
 The selected model minimises AIC among the stationary and invertible candidates (FPE's choice
-is reported too). Note the paper's Table 1 is not self-consistent under these definitions:
+is reported too). By least squares every candidate's residuals run over the same samples, from
+the largest p on (n = N − max p): with each its own (N − p), AR(1) data picked AR(1) in 71 % of
+2,000 simulated series instead of the asymptotic 79 % (Shibata's rate among AR(1..3)); on one
+sample set, 79.6 %. ``method="mle"`` fits the series scaled to unit rms (statsmodels' optimiser
+did not move from its start values at IMU magnitudes). Note the paper's Table 1 is not self-consistent under these definitions:
 ln(FPE) of ARMA(2,1) is −4.871, not −4.948, and its FPE 0.007666 is below the σ² 0.007778 it
 reports (FPE ≥ σ̂² by definition).
 """
@@ -31,6 +35,16 @@ DEFAULT_ORDERS = ((1, 0), (2, 0), (3, 0), (1, 1), (2, 1))
 #: Largest AR or MA order p, q of a candidate (the paper's candidates reach 3).
 MAX_ORDER = 3
 MIN_SAMPLES = 100
+#: A series whose rms lies outside this range (in its own unit) is refused: its variance, and the
+#: products of variances the fits and the filter form, would under- or overflow float64.
+RMS_RANGE = (1e-100, 1e100)
+#: A candidate whose residual variance is below this fraction of the series' variance predicts
+#: the series almost exactly: a deterministic signal (a sinusoid, a periodic pattern), not noise.
+DETERMINISTIC_RATIO = 1e-9
+#: The selected model's record length in correlation times, n·(1 − ρ) with ρ the largest AR root,
+#: below which a note says the model is doubtful (the relative standard error of the series'
+#: variance is about √(2/(n(1 − ρ))) for ρ → 1, 20 % at 50; least squares biases ρ low).
+MIN_CORRELATION_TIMES = 50.0
 
 
 def order_name(p: int, q: int) -> str:
@@ -164,7 +178,25 @@ def _check_series(x, name: str = "x") -> np.ndarray:
                          expected=f"at least {MIN_SAMPLES} samples for ARMA modelling")
     if np.ptp(x) == 0:
         raise InputError("series is constant (no noise to model)", field=name)
+    check_magnitude(x, name)
     return x
+
+
+def check_magnitude(x: np.ndarray, name: str = "x") -> None:
+    """:class:`InputError` (field ``name``) unless the rms of the finite, non-constant series
+    ``x`` about its mean lies within :data:`RMS_RANGE` (its variance must be representable)."""
+    big = float(np.max(np.abs(x)))
+    if not big > 0:
+        return
+    # scaled by a power of two (exact) so that the rms itself cannot under- or overflow
+    e = int(np.frexp(big)[1])
+    xs = np.ldexp(x, -e)
+    rms = float(np.ldexp(np.sqrt(np.mean(np.square(xs - xs.mean()))), e))
+    lo, hi = RMS_RANGE
+    if not lo <= rms <= hi:
+        raise InputError(f"the series' rms {rms:.3g} is outside {lo:g} … {hi:g}: its variance "
+                         "is not representable in double precision", field=name, value=f"rms {rms:.3g}",
+                         expected="a series in a physical unit (SI for IMU channels)")
 
 
 def check_orders(orders) -> tuple[tuple[int, int], ...]:
@@ -193,35 +225,53 @@ def check_orders(orders) -> tuple[tuple[int, int], ...]:
     return tuple(dict.fromkeys(out))
 
 
-def fit_arma(x, p: int, q: int, method: str = "ls") -> ArmaFit:
-    """Fit ARMA(p, q) to the zero-mean series ``x`` by ``ls`` or ``mle``."""
+def fit_arma(x, p: int, q: int, method: str = "ls", *, start: int | None = None) -> ArmaFit:
+    """Fit ARMA(p, q) to the zero-mean series ``x`` by ``ls`` or ``mle``.
+
+    ``start`` (least squares): first sample whose residual counts, default p; candidates that are
+    compared must share it (:func:`select_arma` passes the largest p). :class:`InputError` if
+    the model predicts ``x`` almost exactly (:data:`DETERMINISTIC_RATIO`: not noise)."""
     x = _check_series(x)
     (p, q), = check_orders([(p, q)])
-    ls = fit_ls(x, p, q)
+    if method not in ("ls", "mle"):
+        raise InputError(f"unknown method {method!r}", field="method", expected="ls or mle")
+    if start is not None and not (isinstance(start, numbers.Integral) and p <= start < x.size - MIN_SAMPLES // 2):
+        raise InputError("start must be a whole number from p on, leaving the samples to fit",
+                         field="start", value=start, expected=f"{p} ≤ start < {x.size - MIN_SAMPLES // 2}")
+    ls = fit_ls(x, p, q, start=start)
     var = float(np.var(x))
+    if not ls.sigma2 > DETERMINISTIC_RATIO * var:
+        raise InputError(f"{order_name(p, q)} predicts the series almost exactly (residual variance "
+                         f"{ls.sigma2 / var:.2g} of the series' variance): it is a deterministic "
+                         "signal (a sinusoid, a periodic or alternating pattern), not noise",
+                         field="x", expected="a noise record (static IMU output)")
     if method == "ls":
         return ArmaFit(p, q, ls.phi, ls.theta, ls.sigma2, ls.n, "ls", var,
                        np.sqrt(np.diag(ls.cov)), ls.converged,
                        () if ls.converged else ("least squares did not converge",))
-    if method != "mle":
-        raise InputError(f"unknown method {method!r}", field="method", expected="ls or mle")
     return _fit_mle(x, p, q, ls, var)
 
 
 def _fit_mle(x: np.ndarray, p: int, q: int, ls, var: float) -> ArmaFit:
     from statsmodels.tsa.arima.model import ARIMA  # exact Gaussian likelihood (state space)
 
-    start = np.r_[ls.phi, ls.theta, ls.sigma2]
+    # statsmodels' optimiser works on the likelihood's own scale: at IMU magnitudes (variance
+    # ~1e-6 (rad/s)²) it stopped at the start values, so the "MLE" was the LS estimate, flagged
+    # unconverged. Fit the series scaled to unit rms (a power of two: exact) and scale σ² back.
+    e = int(np.round(np.log2(np.sqrt(var))))
+    xs = np.ldexp(x, -e)
+    s2 = 4.0 ** e
+    start = np.r_[ls.phi, ls.theta, ls.sigma2 / s2]
     ok = max_root_modulus(ls.phi, -1.0) < 1.0 and max_root_modulus(ls.theta, +1.0) < 1.0
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        res = ARIMA(x, order=(p, 0, q), trend="n").fit(start_params=start if ok else None)
+        res = ARIMA(xs, order=(p, 0, q), trend="n").fit(start_params=start if ok else None)
     notes = tuple(sorted({str(w.message).split("\n")[0][:120] for w in caught}))
     params = np.asarray(res.params, float)
     bse = np.asarray(res.bse, float)[:p + q]
     converged = bool(res.mle_retvals.get("converged", True)) if res.mle_retvals else True
-    return ArmaFit(p, q, params[:p], params[p:p + q], float(params[-1]), x.size, "mle", var,
-                   bse, converged, notes)
+    return ArmaFit(p, q, params[:p], params[p:p + q], float(params[-1]) * s2, x.size, "mle", var,
+                   bse, converged, notes + (() if converged else ("maximum likelihood did not converge",)))
 
 
 def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = True) -> ArmaSelection:
@@ -230,7 +280,9 @@ def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = 
     orders = check_orders(orders)
     mean = float(x.mean()) if demean else 0.0
     xc = x - mean if demean else x
-    fits = tuple(fit_arma(xc, p, q, method) for p, q in orders)
+    # one residual set for every candidate (least squares): from the largest p on (arma_ls)
+    start = max(p for p, _ in orders)
+    fits = tuple(fit_arma(xc, p, q, method, start=start) for p, q in orders)
     valid = [f for f in fits if f.stationary and f.invertible] or list(fits)
     notes = []
     if len(valid) < len(fits):
@@ -240,4 +292,16 @@ def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = 
         notes.append("no candidate is both stationary and invertible; selected among all")
     best = min(valid, key=lambda f: f.aic)
     best_fpe = min(valid, key=lambda f: f.fpe)
+    if not best.converged:
+        notes.append(f"the selected {best.name} did not converge ({best.method}): its parameters "
+                     "are the last iterate, not the estimate")
+    times = x.size * (1.0 - best.ar_root_max)
+    if best.stationary and times < MIN_CORRELATION_TIMES:
+        notes.append(f"record short for the model's correlation time: largest AR root ρ = "
+                     f"{best.ar_root_max:.4f}, n(1 − ρ) = {times:.0f} correlation times (expected ≥ "
+                     f"{MIN_CORRELATION_TIMES:g}); the series' variance (R of the filter) is uncertain "
+                     f"by about {100 * math.sqrt(2.0 / max(times, 1e-9)):.0f} % and ρ is biased low — a "
+                     "longer record is needed"
+                     + (" (ρ near 1: a random walk, rate random walk, may describe it better)"
+                        if best.ar_root_max > 0.99 else ""))
     return ArmaSelection(fits, best, best_fpe, mean, tuple(notes))

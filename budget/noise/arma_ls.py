@@ -9,6 +9,11 @@ is minimised by Gauss–Newton (derivatives are themselves filtered series: ∂e
 Yule–Walker AR → innovations → one linear regression) and guarded by step halving that keeps
 the MA part invertible. AR models are plain linear least squares. This is what MATLAB's
 ``armax`` (used by the paper) minimises, up to its handling of the first samples.
+
+``start`` (≥ p) is the first sample whose residual enters the sum of squares. Candidates compared
+by AIC/FPE must share it (and so their n): residuals of AR(1) from k = 1 and of AR(3) from k = 3
+differ by two squared innovations, a random term of standard deviation ≈ 2 in n·ΔAIC — as large as
+the penalty 2k it is compared with — which made AIC overfit well beyond its asymptotic rate.
 """
 
 from __future__ import annotations
@@ -97,23 +102,31 @@ def _jacobian_t(x: np.ndarray, e: np.ndarray, p: int, theta: np.ndarray) -> np.n
     return signal.lfilter([1.0], np.r_[1.0, theta], rows, axis=1)
 
 
-def fit_ls(x: np.ndarray, p: int, q: int, *, max_iter: int = 100, tol: float = 1e-10) -> LsEstimate:
-    """Conditional least-squares ARMA(p, q) fit of the zero-mean series ``x``."""
+def fit_ls(x: np.ndarray, p: int, q: int, *, start: int | None = None, max_iter: int = 100,
+           tol: float = 1e-10) -> LsEstimate:
+    """Conditional least-squares ARMA(p, q) fit of the zero-mean series ``x``; the sum of squares
+    runs over the residuals e(k), k ≥ ``start`` (default p; module doc)."""
     x = np.asarray(x, dtype=np.float64)
+    start = p if start is None else int(start)
+    if start < p:
+        raise ValueError(f"start {start} < p {p}")
+    d = start - p  # residuals computed from k = p, the first d of them left out of the sum
     if q == 0:
-        X, y = _lagged(x, p), x[p:]
+        X, y = _lagged(x, p)[d:], x[start:]
         XtX = X.T @ X
-        phi = np.linalg.solve(XtX, X.T @ y)
+        # lstsq: a deterministic series (a sinusoid, an alternating sign) makes XᵀX singular
+        phi = np.linalg.lstsq(X, y, rcond=None)[0]
         e = y - X @ phi
         s2 = float(e @ e / e.size)
-        return LsEstimate(phi, np.zeros(0), s2, e.size, s2 * np.linalg.inv(XtX), 1, True)
+        return LsEstimate(phi, np.zeros(0), s2, e.size, s2 * np.linalg.pinv(XtX), 1, True)
     phi, theta = hannan_rissanen(x, p, q)
-    e = residuals(x, phi, theta)
+    e_all = residuals(x, phi, theta)
+    e = e_all[d:]
     ssr = float(e @ e)
     converged, it, prev = False, 0, None
     for it in range(1, max_iter + 1):
-        Jt = _jacobian_t(x, e, p, theta)
-        step = -np.linalg.solve(Jt @ Jt.T, Jt @ e)
+        Jt = _jacobian_t(x, e_all, p, theta)[:, d:]
+        step = -np.linalg.pinv(Jt @ Jt.T) @ (Jt @ e)  # pinv: singular on a degenerate series
         if prev is not None:
             # Misspecified models make Gauss–Newton converge linearly (steps shrink by a fixed
             # ratio r along one direction); then jump to the limit, step/(1 − r) (Aitken).
@@ -126,7 +139,8 @@ def fit_ls(x: np.ndarray, p: int, q: int, *, max_iter: int = 100, tol: float = 1
             cand = np.r_[phi, theta] + lam * step
             th = cand[p:]
             if max_root_modulus(th, +1.0) < 1.0:
-                e_new = residuals(x, cand[:p], th)
+                e_all_new = residuals(x, cand[:p], th)
+                e_new = e_all_new[d:]
                 ssr_new = float(e_new @ e_new)
                 if np.isfinite(ssr_new) and ssr_new <= ssr:
                     break
@@ -135,11 +149,11 @@ def fit_ls(x: np.ndarray, p: int, q: int, *, max_iter: int = 100, tol: float = 1
             converged = True  # no descent direction left: at the minimum within rounding
             break
         rel = (ssr - ssr_new) / ssr
-        phi, theta, e, ssr = cand[:p], th, e_new, ssr_new
+        phi, theta, e, e_all, ssr = cand[:p], th, e_new, e_all_new, ssr_new
         prev = lam * step
         if rel < tol and np.max(np.abs(lam * step)) < 1e-7:
             converged = True
             break
-    Jt = _jacobian_t(x, e, p, theta)
+    Jt = _jacobian_t(x, e_all, p, theta)[:, d:]
     s2 = ssr / e.size
     return LsEstimate(phi, theta, s2, e.size, s2 * np.linalg.pinv(Jt @ Jt.T), it, converged)

@@ -17,7 +17,7 @@ import pandas as pd
 
 from ..errors import InputError
 from ..units import channel_si_unit
-from .arma import DEFAULT_ORDERS, ArmaSelection, check_orders, select_arma
+from .arma import DEFAULT_ORDERS, MIN_SAMPLES, ArmaSelection, check_magnitude, check_orders, select_arma
 from .checks import CheckReport, check_series
 from .kalman import ArmaKalman, KalmanResult
 from .kalman_response import FrequencyResponse, frequency_response
@@ -93,7 +93,8 @@ class ArmaAnalysis:
             "checks": self.checks.to_dict(), "method": self.options.method, "criteria": AIC_DEFINITION,
             "candidates": [{"order": c.name, "aic": c.aic, "fpe": c.fpe, "params": c.params(),
                             "stationary": c.stationary, "invertible": c.invertible,
-                            "ar_root_max": c.ar_root_max, "ma_root_max": c.ma_root_max}
+                            "ar_root_max": c.ar_root_max, "ma_root_max": c.ma_root_max,
+                            "converged": c.converged}
                            for c in sel.candidates],
             "selected": sel.selected.name, "selected_by_fpe": sel.by_fpe.name,
             "variance_unit": f"({self.unit})^2",
@@ -139,6 +140,16 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
     except (TypeError, ValueError):
         raise InputError("the series is not numbers", field=channel, value=x,
                          expected=f"a 1-D array of numbers ({channel_si_unit(channel)})") from None
+    if raw.ndim != 1:
+        raise InputError(f"the series has shape {raw.shape}", field=channel, expected="a 1-D series")
+    bad = np.flatnonzero(~np.isfinite(raw))
+    if bad.size:  # named as such, not as a value beyond the log limits (inf) or as "x" (NaN)
+        raise InputError(f"{bad.size} non-finite sample(s) (NaN or ±inf), first at index {bad[0]}",
+                         field=channel, value=raw[bad[0]],
+                         expected="finite values (repair the log first: --repair, or drop the rows)")
+    if raw.size < MIN_SAMPLES:  # one minimum for the whole pipeline (the checks need fewer)
+        raise InputError(f"only {raw.size} samples", field=channel,
+                         expected=f"at least {MIN_SAMPLES} samples for ARMA modelling")
     limit = max_abs_si(channel)
     with np.errstate(invalid="ignore"):
         big = np.flatnonzero(np.abs(raw) > limit)
@@ -146,13 +157,25 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
         raise InputError(f"{big.size} sample(s) beyond ±{limit:g} {channel_si_unit(channel)} (in SI), first "
                          f"at index {big[0]}", field=channel, value=raw.flat[big[0]],
                          expected="a series in SI (corrupt sample or wrong unit?)")
+    if np.ptp(raw) > 0:
+        check_magnitude(raw, channel)  # e.g. rms 1e-300: Pauta's σ underflowed to 0
     pre = preprocess(raw, pauta_k=opt.pauta_k, replace=opt.replace, detrend_order=opt.detrend_order)
     if np.ptp(pre.x) <= 1e-9 * np.max(np.abs(raw)):  # what is left is round-off, not noise
+        if pre.outliers.size and np.ptp(raw) > 0:
+            # the variation was a few isolated samples, all replaced by the outlier step
+            raise InputError(f"the channel's only variation is {pre.outliers.size} isolated sample(s) "
+                             f"(first at index {pre.outliers[0]}) that the Pauta step (k = {opt.pauta_k:g}) "
+                             "replaced as outliers: nothing is left to model", field=channel,
+                             expected="a channel of a static IMU log with noise (or pauta_k=None, "
+                                      "--no-outliers, to model the spikes themselves)")
         raise InputError("the channel holds no noise to model: it is constant (stuck or unused "
                          f"sensor) or an exact degree-{opt.detrend_order} trend", field=channel,
                          expected="a channel of a static IMU log with noise")
     checks = check_series(pre.x)
-    sel = select_arma(pre.x, opt.orders, opt.method, demean=False)
+    try:
+        sel = select_arma(pre.x, opt.orders, opt.method, demean=False)
+    except InputError as err:  # about the preprocessed channel: name it
+        raise InputError(err.reason, field=channel, value=err.value, expected=err.expected) from None
     kf = ArmaKalman(sel.selected, process_noise=opt.process_noise)
     if response_freq_hz is None:
         freqs = [0.0, 0.1, 1.0, 10.0, rate_hz / 4]
