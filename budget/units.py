@@ -272,6 +272,29 @@ def header_time_factor(written: str, column: str | None = None) -> float:
     return factor
 
 
+#: A temperature unit written in a log header or a column-name suffix → (scale, offset) with
+#: °C = scale·value + offset.
+TEMPERATURE_UNITS: dict[str, tuple[float, float]] = {
+    **{k: (1.0, 0.0) for k in ("c", "°c", "degc", "deg_c", "degreesc", "celsius", "℃")},
+    **{k: (1.0, -273.15) for k in ("k", "kelvin")},
+    **{k: (5.0 / 9.0, -160.0 / 9.0) for k in ("f", "°f", "degf", "deg_f", "degreesf", "fahrenheit", "℉")},
+}
+
+
+def temperature_to_c(written: str, column: str | None = None) -> tuple[float, float]:
+    """(scale, offset) turning a temperature in the unit ``written`` into °C
+    (°C = scale·value + offset): ``'°C'`` → (1, 0), ``'K'`` → (1, −273.15), ``'degF'`` →
+    (5/9, −160/9); ``ValueError`` listing the accepted units."""
+    # a degree sign as other encodings leave it: º (ordinal), Â° (UTF-8 read as Latin-1), the
+    # replacement character (Latin-1 read as UTF-8)
+    key = _unit_key(written).replace("â°", "°").replace("º", "°").replace("\ufffd", "°")
+    if key not in TEMPERATURE_UNITS:
+        where = f"column {column!r}: " if column else ""
+        raise ValueError(f"{where}temperature unit {written!r} not understood; accepted: "
+                         "°C (C, degC, celsius), K (kelvin), °F (F, degF, fahrenheit)")
+    return TEMPERATURE_UNITS[key]
+
+
 # --- range and phase (two-way propagation, seed 003 (12)) -------------------------------------
 #
 # Sign convention of the package (the simulator's, :mod:`budget.sar.echoes`): time dependence

@@ -13,6 +13,7 @@ nothing is guessed.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -131,6 +132,32 @@ def _time_column(name: str, path) -> float | None:
     return factor
 
 
+#: A temperature column: ``temp`` or ``temperature``, with an optional prefix word (``imu_temp``,
+#: ``die_temperature``) and an optional unit suffix (``temp_c``, ``temperature_k``, ``temp_degf``).
+_TEMP_NAME = re.compile(r"(?:[a-z0-9]+_)?(?:temp|temperature)(?:_(c|degc|k|f|degf))?")
+
+
+def _temp_column(name: str, path, row: int) -> tuple[float, float, bool] | None:
+    """``(scale, offset, unit_written)`` to °C when ``name`` is a temperature column (``temp_c``,
+    ``temperature [°C]``, ``Temp (K)``, ``imu_temp_f``, ``temperature``), else None. A column
+    with no unit is read as °C (``unit_written`` False: the reader says so); a unit in brackets
+    that contradicts the name's suffix is refused."""
+    base, written = u.split_header_unit(name)
+    m = _TEMP_NAME.fullmatch(base.strip().lower().replace(" ", "_"))
+    if m is None:
+        return None
+    units = [w for w in (m.group(1), written) if w]
+    try:
+        scales = [u.temperature_to_c(w, name) for w in units]
+    except ValueError as err:
+        raise InputError(str(err), file=path, row=row, field=name) from None
+    if len(scales) == 2 and scales[0] != scales[1]:
+        raise InputError(f"column {name!r} names two temperature units, {units[0]!r} in its name and "
+                         f"{units[1]!r} in brackets", file=path, row=row, field=name,
+                         expected="one unit: write one")
+    return (*(scales[0] if scales else (1.0, 0.0)), bool(scales))
+
+
 def time_unit_hint(ignored) -> str:
     """Why a time column among the ``ignored`` ones (``time [fortnight]``) was not read — its unit
     is none of the accepted ones — or ``""``."""
@@ -197,6 +224,8 @@ class ColumnPlan:
     channel_index: dict[str, int]     # 'gyro_x' → position
     source_units: dict[str, str]      # 'gyro_x' → 'dps'
     ignored: tuple[str, ...]          # source columns not read
+    temp_offset_c: float = 0.0        # added after the factor: °C = factor·value + offset (K, °F)
+    temp_notes: tuple[str, ...] = ()  # what the reader chose about temperature (said in the log's notes)
 
 
 def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> ColumnPlan:
@@ -214,6 +243,21 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
     channel_index: dict[str, int] = {}
     source_units: dict[str, str] = {}
     time_index = temp_index = None
+    header_row = 1 + (mapping.skip_rows if mapping else 0)
+    temps = {col: t for col in header
+             if (t := _temp_column(rename.get(col, col), path, header_row)) is not None}
+    named = [col for col in temps if rename.get(col, col) == TEMP_COLUMN]
+    if len(named) > 1:
+        raise InputError("more than one temperature column", file=path, row=header_row, field=named[1],
+                         expected="one column named or mapped temp_c")
+    chosen = named[0] if named else next(iter(temps), None)
+    temp_offset, temp_notes = 0.0, []
+    if chosen is not None and not temps[chosen][2]:
+        temp_notes.append(f"temperature column {chosen!r} has no unit: read as °C")
+    if len(temps) > 1:
+        temp_notes.append(f"temperature read from {chosen!r}; not read: "
+                          + ", ".join(repr(c) for c in temps if c != chosen)
+                          + " (a mapping to temp_c chooses another)")
     for col in header:
         name = rename.get(col, col)
         if col in rename:
@@ -224,11 +268,11 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
                 raise InputError("more than one time column", file=path, row=1, field=col)
             time_index = len(sources)
             factor = time_factor
-        elif name == TEMP_COLUMN:
-            if temp_index is not None:
-                raise InputError("more than one temperature column", file=path, row=1, field=col)
+        elif col in temps:
+            if col != chosen:
+                continue
             temp_index = len(sources)
-            factor = 1.0
+            factor, temp_offset, _ = temps[col]
         elif is_channel_column(name):
             try:
                 ch, unit = u.split_channel_column(name)
@@ -261,4 +305,4 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
                          expected="columns like gyro_x_dps … accel_z_mps2, or a --mapping that "
                                   "names them (source column → canonical name)")
     return ColumnPlan(tuple(sources), tuple(targets), tuple(factors), time_index, temp_index,
-                      channel_index, source_units, tuple(ignored))
+                      channel_index, source_units, tuple(ignored), temp_offset, tuple(temp_notes))

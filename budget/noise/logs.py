@@ -248,6 +248,10 @@ def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
     return data[:n] if n * 1.1 >= data.shape[0] else data[:n].copy(order="F")
 
 
+#: Temperatures (°C) an IMU log can hold; outside, the column's unit is probably not what it says.
+TEMP_PLAUSIBLE_C = (-80.0, 200.0)
+
+
 def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool = False, *,
              rate_hz: float | None = None, channels: Iterable[str] | None = None,
              max_rows: int | None = None, min_samples: int = 3,
@@ -285,7 +289,8 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "column not read: not a "
                                               "canonical name (time_s, gyro_x_dps, accel_x_mps2, temp_c, "
                                               "…) and not mapped (--mapping)", 0, (), c)
-                                  for c in plan.ignored])
+                                  for c in plan.ignored]
+                          + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes])
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
     slip = lc.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
     if slip is not None:
@@ -320,7 +325,13 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     time_s = data[:, plan.time_index] if plan.time_index is not None else None
     rate = _rate(time_s, rate_given, report, path)
     chans = {ch: data[:, plan.channel_index[ch]] for ch in CHANNELS if ch in plan.channel_index}
-    temp = data[:, plan.temp_index] if plan.temp_index is not None else None
+    temp = data[:, plan.temp_index] + plan.temp_offset_c if plan.temp_index is not None else None
+    if temp is not None and n and not (TEMP_PLAUSIBLE_C[0] <= np.nanmin(temp) and np.nanmax(temp) <= TEMP_PLAUSIBLE_C[1]):
+        report.issues.append(lc.LogIssue(
+            "implausible_temperature", "warning",
+            f"temperature spans {np.nanmin(temp):.4g} … {np.nanmax(temp):.4g} °C, outside "
+            f"{TEMP_PLAUSIBLE_C[0]:g} … {TEMP_PLAUSIBLE_C[1]:g} °C: is its unit right (°C, K, °F in brackets)?",
+            0, (), plan.sources[plan.temp_index]))
     return ImuLog(str(path), chans, rate, time_s, temp, report,
                   {c: plan.source_units[c] for c in chans})
 
@@ -340,7 +351,7 @@ def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
         pos.get(plan.time_index) if plan.time_index is not None else None,
         pos.get(plan.temp_index) if plan.temp_index is not None else None,
         {c: pos[plan.channel_index[c]] for c in wanted},
-        {c: plan.source_units[c] for c in wanted}, plan.ignored)
+        {c: plan.source_units[c] for c in wanted}, plan.ignored, plan.temp_offset_c, plan.temp_notes)
 
 
 #: Below this rate (Hz) derived from the time stamps, the log says it may be a time unit slip.
