@@ -92,3 +92,20 @@ def test_columns_that_only_contain_the_word_are_not_temperatures(tmp_path):
                           [_warm_up_c(), _warm_up_c()]))
     assert log.temp_c is None
     assert {i.column for i in log.issues.issues if i.kind == "ignored_column"} == {"temp_x", "template"}
+
+
+def test_a_header_of_logger_names_gets_a_mapping_to_start_from(tmp_path):
+    """GyroX … AccZ are not read without a mapping (their unit is not in the name); the error
+    writes out the mapping a user would start from, with the units left to them."""
+    path = tmp_path / "logger.csv"
+    path.write_text("Time,GyroX,GyroY,GyroZ,AccX,AccY,AccZ\n" + "".join(
+        f"{k / 100:.2f},0.1,0.2,0.3,0.0,0.0,9.8\n" for k in range(50)))
+    with pytest.raises(InputError) as err:
+        read_log(path)
+    text = str(err.value)
+    assert '"Time": "time_s"' in text and '"GyroX": "gyro_x_dps"' in text and '"AccZ": "accel_z_mps2"' in text
+    assert "write the unit each holds" in text
+    path.write_text("t,foo,bar\n0,1,2\n0.01,1,2\n")  # nothing sensor-like: no suggestion
+    with pytest.raises(InputError) as err:
+        read_log(path)
+    assert "mapping such as" not in str(err.value)

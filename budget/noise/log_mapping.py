@@ -158,6 +158,31 @@ def _temp_column(name: str, path, row: int) -> tuple[float, float, bool] | None:
     return (*(scales[0] if scales else (1.0, 0.0)), bool(scales))
 
 
+#: Sensor column names loggers write (GyroX, gyr_y, wz, AccX, acc_y, ax …): suggested, never read
+#: without a mapping — their unit is not in the name.
+_SENSOR_NAME = re.compile(r"(gyro|gyr|gyroscope|omega|rate|w|g|acc|accel|accelerometer|a)"
+                          r"[ _.-]?(x|y|z)")
+
+
+def suggest_mapping(header: list[str]) -> dict[str, str]:
+    """A mapping a user could write for a header without canonical names (``GyroX`` →
+    ``gyro_x_<unit>``, ``acc_z`` → ``accel_z_<unit>``, ``Time`` → ``time_<unit>``), when it
+    names three axes of at least one sensor; ``{}`` otherwise. Only said in an error, never
+    applied: the units are the user's to write."""
+    found: dict[str, str] = {}
+    for col in header:
+        m = _SENSOR_NAME.fullmatch(u.split_header_unit(col)[0].strip().lower())
+        if m is None:
+            continue
+        kind = "accel" if m.group(1).startswith("a") else "gyro"
+        found[col] = f"{kind}_{m.group(2)}_{'mps2' if kind == 'accel' else 'dps'}"
+    kinds = [dst.split("_")[0] for dst in found.values()]
+    if not any(kinds.count(k) >= 3 for k in ("gyro", "accel")):
+        return {}
+    times = [c for c in header if c.strip().lower() in ("t", "time", "timestamp")]
+    return ({times[0]: "time_s"} if len(times) == 1 else {}) | found
+
+
 def time_unit_hint(ignored) -> str:
     """Why a time column among the ``ignored`` ones (``time [fortnight]``) was not read — its unit
     is none of the accepted ones — or ``""``."""
@@ -300,6 +325,11 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
         elif len(header) <= 2 or not any(h.replace("_", "").isalnum() for h in header):
             hint = ("; if the file starts with preamble lines (device, date, units), a mapping's "
                     "\"skip_rows\" skips them")
+        elif suggested := suggest_mapping(header):
+            hint = ("; the header looks like sensor columns: a mapping such as {\"columns\": {"
+                    + ", ".join(f'"{src}": "{dst}"' for src, dst in suggested.items())
+                    + "}} reads them — write the unit each holds (gyro: dps, rps, dph; accel: "
+                      "mps2, g; raw counts: with a \"scale\")")
         raise InputError(f"no sensor channel column found in the header row ({shown}){hint}",
                          file=path, row=1 + (mapping.skip_rows if mapping else 0),
                          expected="columns like gyro_x_dps … accel_z_mps2, or a --mapping that "
