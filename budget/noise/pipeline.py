@@ -24,7 +24,7 @@ from .kalman_response import FrequencyResponse, frequency_response
 from .log_checks import max_abs_si
 from .preprocess import Preprocessed, check_detrend_order, preprocess
 
-AIC_DEFINITION = "AIC = ln(sigma2) + 2k/n, FPE = sigma2 (n+k)/(n-k), k = p+q, n = residuals"
+AIC_DEFINITION = "AIC = ln(sigma2) + 2k/n, FPE = sigma2 (n+k)/(n-k), k = p+q, n = residuals (the same samples for every candidate)"
 MOTION_WARNING = "the filter also attenuates real motion: see response_gain (1 = passed unchanged)"
 
 
