@@ -1,5 +1,9 @@
 """Uploaded logs and Allan tables: one size limit, and Allan tables read like the CLI reads them.
 
+A table of one curve without a channel column (``tau [s], adev (deg/h)``) is read as the channel
+the user picks (:func:`curve_channel`, the choices :data:`budget.units.CHANNELS`), as
+``--channels gyro_z`` names it on the command line.
+
 ``UPLOAD_LIMIT_MB`` is the limit the server is started with (``sar-budget dashboard`` passes
 it as ``--server.maxUploadSize``) and the one every log widget states and enforces. An upload is
 written to a private temporary copy (suffix kept, so .gz streams through the same chunked
@@ -9,13 +13,15 @@ reader as the CLI) and read by the library; it is never executed or unpickled.
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import streamlit as st
 
 from budget.cli.dashboard_cmd import MAX_UPLOAD_MB as UPLOAD_LIMIT_MB
 from budget.errors import InputError
 from budget.noise import AllanResult, read_adev_table
-from budget.noise.adev_table import looks_like_adev_table
+from budget.noise.adev_table import looks_like_adev_table, needs_channel_name
+from budget.units import CHANNELS
 from uploads import read_via_temp_copy
 
 LOG_TYPES = ["csv", "gz", "bz2", "xz", "zip"]
@@ -54,12 +60,62 @@ def is_adev_table(data: bytes, name: str) -> bool:
     return read_via_temp_copy(data, name, looks_like_adev_table)
 
 
+#: How the dashboard names the channel of a one-curve table (the library's message names the
+#: CLI's --channels and Python's channels=, which a dashboard user has no way to give).
+NAME_THE_CHANNEL = ("the channel its curve belongs to, picked in 'channel of this curve' below the upload; or "
+                    "a channel column (channel, tau_s, adev), or the ADEV column named after its channel "
+                    "and unit (tau_s, gyro_z_dps)")
+
+
+@st.cache_data(show_spinner=False, max_entries=8)
+def needs_channel(data: bytes, name: str) -> bool:
+    """True when the uploaded Allan table holds one curve and no channel column
+    (:func:`budget.noise.adev_table.needs_channel_name`): the user names its channel."""
+    return read_via_temp_copy(data, name, needs_channel_name)
+
+
+def curve_channel(prefix: str, name: str, container=st) -> str | None:
+    """The channel the user picks for the one curve of table ``name`` (``None`` until picked, with
+    a note saying what is needed). The choices are the library's channels."""
+    channel = container.selectbox("channel of this curve", CHANNELS, index=None, key=f"{prefix}_curve_channel",
+                                  placeholder="pick the channel",
+                                  help="the table has no channel column; its unit goes in the ADEV "
+                                       "column's header, e.g. adev (deg/h) for a gyro")
+    if channel is None:
+        container.info(f"{name} has no channel column: it holds one curve. Pick the channel it belongs to.",
+                       icon=":material/info:")
+    return channel
+
+
+#: The CLI options a table's messages name → the dashboard inputs that give the same values.
+_CLI_WORDS = ((re.compile(r"--rate-hz( of the record)?"), "the sampling rate of the record"),
+              (re.compile(r"for --samples (\d+)"), r"for \1 samples in the record"))
+
+
+def _for_dashboard(err: InputError, name: str) -> InputError:
+    """The library's message in the dashboard's words: a table without a channel column is named
+    by picking its channel here (not by --channels), the record's rate and length are the inputs
+    beside the upload (not --rate-hz, --samples)."""
+    if err.field in ("channel", "channels") and err.reason.startswith("the table has no channel column"):
+        err.expected = NAME_THE_CHANNEL
+    for pattern, words in _CLI_WORDS:
+        err.reason = pattern.sub(words, err.reason)
+        err.expected = err.expected and pattern.sub(words, err.expected)
+    return err.rename_file(err.file or name)
+
+
 @st.cache_data(show_spinner="Reading the Allan table …", max_entries=4)
 def read_uploaded_adev(data: bytes, name: str, rate_hz: float, samples: int,
-                       ci_level: float = 0.95) -> dict[str, AllanResult]:
+                       ci_level: float = 0.95, channel: str | None = None) -> dict[str, AllanResult]:
     """The uploaded Allan table as ``{channel: AllanResult}`` (SI), as ``sar-budget noise
-    characterize TABLE --rate-hz F --samples N`` reads it."""
-    tables = read_via_temp_copy(data, name, lambda p: read_adev_table(p, rate_hz, samples, ci_level=ci_level))
+    characterize TABLE --rate-hz F --samples N [--channels CH]`` reads it (``channel``: the one
+    channel of a table without a channel column, :func:`curve_channel`)."""
+    channels = None if channel is None else [channel]
+    try:
+        tables = read_via_temp_copy(data, name, lambda p: read_adev_table(p, rate_hz, samples, ci_level=ci_level,
+                                                                          channels=channels))
+    except InputError as err:
+        raise _for_dashboard(err, name) from None
     return {ch: dataclasses.replace(r, source=name) for ch, r in tables.items()}
 
 

@@ -26,7 +26,8 @@ from budget.plots.gap import adev_figure, gap_figure, psd_figure
 import components as c
 from formatting import fmt_value, tidy
 from page_frame import run_page
-from upload_tables import adev_inputs, is_adev_table, read_uploaded_adev, upload_log_or_table
+from upload_tables import adev_inputs, curve_channel, is_adev_table, needs_channel, read_uploaded_adev, \
+    upload_log_or_table
 from uploads import read_uploaded_log, read_via_temp_copy, show_log_findings
 
 SOURCES = ("built-in example (a part with a hidden effect)", "upload a log or an Allan table")
@@ -110,8 +111,10 @@ def _measured(model: NoiseModel, seed: int):
         if _refuse_silent(model, _origin(model), CHANNELS, "the example log would hold constant channels"):
             return None
         return f"example-{seed}-{model.part_id}", _example(model.model_dump_json(), seed), None, None
-    st.markdown("A static **log** (canonical columns, plain or .gz/.bz2/.xz/.zip, read in chunks as the "
-                "CLI reads it) or an **Allan table** `channel, tau_s, adev[, lci, uci]`.")
+    st.markdown("A static **log** (canonical columns, a unit in brackets read too: `gyro_x [deg/s]`; plain or "
+                ".gz/.bz2/.xz/.zip, read in chunks as the CLI reads it; UTF-8 or UTF-16 with its byte-order "
+                "mark) or an **Allan table** `channel, tau_s, adev[, lci, uci]`; a table of one curve "
+                "(`tau [s], adev (deg/h)`) is read as the channel you pick.")
     upload = upload_log_or_table("gap_upload", "Upload a static IMU log or an Allan table, or use the example.")
     if upload is None:
         return None
@@ -119,11 +122,16 @@ def _measured(model: NoiseModel, seed: int):
     digest = hashlib.sha256(data).hexdigest()[:16]
     if is_adev_table(data, name):
         rate, samples = adev_inputs("gap")
-        tables = read_uploaded_adev(data, name, rate, samples)
+        curve = None
+        if needs_channel(data, name):
+            curve = curve_channel("gap", name)
+            if curve is None:
+                return None
+        tables = read_uploaded_adev(data, name, rate, samples, channel=curve)
         st.caption(f"{name}: Allan table, channels {', '.join(tables)} (compared by ADEV only).")
         if _refuse_silent(model, _origin(model), tables, f"nothing to compare {name} with"):
             return None
-        return f"{name}-{digest}-{rate}-{samples}", tables, None, None
+        return f"{name}-{digest}-{rate}-{samples}-{curve}", tables, None, None
     max_rows = int(st.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
                                    step=100_000, key="gap_max_rows"))
     log = read_uploaded_log(data, name, max_rows, False)

@@ -44,11 +44,12 @@ def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: 
     def progress(done: int, total: int) -> None:
         bar.progress(done / total, text=f"{part.part_id}: {done} / {total} trials")
 
-    result = run_mc(Scenario.model_validate_json(scenario_json), part, trials, seed,
-                    options=McOptions(prefilter=prefilter, platform_motion={"kind": platform_motion}),
-                    progress=progress, keep_detail=True)
-    bar.empty()
-    return result
+    try:  # a refused run (e.g. beyond the motion engine's memory limit) leaves no stale bar
+        return run_mc(Scenario.model_validate_json(scenario_json), part, trials, seed,
+                      options=McOptions(prefilter=prefilter, platform_motion={"kind": platform_motion}),
+                      progress=progress, keep_detail=True)
+    finally:
+        bar.empty()
 
 
 def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str, bool]:

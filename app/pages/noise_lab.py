@@ -23,7 +23,8 @@ from budget.units import channel_si_unit
 
 from formatting import tidy, value_table
 from page_frame import run_page
-from upload_tables import adev_inputs, is_adev_table, read_uploaded_adev, upload_log_or_table
+from upload_tables import adev_inputs, curve_channel, is_adev_table, needs_channel, read_uploaded_adev, \
+    upload_log_or_table
 from uploads import naming_upload, read_uploaded_log, show_log_findings
 
 DEFAULT_MAX_ROWS = 500_000
@@ -89,9 +90,11 @@ def _source() -> tuple[bytes, str] | None:
                            mime="text/csv", key="noise_example_download")
         return text.encode(), f"example_imu_log_{seed}.csv"
     st.markdown("A **log**: columns `time_s` (or a known rate), `gyro_x_dps|rps|dph` … `accel_z_mps2|g|mg`; "
-                "plain or .gz/.bz2/.xz/.zip (read in chunks, as the CLI reads it). Or an **Allan table**: "
-                "`channel, tau_s, adev[, lci, uci]` with the unit on the channel name (`gyro_x_dps`, "
-                "`accel_x_g` …).")
+                "a unit may be written in brackets (`gyro_x [deg/s]`, `time [ms]`); plain or .gz/.bz2/.xz/.zip "
+                "(read in chunks, as the CLI reads it), UTF-8 or UTF-16 with its byte-order mark. Or an "
+                "**Allan table**: `channel, tau_s, adev[, lci, uci]` with the unit on the channel name "
+                "(`gyro_x_dps`, `accel_x_g` …) or in brackets (`adev (deg/h)`); a table of one curve "
+                "(`tau [s], adev (deg/h)`) is read as the channel you pick.")
     return upload_log_or_table("noise_upload",
                                "Upload a static IMU log or an Allan table, or pick the built-in example.")
 
@@ -106,6 +109,8 @@ def _load(data: bytes, name: str) -> ImuLog | None:
         log = read_uploaded_log(data, name, max_rows, repair)
     except LogError as err:
         st.error(str(err), icon=":material/error:")
+        if not repair:
+            st.caption("Here: tick **repair the log** above to repair it.")
         st.dataframe(err.report.to_frame(), hide_index=True, key="noise_log_errors")
         return None
     except InputError as err:
@@ -186,12 +191,17 @@ def _allan_table_sections(data: bytes, name: str) -> dict | None:
     st.markdown(f"**{name}** is an Allan table. The record's rate and length are not in it; give them "
                 "(they fix the averaging factors and, without lci/uci, the confidence intervals).")
     rate, samples = adev_inputs("noise")
-    tables = read_uploaded_adev(data, name, rate, samples)
+    curve = None
+    if needs_channel(data, name):
+        curve = curve_channel("noise", name)
+        if curve is None:
+            return None
+    tables = read_uploaded_adev(data, name, rate, samples, channel=curve)
     st.markdown(f"<span id='noise-loaded'>**{name}**: Allan table, {len(tables)} channel(s): "
                 f"{', '.join(tables)}</span>", unsafe_allow_html=True)
     channel = st.selectbox("channel", list(tables), key="noise_table_channel")
     try:
-        ch = _characterize(f"{name}:{rate}:{samples}", "measured_imu", tables)
+        ch = _characterize(f"{name}:{rate}:{samples}:{curve}", "measured_imu", tables)
     except InputError as err:
         raise naming_upload(err, name) from None
     terms = ch.channels.get(channel)
@@ -232,8 +242,10 @@ def render() -> None:
     digest = hashlib.sha256(data).hexdigest()
     if is_adev_table(data, name):
         tables = _allan_table_sections(data, name)
+        if tables is None:  # waiting for the channel of a one-curve table
+            return
         rate, samples = st.session_state["noise_adev_rate"], st.session_state["noise_adev_samples"]
-        _catalog_entry(tables, f"{digest}:{rate}:{samples}")
+        _catalog_entry(tables, f"{digest}:{rate}:{samples}:{st.session_state.get('noise_curve_channel')}")
         return
     log = _load(data, name)
     if log is None:

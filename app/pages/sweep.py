@@ -11,6 +11,7 @@ import streamlit as st
 
 from budget.api import VARIABLE_FIELDS, sweep_over
 from budget.api import sweep as run_sweep
+from budget.errors import InputError
 from budget.fileio import frame_csv_text, json_text
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS
 from budget.mc.sweep import not_simulated
@@ -21,6 +22,7 @@ import components as c
 import sidebar
 from formatting import tidy
 from page_frame import run_page
+from uploads import error_text
 
 DEFAULT_PARTS = ("ADIS16405", "STIM300")
 CURRENT = "current scenario (sidebar)"
@@ -58,6 +60,20 @@ def _progress():
     return bar, cb
 
 
+def _guarded_run(what: str, run):
+    """``run(progress)`` with a progress bar; a refusal (a motion run beyond its memory limit, a
+    scenario the simulator cannot form) is one line on the page, the bar is removed either way and
+    the rest of the page (and the last result) stays. → the table, or None when refused."""
+    bar, cb = _progress()
+    try:
+        return run(cb)
+    except InputError as err:
+        st.error(f"The {what} was not run: {error_text(err)}", icon=":material/error:")
+        return None
+    finally:
+        bar.empty()
+
+
 def _downloads(table, stem: str, key: str) -> None:
     a, b = st.columns(2)
     a.download_button("Download the table (CSV)", frame_csv_text(table), f"{stem}.csv", mime="text/csv",
@@ -86,10 +102,10 @@ def _grid(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
         scens = [ctx.scenario if s == CURRENT else s for s in names if not (same and s == CURRENT)]
         from budget.api import load_scenarios
 
-        bar, cb = _progress()
-        table = run_sweep(parts, _with_mode(load_scenarios(scens), mode), trials, seed, progress=cb)
-        bar.empty()
-        st.session_state[GRID_KEY] = table
+        table = _guarded_run("sweep", lambda cb: run_sweep(parts, _with_mode(load_scenarios(scens), mode), trials,
+                                                            seed, progress=cb))
+        if table is not None:
+            st.session_state[GRID_KEY] = table
     table = st.session_state.get(GRID_KEY)
     if table is None:
         st.info("Pick parts and scenarios, then press **Run the sweep**.")
@@ -115,11 +131,11 @@ def _line(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
     values = np.geomspace(now * lo, now * hi, points) if lo < hi else np.array([now])
     st.caption(f"{field} = " + ", ".join(f"{v:.4g}" for v in values) + f" on scenario **{s.name}**")
     if st.button("Run", key="sw_run_line", type="primary", disabled=not parts):
-        bar, cb = _progress()
         base = _with_mode([s], mode)[0]
-        table = sweep_over(parts, base, field, values, trials, seed, progress=cb)
-        bar.empty()
-        st.session_state[LINE_KEY] = (field, table)
+        table = _guarded_run(f"sweep over {field}",
+                             lambda cb: sweep_over(parts, base, field, values, trials, seed, progress=cb))
+        if table is not None:
+            st.session_state[LINE_KEY] = (field, table)
     got = st.session_state.get(LINE_KEY)
     if got is None:
         st.info("Press **Run** to draw P(pass) against the chosen quantity.")

@@ -120,6 +120,30 @@ def looks_like_adev_table(path: str | Path) -> bool:
     return table_header(path) is not None
 
 
+def needs_channel_name(path: str | Path) -> bool:
+    """True when ``path`` is an Allan table of one curve without a channel column (``tau_s, adev``,
+    ``tau [s], adev (deg/h)``, with or without ``lci, uci``): :func:`read_adev_table` reads it only
+    with the channel its curve belongs to (``channels=["gyro_z"]``). False for a table that names
+    its channels (a channel column, or one ADEV column per channel) and for anything else; a
+    header that cannot be read is left to :func:`read_adev_table` to refuse."""
+    found = table_header(path)
+    if found is None:
+        return False
+    delim, pre = found
+    try:
+        with open_input(path) as fh:
+            raw = fh.read(1 << 16)
+    except InputError:
+        return False
+    lines = [ln for ln in raw.decode(text_encoding(raw[:4]), errors="replace").splitlines()[pre:] if ln.strip()]
+    if not lines:
+        return False
+    cells = [c for c in lines[0].split(delim) if c.strip().strip("\"'")]  # trailing delimiters: no column
+    names = [_canonical(c) for c in cells]
+    return (None not in names and "tau_s" in names and "channel" not in names
+            and ("adev" in names or "avar" in names))
+
+
 def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1,
                  channels: list[str] | None = None) -> tuple[pd.DataFrame, np.ndarray, bool]:
     """(table in the long layout ``channel, tau_s, adev[, lci, uci]``, the file's 0-based data row
