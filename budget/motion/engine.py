@@ -26,7 +26,9 @@ defaults); the result's ``earth_model`` gives the estimated size of the Schuler,
 transport-rate terms it leaves out over Tc (:func:`budget.nav.earth.flat_earth_neglect`). One
 rule, :func:`check_flat_earth`: a coast across the aperture (free-inertial, ``frozen``, or
 ``feedforward`` blending slower than Tc) whose estimate exceeds :data:`MAX_FLAT_EARTH_NEGLECT`
-(Tc ≳ 790 s) is refused; aiding that corrects inside the aperture bounds the neglect (measured,
+(Tc ≳ 790 s) is refused — the coast's estimate includes the heading error an aiding warm-up
+leaves unobserved, turned by the Earth and transport rate across the aperture
+(:func:`heading_term`); aiding that corrects inside the aperture bounds the neglect (measured,
 :data:`AIDED_FLAT_EARTH_NOTE`) up to Tc = :data:`AIDED_FLAT_EARTH_MAX_TC_S`. A run whose working
 memory (:func:`estimate_cost`) exceeds :data:`MAX_WORKING_BYTES` is refused. An aperture cut to
 whole IMU intervals more than 1 % away from Tc, and an aided run in which no fix reaches the
