@@ -208,6 +208,29 @@ def test_near_unit_root_and_level_step_warned():
     assert res.checks.stationary and not res.selection.notes
 
 
+def test_runs_test_level_on_stationary_series():
+    """AR(1) φ = 0.9 (decorrelation lag ≈ 28 samples), 400 samples, detrended: the runs test on 40
+    segment means of 10 samples rejected stationarity in 43 % of such series; with segments no
+    shorter than the lag it rejects at most α = 5 % (+ 3 binomial standard errors over 200).
+    A drift is still rejected, and φ = 0.99 (lag ≈ 300) on 400 samples is flagged as untestable."""
+    from budget.noise.checks import check_series
+    from budget.noise.preprocess import preprocess
+
+    rng = np.random.default_rng(21)
+    reps = 200
+    rejected = sum(check_series(preprocess(_arma(rng, 400, (0.9,))).x).runs_p < 0.05 for _ in range(reps))
+    assert rejected / reps <= 0.05 + 3 * np.sqrt(0.05 * 0.95 / reps)
+    drift = _arma(rng, 400, (0.9,)) + np.linspace(0.0, 30 * SIG, 400)
+    rep = check_series(drift)
+    assert not rep.stationary and "not stationary" in rep.summary()
+    # φ = 0.99: the sample autocorrelation of 400 samples often stays above 0.05 beyond lag 40
+    # (60 % in 300 simulations; here ≥ 40 % of 30, > 2 binomial standard errors below)
+    reps = [check_series(preprocess(_arma(rng, 400, (0.99,), burn=5000)).x) for _ in range(30)]
+    untestable = [r for r in reps if not r.runs_valid]
+    assert len(untestable) >= 12
+    assert all(not r.stationary and "not testable" in r.summary() for r in untestable if r.runs_p >= 0.05)
+
+
 def test_cli_arma_on_a_csv_log(tmp_path, capsys):
     """`sar-budget noise arma` on a 100-Hz gyro log in deg/s: JSON result with the candidates'
     convergence; a log with a NaN row is refused naming the log (exit 2)."""

@@ -5,7 +5,13 @@
   median of the means, and the number of runs R is compared with its distribution under
   randomness, E R = 2n₁n₂/n + 1, var R = 2n₁n₂(2n₁n₂ − n)/(n²(n − 1)) (normal approximation).
   Testing segment means (not samples) makes the test about a drifting level, not about the
-  short-term correlation that the ARMA model is there to describe.
+  short-term correlation that the ARMA model is there to describe — provided a segment is longer
+  than that correlation: segments are made at least the decorrelation lag long (fewer of them:
+  with 40 segments shorter than it, stationary AR(1) series of 100 samples were flagged in 41 %
+  (φ = 0.6) and 92 % (φ = 0.9) of simulations instead of 5 %). When fewer than 10 such segments
+  fit, the test is made on 10 and flagged either way: a rejection means the level wanders at
+  the scale of the record (a drift, or a correlation time beyond a tenth of it), no rejection
+  that the record is too short for its correlation time to tell.
 * Normality — skewness and excess kurtosis with their large-sample standard errors √(6/n),
   √(24/n), and D'Agostino–Pearson's K² goodness-of-fit test (``scipy.stats.normaltest``). These
   assume independent samples, so they run on the series thinned to every L-th sample, L = the
@@ -27,6 +33,9 @@ from scipy import stats
 
 from ..errors import InputError
 
+#: Fewest segment means the runs test is made on (below: not testable, flagged).
+MIN_SEGMENTS = 10
+
 
 @dataclass(frozen=True)
 class CheckReport:
@@ -42,10 +51,12 @@ class CheckReport:
     normal_p: float
     alpha: float
     thinning: int = 1
+    runs_lag: int = 1  # decorrelation lag that set the segment length of the runs test
+    runs_valid: bool = True  # segments ≥ runs_lag (else 10 shorter segments were tested)
 
     @property
     def stationary(self) -> bool:
-        return self.runs_p >= self.alpha
+        return self.runs_valid and self.runs_p >= self.alpha
 
     @property
     def normal(self) -> bool:
@@ -57,9 +68,16 @@ class CheckReport:
 
     def flags(self) -> list[str]:
         out = []
-        if not self.stationary:
+        short = (f"segments at least as long as the decorrelation lag ({self.runs_lag} samples) "
+                 f"would leave fewer than {MIN_SEGMENTS}")
+        if self.runs_p < self.alpha:
             out.append(f"not stationary: runs test on {self.segments} segment means gives "
-                       f"{self.runs} runs (expected {self.runs_expected:.1f}), p = {self.runs_p:.3g}")
+                       f"{self.runs} runs (expected {self.runs_expected:.1f}), p = {self.runs_p:.3g}"
+                       + ("" if self.runs_valid else f" ({short}: the level wanders at the scale of "
+                          "the record — a drift, or a correlation time beyond a tenth of it)"))
+        elif not self.runs_valid:
+            out.append(f"stationarity not testable: {short} — the record is short for its "
+                       "correlation time")
         if not self.normal:
             out.append(f"not normal: K² test p = {self.normal_p:.3g} (series thinned by "
                        f"{self.thinning}; skewness "
@@ -70,7 +88,8 @@ class CheckReport:
     def to_dict(self) -> dict:
         return {"stationary": self.stationary, "normal": self.normal, "passed": self.passed,
                 "runs": self.runs, "runs_expected": self.runs_expected, "runs_z": self.runs_z,
-                "runs_p": self.runs_p, "segments": self.segments, "skewness": self.skewness,
+                "runs_p": self.runs_p, "runs_valid": self.runs_valid, "runs_lag": self.runs_lag,
+                "segments": self.segments, "skewness": self.skewness,
                 "excess_kurtosis": self.excess_kurtosis, "normal_p": self.normal_p,
                 "thinning": self.thinning, "alpha": self.alpha, "flags": self.flags()}
 
@@ -110,6 +129,11 @@ def check_series(x, *, segments: int = 40, alpha: float = 0.05) -> CheckReport:
     if np.ptp(x) == 0:
         raise InputError("series is constant (no noise to check)", field="x",
                          expected="a preprocessed series with noise")
+    # segments no shorter than the decorrelation lag (module doc): adjacent means ~independent
+    # (one lag beyond what 10 segments allow: not found within it means too short to test)
+    runs_lag = decorrelation_lag(x, max_lag=x.size // MIN_SEGMENTS + 1)
+    valid = x.size // runs_lag >= MIN_SEGMENTS
+    segments = max(MIN_SEGMENTS, min(segments, x.size // runs_lag))
     runs, expected, z, p = runs_test(x, segments)
     lag = decorrelation_lag(x)
     xs = x[::lag]
@@ -118,17 +142,19 @@ def check_series(x, *, segments: int = 40, alpha: float = 0.05) -> CheckReport:
     kurt = float(stats.kurtosis(xs))
     normal_p = float(stats.normaltest(xs).pvalue) if n >= 20 else float("nan")
     return CheckReport(runs, expected, z, p, segments, skew, kurt, math.sqrt(6.0 / n),
-                       math.sqrt(24.0 / n), normal_p, alpha, lag)
+                       math.sqrt(24.0 / n), normal_p, alpha, lag, runs_lag, valid)
 
 
-def decorrelation_lag(x: np.ndarray, threshold: float = 0.05) -> int:
-    """First lag whose sample autocorrelation is below ``threshold`` (≤ n/50, ≥ 1)."""
+def decorrelation_lag(x: np.ndarray, threshold: float = 0.05, *, max_lag: int | None = None) -> int:
+    """First lag whose sample autocorrelation is below ``threshold`` (≤ ``max_lag``, default
+    n/50; ≥ 1)."""
     x = np.asarray(x, float) - np.mean(x)
     n = x.size
+    cap = max(1, n // 50 if max_lag is None else int(max_lag))
     nfft = 1 << int(np.ceil(np.log2(2 * n)))
     f = np.fft.rfft(x, nfft)
-    acf = np.fft.irfft(f * np.conj(f), nfft)[: max(2, n // 50) + 1]
+    acf = np.fft.irfft(f * np.conj(f), nfft)[: max(2, cap) + 1]
     if acf[0] <= 0:
         return 1
     below = np.flatnonzero(np.abs(acf / acf[0]) < threshold)
-    return int(below[0]) if below.size else max(1, n // 50)
+    return int(below[0]) if below.size else cap
