@@ -59,7 +59,7 @@ def test_edited_scenario_gets_its_own_name_in_pages_and_downloads():
 
 
 def test_pages_without_scenario_do_not_draw_the_scenario_sidebar():
-    for page in ("pages/noise_lab.py", "pages/model_gap.py"):
+    for page in ("pages/noise_lab.py", "pages/model_gap.py", "pages/focus.py"):
         at = _app(page)
         assert not [w for w in at.sidebar.number_input if w.key == "scn_slant_range_m"], page
     at = _app("pages/check.py")

@@ -157,4 +157,4 @@ def render() -> None:
                        mime="application/json", key="focus_dl")
 
 
-run_page(render)
+run_page(render, sidebar=False)  # the phase history carries its own geometry

@@ -120,7 +120,8 @@ def test_sweep_page_then_report_download_opens_offline(page, dashboard_url, tmp_
     offline.close()
 
 
-@pytest.mark.parametrize("slug", ["", "catalog", "check", "monte-carlo", "sweep", "noise-lab", "model-gap"])
+@pytest.mark.parametrize("slug", ["", "catalog", "check", "monte-carlo", "sweep", "noise-lab", "model-gap",
+                                  "focus"])
 def test_every_page_renders_and_the_menu_shows_them_all(browser, dashboard_url, slug):
     """Each page in a wide window (the top menu lists every page); pictures for the README when
     ``SAR_BUDGET_UPDATE_SCREENSHOT=1``."""
@@ -132,7 +133,7 @@ def test_every_page_renders_and_the_menu_shows_them_all(browser, dashboard_url, 
     open_page(pg, dashboard_url, slug)
     _idle(pg)
     expect(pg.get_by_text("Something went wrong")).to_have_count(0)
-    for title in ("Scenario & bounds", "Monte Carlo", "Trade study", "Noise lab", "Model gap"):
+    for title in ("Scenario & bounds", "Monte Carlo", "Trade study", "Noise lab", "Model gap", "Real SAR data"):
         expect(pg.get_by_role("link", name=title).first).to_be_visible(timeout=30_000)
     name = slug or "scenario"
     ARTIFACTS.mkdir(exist_ok=True)
