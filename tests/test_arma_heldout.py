@@ -246,3 +246,20 @@ def test_cli_arma_on_a_csv_log(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert all(c["converged"] for c in out["candidates"])
     assert out["selected"] in {"ARMA(1,1)", "ARMA(2,1)"}
+
+
+def test_cli_arma_json_warns_of_the_selection_notes(tmp_path, capsys):
+    """With --json the summary is not printed, so the selection's notes (here: a record of ~5
+    correlation times of a φ = 0.999 AR(1)) reach the user as the CLI's warnings on stderr."""
+    import json
+
+    rng = np.random.default_rng(9)
+    g = np.rad2deg(_arma(rng, 5000, (0.999,), burn=30_000))
+    log = tmp_path / "slow.csv"
+    log.write_text("time_s,gyro_z_dps\n" + "\n".join(f"{k / 100:.2f},{v:.9g}" for k, v in enumerate(g)) + "\n")
+    assert main(["noise", "arma", str(log), "--channel", "gyro_z", "--json", "-", "--quiet"]) == 0
+    cap = capsys.readouterr()
+    notes = json.loads(cap.out)["notes"]
+    warned = [ln for ln in cap.err.splitlines() if ln.startswith("sar-budget noise: warning: gyro_z: ")]
+    assert any("correlation times" in n for n in notes)
+    assert any("correlation times" in w for w in warned)

@@ -147,7 +147,9 @@ def run_arma(args) -> int:
             raise (err if err.file else err.rename_file(args.log)) from None
     for flag in res.checks.flags():
         warn(args, f"{args.channel}: {flag} — modelled anyway, see 'checks'")
-    if args.json:
+    if args.json:  # the summary lists the selection's notes itself (a short record, no convergence)
+        for note in res.selection.notes:
+            warn(args, f"{args.channel}: {note}")
         write_json(res.to_dict(), args.json)
         return 0
     print(res.summary())
