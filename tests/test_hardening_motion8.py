@@ -202,36 +202,14 @@ def test_realtime_aiding_bounds_the_flat_earth_neglect():
     filter given the Earth model's Schuler, Earth-rate and transport-rate terms change the aided
     error by less than the note's 1.2 % (measured 0.22 %), where a free-inertial coast of Tc
     would change it by ≈ 15 %."""
-    import budget.aiding.system as system
-    import budget.motion.engine as engine
-
-    lat = math.radians(DEFAULT_LATITUDE_DEG)
-    d_a = system_matrix(50.0, lat, 0.0, True) - system_matrix(50.0, lat, 0.0, False)
-    flat_dynamics = system.ins_dynamics
-
-    def earth_dynamics(layout, imu, f_n, c_bn):
-        f = flat_dynamics(layout, imu, f_n, c_bn)
-        idx = {"att": 0, "vel": 3, "pos": 6}
-        for r, i in idx.items():
-            for c, j in idx.items():
-                f[..., layout.slice(r), layout.slice(c)] += d_a[i:i + 3, j:j + 3]
-        return f
-
-    def earth_truth(g, a, dt, force_n_m_s2=None, c_b_n=None, keep_states=False, lever_arm_b_m=None,
-                    frame_rate_n_rad_s=None, **init):
-        return propagate_errors_earth(g, a, dt, speed_m_s=50.0, latitude_rad=lat, **init)
+    from earth_twin import earth_in_truth_and_filter
 
     s = scen(1000.0, aiding=[GNSS], aiding_mode="realtime", aiding_warmup_s=60.0)
     m = quiet_model(gyro_bias_repeatability_deg_h=1.0, accel_bias_repeatability_ug=100.0,
                     gyro_arw_deg_rt_h=0.1, accel_vrw_m_s_rt_h=0.05)
     flat = simulate_motion(s, m, 4, 1, keep_series="position")
-    mp = pytest.MonkeyPatch()
-    try:
-        mp.setattr(engine, "propagate_errors", earth_truth)
-        mp.setattr(system, "ins_dynamics", earth_dynamics)
+    with earth_in_truth_and_filter(50.0, math.radians(DEFAULT_LATITUDE_DEG)):
         full = simulate_motion(s, m, 4, 1, keep_series="position")
-    finally:
-        mp.undo()
     assert rel_diff(flat.position_error_m, full.position_error_m) < 0.012
 
 

@@ -27,14 +27,14 @@ import warnings
 import numpy as np
 import pytest
 
-import budget.aiding.system as system
 import budget.motion.engine as engine
 from budget.aiding_spec import AidingPlan
 from budget.errors import InputError
 from budget.imu.noise_model import NoiseModel, as_noise_model_si
 from budget.motion import simulate_motion
-from budget.nav.earth import flat_earth_neglect, navigation_frame_rate, propagate_errors_earth, system_matrix
+from budget.nav.earth import flat_earth_neglect, navigation_frame_rate
 from budget.scenario import Scenario
+from earth_twin import earth_in_truth_and_filter
 
 BASE = dict(name="h9", carrier_frequency_hz=9.6e9, slant_range_m=1601.0, azimuth_resolution_m=0.5,
             range_resolution_m=0.5, platform_speed_m_s=50.0, depression_deg=30.0, imu_rate_hz=10.0)
@@ -63,28 +63,12 @@ def head(s: Scenario, gyro_deg_h: float) -> dict:
 
 def flat_and_earth(s: Scenario, m: NoiseModel, n: int, seed: int):
     """The same trials flat and with the Earth terms in truth and filter (rule lifted)."""
-    d_a = system_matrix(50.0, LAT, 0.0, True) - system_matrix(50.0, LAT, 0.0, False)
-    flat_dynamics = system.ins_dynamics
-
-    def earth_dynamics(layout, imu, f_n, c_bn):
-        f = flat_dynamics(layout, imu, f_n, c_bn)
-        idx = {"att": 0, "vel": 3, "pos": 6}
-        for r, i in idx.items():
-            for c, j in idx.items():
-                f[..., layout.slice(r), layout.slice(c)] += d_a[i:i + 3, j:j + 3]
-        return f
-
-    def earth_truth(g, a, dt, force_n_m_s2=None, c_b_n=None, keep_states=False, lever_arm_b_m=None,
-                    frame_rate_n_rad_s=None, **init):
-        return propagate_errors_earth(g, a, dt, speed_m_s=50.0, latitude_rad=LAT, **init)
-
     mp = pytest.MonkeyPatch()
     try:
         mp.setattr(engine, "MAX_FLAT_EARTH_NEGLECT", math.inf)
         flat = simulate_motion(s, m, n, seed, keep_series="position")
-        mp.setattr(engine, "propagate_errors", earth_truth)
-        mp.setattr(system, "ins_dynamics", earth_dynamics)
-        full = simulate_motion(s, m, n, seed, keep_series="position")
+        with earth_in_truth_and_filter(50.0, LAT):
+            full = simulate_motion(s, m, n, seed, keep_series="position")
     finally:
         mp.undo()
     return flat.position_error_m, full.position_error_m
