@@ -50,6 +50,18 @@ def guarded(render: Callable[[], None]) -> None:
         show_error(err)
 
 
+def scenario_named(name: str, origin: str | None = None) -> str:
+    """A scenario as a refusal names it: its name, and where the sidebar's fields came from."""
+    return f"{name} (fields from {origin})" if origin else name
+
+
+def refused_run(run: str, scenarios: list[str], parts: list[str], text: str) -> str:
+    """One line for a run the library refused (Monte Carlo, a sweep): what was run, on which
+    scenario(s) (:func:`scenario_named`), for which parts, and the library's message."""
+    which = f"scenario{'s' if len(scenarios) > 1 else ''} {', '.join(scenarios)}"
+    return f"{run} of {which} for {', '.join(parts)} not run: {text}"
+
+
 # --- pydantic model ↔ widgets ------------------------------------------------------------------
 
 def _kind(annotation) -> tuple[str, tuple]:

@@ -152,6 +152,8 @@ def render() -> Context:
                      on_change=_apply_upload, max_upload_size=1,
                      help="e.g. from examples/scenarios or `sar-budget scenario write`; loading it "
                           "overwrites the fields below")
+    if st.session_state.get(UPLOAD_ERROR_KEY) and st.session_state.get("scn_upload") is None:
+        keep(UPLOAD_ERROR_KEY, "", force=True)  # the refused file is gone (removed, or another page)
     if st.session_state.get(UPLOAD_ERROR_KEY):
         sb.error(st.session_state[UPLOAD_ERROR_KEY], icon=":material/error:")
     sb.caption(f"fields from {st.session_state.get(BASE_ORIGIN_KEY, 'preset ' + DEFAULT_PRESET)}")

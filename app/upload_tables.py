@@ -13,7 +13,6 @@ reader as the CLI) and read by the library; it is never executed or unpickled.
 from __future__ import annotations
 
 import dataclasses
-import re
 
 import streamlit as st
 
@@ -60,13 +59,6 @@ def is_adev_table(data: bytes, name: str) -> bool:
     return read_via_temp_copy(data, name, looks_like_adev_table)
 
 
-#: How the dashboard names the channel of a one-curve table (the library's message names the
-#: CLI's --channels and Python's channels=, which a dashboard user has no way to give).
-NAME_THE_CHANNEL = ("the channel its curve belongs to, picked in 'channel of this curve' below the upload; or "
-                    "a channel column (channel, tau_s, adev), or the ADEV column named after its channel "
-                    "and unit (tau_s, gyro_z_dps)")
-
-
 @st.cache_data(show_spinner=False, max_entries=8)
 def needs_channel(data: bytes, name: str) -> bool:
     """True when the uploaded Allan table holds one curve and no channel column
@@ -87,23 +79,6 @@ def curve_channel(prefix: str, name: str, container=st) -> str | None:
     return channel
 
 
-#: The CLI options a table's messages name → the dashboard inputs that give the same values.
-_CLI_WORDS = ((re.compile(r"--rate-hz( of the record)?"), "the sampling rate of the record"),
-              (re.compile(r"for --samples (\d+)"), r"for \1 samples in the record"))
-
-
-def _for_dashboard(err: InputError, name: str) -> InputError:
-    """The library's message in the dashboard's words: a table without a channel column is named
-    by picking its channel here (not by --channels), the record's rate and length are the inputs
-    beside the upload (not --rate-hz, --samples)."""
-    if err.field in ("channel", "channels") and err.reason.startswith("the table has no channel column"):
-        err.expected = NAME_THE_CHANNEL
-    for pattern, words in _CLI_WORDS:
-        err.reason = pattern.sub(words, err.reason)
-        err.expected = err.expected and pattern.sub(words, err.expected)
-    return err.rename_file(err.file or name)
-
-
 @st.cache_data(show_spinner="Reading the Allan table …", max_entries=4)
 def read_uploaded_adev(data: bytes, name: str, rate_hz: float, samples: int,
                        ci_level: float = 0.95, channel: str | None = None) -> dict[str, AllanResult]:
@@ -114,8 +89,8 @@ def read_uploaded_adev(data: bytes, name: str, rate_hz: float, samples: int,
     try:
         tables = read_via_temp_copy(data, name, lambda p: read_adev_table(p, rate_hz, samples, ci_level=ci_level,
                                                                           channels=channels))
-    except InputError as err:
-        raise _for_dashboard(err, name) from None
+    except InputError as err:  # its ways out in the dashboard's words: uploads.error_text
+        raise err.rename_file(err.file or name) from None
     return {ch: dataclasses.replace(r, source=name) for ch, r in tables.items()}
 
 

@@ -12,17 +12,24 @@ from pathlib import Path
 
 import streamlit as st
 
-from budget.errors import InputError, describe_error
+from budget.errors import InputError, describe_error, in_words_of
 from budget.fileio import printable
 from budget.noise import ImuLog, read_log
 
 log = logging.getLogger("sar_budget.dashboard")
 
 
+#: The interface the library's messages are said for here: the ways out they name (repair, a
+#: rate, channels, workers …) are the dashboard's inputs, not Python arguments or CLI options
+#: (:data:`budget.errors.WAYS`, the one home of those words).
+INTERFACE = "dashboard"
+
+
 def error_text(err: BaseException) -> str:
-    """The one-line message for ``err``: the input problem as the CLI states it, or for an
-    unexpected failure its type and a short hint (the traceback goes to the server log)."""
-    msg = describe_error(err)
+    """The one-line message for ``err``: the input problem as the CLI states it — its ways out in
+    the dashboard's words (:func:`budget.errors.in_words_of`) —, or for an unexpected failure its
+    type and a short hint (the traceback goes to the server log)."""
+    msg = describe_error(err, interface=INTERFACE)
     if msg.kind == "unexpected":
         log.error("dashboard page failed", exc_info=err)
         text = msg.text.split(" — ")[0]
@@ -51,17 +58,27 @@ MAX_FINDINGS_SHOWN = 5
 def show_log_findings(log_: ImuLog) -> None:
     """The log reader's warnings (``st.warning``: a rate below 1 Hz — ms read as s? —, clipped or
     constant channels, jittery stamps) and notes (``st.info``: an ignored column, an unchecked
-    accelerometer unit) on the page itself, each naming the file: a finding that changes every
-    number must not sit in a collapsed report only."""
+    accelerometer unit) on the page itself, each naming the file (its ways out in the dashboard's
+    words): a finding that changes every number must not sit in a collapsed report only."""
     shown = [i for i in log_.issues.issues if i.severity in ("warning", "info")]
     for issue in shown[:MAX_FINDINGS_SHOWN]:
-        text = f"{log_.source}: {printable(issue.text(), 600)}"
+        text = f"{log_.source}: {printable(in_words_of(issue.text(), INTERFACE), 600)}"
         if issue.severity == "warning":
             st.warning(text, icon=":material/warning:")
         else:
             st.info(text, icon=":material/info:")
     if len(shown) > MAX_FINDINGS_SHOWN:
         st.caption(f"{len(shown) - MAX_FINDINGS_SHOWN} more finding(s) in the log report.")
+
+
+#: The tick box of the pages that read logs (noise lab, model gap); the library's message about
+#: a log's problems names it (``budget.errors.REPAIR_WAY``).
+REPAIR_LABEL = "repair the log (drop duplicate/out-of-order rows, interpolate gaps)"
+
+
+def repair_box(key: str, container=st) -> bool:
+    """The log-repair tick box (:data:`REPAIR_LABEL`) under ``key``."""
+    return container.checkbox(REPAIR_LABEL, key=key)
 
 
 @st.cache_data(show_spinner="Reading the log …", max_entries=4)

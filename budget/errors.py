@@ -7,6 +7,11 @@ into one line and an exit status — the single error boundary the CLI and the d
 2 = bad input, 1 = environment (unwritable output, out of memory, unexpected failure),
 130 = cancelled. Values quoted in messages are shortened with :mod:`reprlib`, so a 5 MB cell
 or a billion-laughs YAML tree never reaches ``repr`` whole.
+
+A message that names a way out by an option (``repair=True``, ``--channels``, fewer workers)
+writes it as one of the :class:`Way` constants; :data:`WAYS` holds each in the words of every
+interface, and ``describe_error(err, interface="dashboard")`` says it as the dashboard offers it
+(its tick box, its channel choice, the sidebar) — the one home of those words.
 """
 
 from __future__ import annotations
@@ -239,6 +244,66 @@ def _equal(a, b) -> bool:
 
 
 @dataclass(frozen=True)
+class Way:
+    """A way out that a message names by an option, in each interface's words: ``cli`` is what
+    the library writes (the Python argument and the command-line option — the text of
+    ``str(err)`` and of the CLI), ``dashboard`` what the dashboard offers in its place (the input
+    or tick box it has, or where else to do it when it has none). A message names a way with
+    ``WAY.cli``; :func:`in_words_of` says it for another interface."""
+
+    cli: str
+    dashboard: str
+
+
+#: A log's problems are repaired on request (both dashboard pages that read logs have the box).
+REPAIR_WAY = Way("read with repair=True (CLI --repair)", "tick 'repair the log' beside the upload")
+#: A log without a time column needs its rate; the dashboard reads a log's rate from its time column.
+LOG_RATE_WAY = Way(", or rate_hz (--rate-hz / mapping rate_hz)",
+                   " (the dashboard reads a log's rate from its time column only)")
+#: Time stamps in ms or µs read as seconds.
+LOG_TIME_UNIT_WAY = Way("or give the rate (--rate-hz)", "or write the unit in its header (time [ms])")
+#: A log channel that cannot be used (clipped) is left out of the reading.
+LOG_CHANNEL_WAY = Way("leave this channel out (--channels, or channels= in the library)",
+                      "leave this channel's column out of the uploaded file")
+#: The channel of an Allan table that holds one curve and no channel column.
+CURVE_CHANNEL_WAY = Way("--channels gyro_z on the command line, channels=['gyro_z'] in Python",
+                        "pick it in 'channel of this curve' below the upload")
+#: The rate of the record an Allan table was computed from (the table does not hold it).
+TABLE_RATE_WAY = Way("--rate-hz of the record", "the sampling rate of the record")
+#: A log column that is no canonical name is read through a mapping, which the dashboard does not take.
+LOG_MAPPING_WAY = Way("and not mapped (--mapping)", "(rename it in the file: the dashboard takes no mapping)")
+#: Logger names in the header (GyroX …): the mapping that reads them.
+LOG_NAMES_WAY = Way("or a --mapping that names them (source column → canonical name)",
+                    "(rename the columns in the file: the dashboard takes no mapping)")
+#: The model-gap workflow's τ-range check, which the dashboard always makes.
+GAP_TAU_CHECK_WAY = Way(" (or check_tau_range=False / --no-tau-check)", "")
+#: The channels the model-gap workflow compares (a subset of the measurement's).
+GAP_CHANNELS_WAY = Way("channels= / --channels", "pick them in 'channels compared' on the page")
+#: A motion run's working memory: the process pool the dashboard does not let one size.
+MOTION_MEMORY_WAY = Way("fewer workers, a lower imu_rate_hz", "a lower imu rate (Hz) in the sidebar's scenario fields")
+
+#: Every way a library message names, longest first (a way's words never rewrite another's).
+WAYS: tuple[Way, ...] = tuple(sorted((REPAIR_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, LOG_CHANNEL_WAY, LOG_MAPPING_WAY,
+                                      LOG_NAMES_WAY, CURVE_CHANNEL_WAY, TABLE_RATE_WAY, GAP_CHANNELS_WAY,
+                                      GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY), key=lambda w: -len(w.cli)))
+#: The interfaces a message can be said for.
+INTERFACES = ("cli", "dashboard")
+
+
+def in_words_of(text: str, interface: str = "cli") -> str:
+    """``text`` (an error's message, a log finding) with every way out it names (:data:`WAYS`)
+    in the words of ``interface``: ``"cli"`` leaves it as the library wrote it, ``"dashboard"``
+    names the dashboard's inputs instead of options a dashboard user cannot give."""
+    if interface not in INTERFACES:
+        raise ValueError(f"interface must be one of {', '.join(INTERFACES)}, not {interface!r}")
+    if interface == "cli":
+        return text
+    for way in WAYS:
+        text = text.replace(way.cli, getattr(way, interface))
+    return text
+
+
+@dataclass(frozen=True)
 class UserMessage:
     """What a user is shown for an exception: one line of ``text`` and the process ``exit_code``."""
 
@@ -250,17 +315,18 @@ class UserMessage:
 DEBUG_HINT = "rerun with --debug (or SAR_BUDGET_DEBUG=1) for the traceback, and report it"
 
 
-def describe_error(err: BaseException) -> UserMessage:
+def describe_error(err: BaseException, interface: str = "cli") -> UserMessage:
     """One line and an exit status for any exception (the CLI's and the dashboard's boundary).
 
     Bad input (:class:`InputError`, too deep nesting, integers too long to convert) → 2; an
     unwritable output, a file system or memory problem → 1; anything else → 1 with the
-    exception type and a hint, never a traceback.
+    exception type and a hint, never a traceback. ``interface`` (``"cli"`` or ``"dashboard"``)
+    says an input problem's ways out in that interface's words (:func:`in_words_of`).
     """
     if isinstance(err, InputError):
-        return UserMessage(str(err), EXIT_INPUT, "input")
+        return UserMessage(in_words_of(str(err), interface), EXIT_INPUT, "input")
     if isinstance(err, ValidationError):
-        return UserMessage(str(from_validation_error(err)), EXIT_INPUT, "input")
+        return UserMessage(in_words_of(str(from_validation_error(err)), interface), EXIT_INPUT, "input")
     if isinstance(err, KeyboardInterrupt):
         return UserMessage("cancelled", EXIT_CANCELLED, "cancelled")
     if isinstance(err, RecursionError):

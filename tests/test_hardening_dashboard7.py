@@ -108,14 +108,16 @@ def test_a_one_curve_table_is_read_as_the_channel_picked(page, radio, uploader, 
 def test_the_channel_message_speaks_of_the_dashboard_not_the_command_line():
     from upload_tables import read_uploaded_adev
 
+    from uploads import error_text  # the library's message in the dashboard's words (test_hardening_dashboard8)
+
     with pytest.raises(InputError) as got:  # no channel picked: what the library refuses
         read_uploaded_adev(_curve().encode(), "one.csv", 100.0, 1_000_000, channel=None)
-    text = str(got.value)
+    text = error_text(got.value)
     assert text.startswith("one.csv, row 1, field channel: the table has no channel column")
     assert "'channel of this curve'" in text and "--channels" not in text and "channels=" not in text
     with pytest.raises(InputError) as got:  # τ off the rate's grid: the page's input, not --rate-hz
         read_uploaded_adev(_curve().encode(), "one.csv", 37.0, 1_000_000, channel="gyro_z")
-    assert "--rate-hz" not in str(got.value) and "sampling rate of the record" in str(got.value)
+    assert "--rate-hz" not in error_text(got.value) and "sampling rate of the record" in error_text(got.value)
 
 
 # --- 2. bracketed units and UTF-16 through the library's readers ----------------------------------
@@ -154,7 +156,7 @@ def test_a_motion_run_refused_for_its_memory_is_one_line_and_leaves_no_bar(monke
     at.number_input(key="sw_seed").set_value(70_707).run()
     at.button(key="sw_run_grid").click().run()
     text = _errors(at)
-    assert len(text) == 1 and text[0].startswith("The sweep was not run: ") and "a motion run may use" in text[0]
+    assert len(text) == 1 and text[0].startswith("Sweep of scenarios airborne_xband") and "a motion run may use" in text[0]
     assert not at.get("progress")
     assert at.button(key="sw_run_line")  # the rest of the page is still drawn
 

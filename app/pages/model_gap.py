@@ -20,6 +20,7 @@ from budget.gap import run_gap
 from budget.gap.inputs import log_from_arrays
 from budget.imu.generator import simulate_static_log
 from budget.imu.noise_model import NoiseModel
+from budget.noise import ImuLog
 from budget.units import CHANNELS
 from budget.plots.gap import adev_figure, gap_figure, psd_figure
 
@@ -28,7 +29,7 @@ from formatting import fmt_value, tidy
 from page_frame import run_page
 from upload_tables import adev_inputs, curve_channel, is_adev_table, needs_channel, read_uploaded_adev, \
     upload_log_or_table
-from uploads import read_uploaded_log, read_via_temp_copy, show_log_findings
+from uploads import read_uploaded_log, read_via_temp_copy, repair_box, show_log_findings
 
 SOURCES = ("built-in example (a part with a hidden effect)", "upload a log or an Allan table")
 #: The example: 30 min at 100 Hz of the chosen part, plus a sinusoid on gyro_z the part does not
@@ -40,6 +41,9 @@ EXAMPLE_EFFECT = {"name": "sinusoid", "channel": "gyro_z",
 DEFAULT_MAX_ROWS = 1_000_000
 #: Session-state key of the last run: (request tuple, GapReport).
 RESULT_KEY = "gap_result"
+#: The choice of the measurement's channels the workflow compares (``run_gap(channels=)``); the
+#: library's messages name it (``budget.errors.GAP_CHANNELS_WAY``).
+CHANNELS_LABEL = "channels compared"
 
 
 @st.cache_data(show_spinner="Simulating the example log …", max_entries=4)
@@ -51,12 +55,13 @@ def _example(part_json: str, seed: int):
 
 
 def _run(model_json: str, from_catalog: bool, seed: int, realizations: int, measured, rate_hz=None,
-         samples=None):
+         samples=None, channels=None):
     model = NoiseModel.model_validate_json(model_json)
     # a catalog part is checked as a part (its datasheet rate need not be the log's rate)
     arg = PartSpec.model_validate(model.model_dump(exclude={"effects"})) if from_catalog else model
     with st.spinner("Comparing the measurement with the model …"):
-        return run_gap(measured, arg, seed=seed, realizations=realizations, rate_hz=rate_hz, samples=samples)
+        return run_gap(measured, arg, seed=seed, realizations=realizations, rate_hz=rate_hz, samples=samples,
+                       channels=channels)
 
 
 def silent_channels(model: NoiseModel, channels) -> list[str]:
@@ -105,12 +110,13 @@ def _origin(model: NoiseModel) -> str:
 
 
 def _measured(model: NoiseModel, seed: int):
-    """(request key, measured object, rate_hz, samples) or None while nothing is uploaded."""
+    """(request key, measured object, rate_hz, samples, its name) or None while nothing is uploaded."""
     src = st.radio("measured", SOURCES, horizontal=True, key="gap_source")
     if src == SOURCES[0]:
         if _refuse_silent(model, _origin(model), CHANNELS, "the example log would hold constant channels"):
             return None
-        return f"example-{seed}-{model.part_id}", _example(model.model_dump_json(), seed), None, None
+        return f"example-{seed}-{model.part_id}", _example(model.model_dump_json(), seed), None, None, \
+            "the example log"
     st.markdown("A static **log** (canonical columns, a unit in brackets read too: `gyro_x [deg/s]`; plain or "
                 ".gz/.bz2/.xz/.zip, read in chunks as the CLI reads it; UTF-8 or UTF-16 with its byte-order "
                 "mark) or an **Allan table** `channel, tau_s, adev[, lci, uci]`; a table of one curve "
@@ -129,17 +135,30 @@ def _measured(model: NoiseModel, seed: int):
                 return None
         tables = read_uploaded_adev(data, name, rate, samples, channel=curve)
         st.caption(f"{name}: Allan table, channels {', '.join(tables)} (compared by ADEV only).")
-        if _refuse_silent(model, _origin(model), tables, f"nothing to compare {name} with"):
-            return None
-        return f"{name}-{digest}-{rate}-{samples}-{curve}", tables, None, None
-    max_rows = int(st.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
-                                   step=100_000, key="gap_max_rows"))
-    log = read_uploaded_log(data, name, max_rows, False)
+        return f"{name}-{digest}-{rate}-{samples}-{curve}", tables, None, None, name
+    left, right = st.columns(2)
+    max_rows = int(left.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
+                                     step=100_000, key="gap_max_rows"))
+    repair = repair_box("gap_repair", right)  # the library's repair= of the log (run_gap reads it repaired)
+    log = read_uploaded_log(data, name, max_rows, repair)
     st.caption(f"{name}: {log.n_samples} samples at {log.rate_hz:.6g} Hz ({log.duration_s:.6g} s).")
     show_log_findings(log)
-    if _refuse_silent(model, _origin(model), log.channels, f"nothing to compare {name} with"):
+    return f"{name}-{digest}-{max_rows}-{repair}", log, None, None, name
+
+
+def _compared(model: NoiseModel, measured, name: str) -> list[str] | None:
+    """The measurement's channels the user compares (all by default), or None (with the reason)
+    when none is picked or a picked one has no noise term in the model."""
+    have = list(measured.channels if isinstance(measured, ImuLog) else measured)
+    picked = st.multiselect(CHANNELS_LABEL, have, default=have, key=f"gap_channels_{'-'.join(have)}",
+                            help="the workflow compares these channels of the measurement with the model")
+    if not picked:
+        st.info(f"Pick at least one channel of {name} to compare.", icon=":material/info:")
         return None
-    return f"{name}-{digest}-{max_rows}", log, None, None
+    if _refuse_silent(model, _origin(model), picked,
+                      f"nothing to compare {name} with there; leave them out of '{CHANNELS_LABEL}'"):
+        return None
+    return picked
 
 
 def _show(report) -> None:
@@ -204,10 +223,14 @@ def render() -> None:
     got = _measured(model, seed)
     if got is None:
         return
-    key, measured, rate_hz, samples = got
-    request = (key, model.model_dump_json(), from_catalog, seed, realizations)
+    key, measured, rate_hz, samples, name = got
+    channels = _compared(model, measured, name)
+    if channels is None:
+        return
+    request = (key, model.model_dump_json(), from_catalog, seed, realizations, tuple(channels))
     if right.button("Run", type="primary", key="gap_run"):
-        report = _run(model.model_dump_json(), from_catalog, seed, realizations, measured, rate_hz, samples)
+        report = _run(model.model_dump_json(), from_catalog, seed, realizations, measured, rate_hz, samples,
+                      channels)
         st.session_state[RESULT_KEY] = (request, report)
     last = st.session_state.get(RESULT_KEY)
     if last is None:

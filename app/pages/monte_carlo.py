@@ -157,8 +157,7 @@ def _downloads(results: dict[str, McResult], scenario: Scenario, catalog: dict, 
 def run_error(scenario: str, origin: str | None, parts: list[str], text: str) -> str:
     """One line for a Monte Carlo the library refused: the scenario (and where its fields came
     from), the parts it was asked for, and the library's message."""
-    where = f" (fields from {origin})" if origin else ""
-    return f"Monte Carlo of scenario {scenario}{where} for {', '.join(parts)} not run: {text}"
+    return c.refused_run("Monte Carlo", [c.scenario_named(scenario, origin)], parts, text)
 
 
 def ctx_mode(mode: str) -> str:

@@ -25,7 +25,7 @@ from formatting import tidy, value_table
 from page_frame import run_page
 from upload_tables import adev_inputs, curve_channel, is_adev_table, needs_channel, read_uploaded_adev, \
     upload_log_or_table
-from uploads import naming_upload, read_uploaded_log, show_log_findings
+from uploads import naming_upload, read_uploaded_log, repair_box, show_error, show_log_findings
 
 DEFAULT_MAX_ROWS = 500_000
 DEFAULT_ARMA_SAMPLES = 20_000
@@ -103,18 +103,15 @@ def _load(data: bytes, name: str) -> ImuLog | None:
     left, right = st.columns(2)
     max_rows = int(left.number_input("read at most this many rows", min_value=100, value=DEFAULT_MAX_ROWS,
                                      step=10_000, key="noise_max_rows"))
-    repair = right.checkbox("repair the log (drop duplicate/out-of-order rows, interpolate gaps)",
-                            key="noise_repair")
+    repair = repair_box("noise_repair", right)
     try:
         log = read_uploaded_log(data, name, max_rows, repair)
     except LogError as err:
-        st.error(str(err), icon=":material/error:")
-        if not repair:
-            st.caption("Here: tick **repair the log** above to repair it.")
+        show_error(err)
         st.dataframe(err.report.to_frame(), hide_index=True, key="noise_log_errors")
         return None
     except InputError as err:
-        st.error(str(err), icon=":material/error:")
+        show_error(err)
         return None
     st.markdown(f"<span id='noise-loaded'>**{name}**: {log.n_samples} samples at {log.rate_hz:.6g} Hz "
                 f"({log.duration_s:.6g} s)</span>; channels "

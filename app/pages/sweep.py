@@ -60,18 +60,25 @@ def _progress():
     return bar, cb
 
 
-def _guarded_run(what: str, run):
+def _guarded_run(what: str, scenarios: list[str], parts: list, run):
     """``run(progress)`` with a progress bar; a refusal (a motion run beyond its memory limit, a
-    scenario the simulator cannot form) is one line on the page, the bar is removed either way and
-    the rest of the page (and the last result) stays. → the table, or None when refused."""
+    scenario the simulator cannot form) is one line on the page naming the scenario(s) and parts
+    as the Monte Carlo page does, the bar is removed either way and the rest of the page (and the
+    last result) stays. → the table, or None when refused."""
     bar, cb = _progress()
     try:
         return run(cb)
     except InputError as err:
-        st.error(f"The {what} was not run: {error_text(err)}", icon=":material/error:")
+        st.error(c.refused_run(what, scenarios, [p.part_id for p in parts], error_text(err)),
+                 icon=":material/error:")
         return None
     finally:
         bar.empty()
+
+
+def _sidebar_scenario(s) -> str:
+    """The sidebar's scenario as a refusal names it (with where its fields came from)."""
+    return c.scenario_named(s.name, st.session_state.get(sidebar.BASE_ORIGIN_KEY))
 
 
 def _downloads(table, stem: str, key: str) -> None:
@@ -102,8 +109,10 @@ def _grid(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
         scens = [ctx.scenario if s == CURRENT else s for s in names if not (same and s == CURRENT)]
         from budget.api import load_scenarios
 
-        table = _guarded_run("sweep", lambda cb: run_sweep(parts, _with_mode(load_scenarios(scens), mode), trials,
-                                                            seed, progress=cb))
+        described = [_sidebar_scenario(s) if s is ctx.scenario else s for s in scens]
+        table = _guarded_run("Sweep", described, parts,
+                             lambda cb: run_sweep(parts, _with_mode(load_scenarios(scens), mode), trials, seed,
+                                                  progress=cb))
         if table is not None:
             st.session_state[GRID_KEY] = table
     table = st.session_state.get(GRID_KEY)
@@ -132,7 +141,7 @@ def _line(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
     st.caption(f"{field} = " + ", ".join(f"{v:.4g}" for v in values) + f" on scenario **{s.name}**")
     if st.button("Run", key="sw_run_line", type="primary", disabled=not parts):
         base = _with_mode([s], mode)[0]
-        table = _guarded_run(f"sweep over {field}",
+        table = _guarded_run(f"Sweep over {field}", [_sidebar_scenario(s)], parts,
                              lambda cb: sweep_over(parts, base, field, values, trials, seed, progress=cb))
         if table is not None:
             st.session_state[LINE_KEY] = (field, table)

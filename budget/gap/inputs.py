@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ..catalog.schema import FLICKER_FLOOR
-from ..errors import InputError
+from ..errors import GAP_CHANNELS_WAY, GAP_TAU_CHECK_WAY, InputError
 from ..imu import NoiseModel
 from ..imu.registry import DETERMINISTIC_EFFECTS, TEMPERATURE_EFFECTS
 from ..imu.resolve import resolve_noise_model
@@ -182,9 +182,8 @@ def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,
     if missing:
         raise InputError(f"channel(s) {', '.join(missing)} missing from the measurement",
                          file=meas.source, field="channels",
-                         expected=f"every compared channel present (the model describes all six; "
-                                  f"compare a subset with channels=/--channels "
-                                  f"{','.join(meas.channels) or '…'})")
+                         expected=f"every compared channel present (the model describes all six; compare a "
+                                  f"subset of {','.join(meas.channels) or '…'}: {GAP_CHANNELS_WAY.cli})")
     if model.rate_hz is not None and abs(model.rate_hz - meas.rate_hz) > RATE_TOLERANCE * model.rate_hz:
         if from_catalog and meas.rate_hz < model.rate_hz:
             notes.append(f"catalog rate {model.rate_hz:g} Hz is the part's output rate; the log was "
@@ -222,7 +221,7 @@ def _check_random_terms(model: NoiseModel, wanted, source) -> None:
                          expected="a noise figure for every compared channel (gyro_arw_deg_rt_h / "
                                   "gyro_bias_instability_deg_h for gyros, accel_vrw_m_s_rt_h / "
                                   "accel_bias_instability_ug for accelerometers, or a noise effect), "
-                                  "or compare only the channels it describes (channels= / --channels)")
+                                  f"or compare only the channels it describes ({GAP_CHANNELS_WAY.cli})")
 
 
 def _check_tau(meas: Measured, model: NoiseModel, wanted) -> None:
@@ -242,5 +241,4 @@ def _check_tau(meas: Measured, model: NoiseModel, wanted) -> None:
                                  f"τ = {tau_max:.4g} s but the model's bias-instability floor on {ch} "
                                  f"starts at τ ≈ {need:.4g} s", file=meas.source, field="samples",
                                  value=meas.n_samples,
-                                 expected=f"at least {samples} samples at {meas.rate_hz:g} Hz "
-                                          "(or check_tau_range=False / --no-tau-check)")
+                                 expected=f"at least {samples} samples at {meas.rate_hz:g} Hz{GAP_TAU_CHECK_WAY.cli}")

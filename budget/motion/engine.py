@@ -58,7 +58,7 @@ from ..aiding.flexure import antenna_flexure_error, simulate_flexure
 from ..aiding.kalman import joseph_update
 from ..aiding.measurements import measurement_from_config
 from ..aiding_spec import AidingPlan
-from ..errors import InputError, from_validation_error, whole_number
+from ..errors import MOTION_MEMORY_WAY, InputError, from_validation_error, whole_number
 from ..imu.generator import generate_imu_errors
 from ..imu.noise_model import NoiseModel, NoiseModelSI, as_noise_model_si
 from ..nav.earth import flat_earth_neglect, navigation_frame_rate
@@ -464,7 +464,7 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
             f"× {cost['block']}-trial blocks × {min(workers, cost['blocks'])} worker(s); ≈ "
             f"{cost['cpu_s']:.0f} s CPU), more than the {MAX_WORKING_BYTES / 1e9:g} GB a motion run may use",
             field="imu_rate_hz" if not aided else "aiding_warmup_s",
-            expected="fewer workers, a lower imu_rate_hz" + (", a shorter aiding_warmup_s" if aided else "")
+            expected=MOTION_MEMORY_WAY.cli + (", a shorter aiding_warmup_s" if aided else "")
                      + " or a shorter aperture (memory does not depend on the number of trials)")
     ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series, prefilter, aiding,
                    frame_rate=frame["rate"])

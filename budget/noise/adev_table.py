@@ -46,7 +46,7 @@ import pandas as pd
 from scipy import optimize, stats
 
 from .. import units as u
-from ..errors import InputError
+from ..errors import CURVE_CHANNEL_WAY, TABLE_RATE_WAY, InputError
 from ..fileio import open_input, read_text, require_file, text_encoding
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
 from .logs import decimal_comma
@@ -196,7 +196,7 @@ def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1,
 
 def _only_channel(channels: list[str] | None, path: Path, header_row: int) -> str:
     """The channel of a table with one curve and no channel column: the one ``channels`` names."""
-    how = ("name its channel: --channels gyro_z on the command line, channels=['gyro_z'] in Python; or "
+    how = (f"name its channel: {CURVE_CHANNEL_WAY.cli}; or "
            "add a channel column (channel, tau_s, adev), or name the ADEV column after its channel "
            "and unit (tau_s, gyro_z_dps)")
     if not channels:
@@ -343,7 +343,7 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
     require_file(path)
     if not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
         raise InputError("sampling rate of the record is required", field="rate_hz", value=rate_hz,
-                         expected="--rate-hz F > 0 (the rate of the data the curve came from)")
+                         expected=f"{TABLE_RATE_WAY.cli} > 0 (the rate of the data the curve came from)")
     if not (isinstance(samples, (int, np.integer)) and samples >= 3):
         raise InputError("record length is required", field="samples", value=samples,
                          expected="--samples N ≥ 3 (number of samples behind the curve)")
@@ -412,7 +412,7 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
         raise InputError(f"τ·rate = {m_raw[i]:.6g} is not a whole number of samples", file=path,
                          row=int(rows[i]) + 2, field="tau_s", value=tau[i],
                          expected=f"τ within {TAU_TOLERANCE:.0%} of a multiple of 1/rate = "
-                                  f"{1 / rate_hz:.6g} s (check --rate-hz)")
+                                  f"{1 / rate_hz:.6g} s (check {TABLE_RATE_WAY.cli})")
     # τ from a clock of another rate: every short-τ row off by the same fraction (measured time
     # stamps scatter row by row instead); at long τ the same error rounds to another whole m
     short = np.flatnonzero(m <= 8)
@@ -423,7 +423,7 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
             raise InputError(f"τ·rate is {100 * r.mean():+.1f} % off a whole number of samples on every short-τ row "
                              "alike: the curve's rate is not the one given", file=path, row=int(rows[short[0]]) + 2,
                              field="tau_s", value=tau[short[0]],
-                             expected=f"--rate-hz of the record the curve came from (about {rate_hz / (1 + r.mean()):.6g} Hz?)")
+                             expected=f"{TABLE_RATE_WAY.cli} the curve came from (about {rate_hz / (1 + r.mean()):.6g} Hz?)")
     same = np.flatnonzero(np.diff(m) <= 0)
     if same.size:
         i = int(same[0]) + 1
@@ -450,7 +450,7 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
         i = int(too_long[0])
         raise InputError("τ longer than half the record", file=path, row=int(rows[i]) + 2,
                          field="tau_s", value=tau[i],
-                         expected=f"τ ≤ {(n_phase - 2) // 2 / rate_hz:.6g} s for --samples {samples}")
+                         expected=f"τ ≤ {(n_phase - 2) // 2 / rate_hz:.6g} s for a record of {samples} samples")
     factor = u.CHANNEL_UNIT_TO_SI[unit]
     si_unit = u.channel_si_unit(ch)
     alpha = noise_type_from_slope(tau, adev)

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..errors import InputError
+from ..errors import LOG_CHANNEL_WAY, InputError
 from ..units import G0
 
 #: Largest plausible magnitude of a sample in SI: an angular rate (rad/s, ≈ 57 000 deg/s) and a
@@ -311,8 +311,7 @@ def clipped(data: np.ndarray, names: tuple[str, ...], channel_index: dict[str, i
             if share >= CLIP_SHARE:
                 return InputError(text + " every noise figure of this channel would be off", file=path,
                                   field=names[j], expected="a static log within the sensor's range (a "
-                                  "larger range setting), or leave this channel out (--channels, or "
-                                  "channels= in the library)"), warn
+                                  f"larger range setting), or {LOG_CHANNEL_WAY.cli}"), warn
             rows = np.flatnonzero(data[:, j] == values[end])
             warn.append(LogIssue("clipped", "warning", text, k, _rows(rows), names[j]))
     return None, warn

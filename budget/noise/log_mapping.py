@@ -22,7 +22,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from .. import units as u
-from ..errors import InputError, from_validation_error, refuse_bool_numbers
+from ..errors import LOG_NAMES_WAY, InputError, from_validation_error, refuse_bool_numbers
 from ..fileio import read_structured
 
 #: Time column name → factor to seconds.
@@ -332,7 +332,6 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
                       "mps2, g; raw counts: with a \"scale\")")
         raise InputError(f"no sensor channel column found in the header row ({shown}){hint}",
                          file=path, row=1 + (mapping.skip_rows if mapping else 0),
-                         expected="columns like gyro_x_dps … accel_z_mps2, or a --mapping that "
-                                  "names them (source column → canonical name)")
+                         expected=f"columns like gyro_x_dps … accel_z_mps2, {LOG_NAMES_WAY.cli}")
     return ColumnPlan(tuple(sources), tuple(targets), tuple(factors), time_index, temp_index,
                       channel_index, source_units, tuple(ignored), temp_offset, tuple(temp_notes))

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..errors import InputError
+from ..errors import LOG_MAPPING_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, REPAIR_WAY, InputError
 from ..fileio import check_input_file, compression_of, input_encoding, open_input, require_file
 from ..units import CHANNELS
 from . import log_checks as lc
@@ -279,8 +279,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     rate_given = rate_hz if rate_hz is not None else (mapping.rate_hz if mapping else None)
     if plan.time_index is None and rate_given is None:
         raise InputError("no time column and no sampling rate" + time_unit_hint(plan.ignored), file=path,
-                         expected="a time_s column (or time [s], time [ms]), or rate_hz (--rate-hz / "
-                                  "mapping rate_hz)")
+                         expected=f"a time_s column (or time [s], time [ms]){LOG_RATE_WAY.cli}")
     if rate_given is not None and not (math.isfinite(rate_given) and rate_given > 0):
         raise InputError("sampling rate must be a positive number", field="rate_hz", value=rate_given)
     data = _read_chunks(path, plan, mapping, max_rows, chunk_rows, kind, fmt)
@@ -288,7 +287,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
         raise InputError("no data rows after the header", file=path)
     report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "column not read: not a "
                                               "canonical name (time_s, gyro_x_dps, accel_x_mps2, temp_c, "
-                                              "…) and not mapped (--mapping)", 0, (), c)
+                                              f"…) {LOG_MAPPING_WAY.cli}", 0, (), c)
                                   for c in plan.ignored]
                           + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes])
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
@@ -310,7 +309,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
             first = "; ".join(i.text() for i in report.errors[:3])
             more = f" (+{len(report.errors) - 3} more)" if len(report.errors) > 3 else ""
             raise LogError(f"{len(report.errors)} problem(s) in the log: {first}{more}; nothing "
-                           "was changed — read with repair=True (CLI --repair) to drop duplicate "
+                           f"was changed — {REPAIR_WAY.cli} to drop duplicate "
                            "and out-of-order rows, interpolate missing values and keep the "
                            "longest gap-free stretch", report, file=path)
         try:
@@ -394,6 +393,6 @@ def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, 
     if rate < LOW_RATE_HZ:  # plausible for an averaged log, but also what ms read as s gives
         report.issues.append(lc.LogIssue(
             "low_rate", "warning", f"time stamps give {rate:.6g} Hz: if they are in ms (µs), name the "
-            f"column time_ms (time_us) or give the rate (--rate-hz); every noise figure scales with it",
+            f"column time_ms (time_us) {LOG_TIME_UNIT_WAY.cli}; every noise figure scales with it",
             0, (), "time"))
     return rate
