@@ -94,6 +94,28 @@ def read_uploaded_adev(data: bytes, name: str, rate_hz: float, samples: int,
     return {ch: dataclasses.replace(r, source=name) for ch, r in tables.items()}
 
 
+@dataclasses.dataclass(frozen=True)
+class UploadedTable:
+    """An uploaded Allan table read with the record's rate and length the page asked for."""
+
+    tables: dict[str, AllanResult]
+    rate_hz: float
+    samples: int
+    curve_channel: str | None  # the channel picked for a one-curve table, else None
+
+
+def uploaded_adev(prefix: str, data: bytes, name: str) -> UploadedTable | None:
+    """Ask for the record's rate and length (:func:`adev_inputs`) and, for a one-curve table, its
+    channel (:func:`curve_channel`), then read the table; ``None`` while the channel is not picked."""
+    rate, samples = adev_inputs(prefix)
+    curve = None
+    if needs_channel(data, name):
+        curve = curve_channel(prefix, name)
+        if curve is None:
+            return None
+    return UploadedTable(read_uploaded_adev(data, name, rate, samples, channel=curve), rate, samples, curve)
+
+
 def adev_inputs(prefix: str, container=st) -> tuple[float, int]:
     """Rate and record length behind an Allan table (not in the table itself)."""
     left, right = container.columns(2)

@@ -27,8 +27,7 @@ from budget.plots.gap import adev_figure, gap_figure, psd_figure
 import components as c
 from formatting import fmt_value, tidy
 from page_frame import run_page
-from upload_tables import adev_inputs, curve_channel, is_adev_table, needs_channel, read_uploaded_adev, \
-    upload_log_or_table
+from upload_tables import is_adev_table, upload_log_or_table, uploaded_adev
 from uploads import read_uploaded_log, read_via_temp_copy, repair_box, show_log_findings
 
 SOURCES = ("built-in example (a part with a hidden effect)", "upload a log or an Allan table")
@@ -127,15 +126,12 @@ def _measured(model: NoiseModel, seed: int):
     data, name = upload
     digest = hashlib.sha256(data).hexdigest()[:16]
     if is_adev_table(data, name):
-        rate, samples = adev_inputs("gap")
-        curve = None
-        if needs_channel(data, name):
-            curve = curve_channel("gap", name)
-            if curve is None:
-                return None
-        tables = read_uploaded_adev(data, name, rate, samples, channel=curve)
-        st.caption(f"{name}: Allan table, channels {', '.join(tables)} (compared by ADEV only).")
-        return f"{name}-{digest}-{rate}-{samples}-{curve}", tables, None, None, name
+        table = uploaded_adev("gap", data, name)
+        if table is None:  # waiting for the channel of a one-curve table
+            return None
+        st.caption(f"{name}: Allan table, channels {', '.join(table.tables)} (compared by ADEV only).")
+        return (f"{name}-{digest}-{table.rate_hz}-{table.samples}-{table.curve_channel}", table.tables,
+                None, None, name)
     left, right = st.columns(2)
     max_rows = int(left.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
                                      step=100_000, key="gap_max_rows"))

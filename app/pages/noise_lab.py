@@ -23,8 +23,7 @@ from budget.units import channel_si_unit
 
 from formatting import tidy, value_table
 from page_frame import run_page
-from upload_tables import adev_inputs, curve_channel, is_adev_table, needs_channel, read_uploaded_adev, \
-    upload_log_or_table
+from upload_tables import is_adev_table, upload_log_or_table, uploaded_adev
 from uploads import naming_upload, read_uploaded_log, repair_box, show_error, show_log_findings
 
 DEFAULT_MAX_ROWS = 500_000
@@ -187,18 +186,15 @@ def _allan_table_sections(data: bytes, name: str) -> dict | None:
     """An uploaded Allan table: its curves, the IEEE-952 fit per channel (no ARMA: no series)."""
     st.markdown(f"**{name}** is an Allan table. The record's rate and length are not in it; give them "
                 "(they fix the averaging factors and, without lci/uci, the confidence intervals).")
-    rate, samples = adev_inputs("noise")
-    curve = None
-    if needs_channel(data, name):
-        curve = curve_channel("noise", name)
-        if curve is None:
-            return None
-    tables = read_uploaded_adev(data, name, rate, samples, channel=curve)
+    table = uploaded_adev("noise", data, name)
+    if table is None:  # waiting for the channel of a one-curve table
+        return None
+    tables = table.tables
     st.markdown(f"<span id='noise-loaded'>**{name}**: Allan table, {len(tables)} channel(s): "
                 f"{', '.join(tables)}</span>", unsafe_allow_html=True)
     channel = st.selectbox("channel", list(tables), key="noise_table_channel")
     try:
-        ch = _characterize(f"{name}:{rate}:{samples}:{curve}", "measured_imu", tables)
+        ch = _characterize(f"{name}:{table.rate_hz}:{table.samples}:{table.curve_channel}", "measured_imu", tables)
     except InputError as err:
         raise naming_upload(err, name) from None
     terms = ch.channels.get(channel)
