@@ -3,8 +3,11 @@ which of the effects that pass the penalised test is named, and which others are
 
 * :func:`located_over_spread` — a located pattern of the slow modes (a bias step) over a spread
   (a walk) that Σz² ranks about equal, when the modes' own likelihood tells them apart;
+* :func:`richer_spread` — a spread whose family holds the best-ranked spread as a limit (a
+  Gauss–Markov term over a walk), when the modes' profile likelihood tells them apart;
 * :func:`parsimonious` — Occam's step: a richer effect keeps its place only when its extra
-  parameters buy a significant drop (of Σz², or of the modes' likelihood for a located one);
+  parameters buy a significant drop (of Σz², or of the modes' likelihood for a located one or
+  a nested spread);
 * :func:`alternatives` — the effects the record does not tell apart from the named one.
 
 ``st`` is the channel's state of the workflow: its grid, measured signature, model summary and
@@ -37,8 +40,9 @@ def alternatives(ch: str, best: CandidateFit, scored, score, st: State | None = 
     (penalised Σz² improvement, the ranking's own) is within :data:`ALTERNATIVE_MARGIN` of
     ``best``'s: the record does not tell them apart (e.g. a rate random walk and a ramp or a
     flicker term over one hour) — unless the slow modes' likelihood does, by more than the same
-    margin, for an effect located in time (:func:`located_mode_lr`; ``st``: the channel's
-    state, ``None``: scores only). Best first; ``margin`` is how far below ``best`` each lies."""
+    margin, for an effect located in time (:func:`located_mode_lr`) or for a named spread whose
+    family holds the other as a limit (:func:`spread_mode_lr`; ``st``: the channel's state,
+    ``None``: scores only). Best first; ``margin`` is how far below ``best`` each lies."""
     top = score((ch, best))
     out = []
     for c, f in scored:
@@ -50,6 +54,8 @@ def alternatives(ch: str, best: CandidateFit, scored, score, st: State | None = 
             if lr is None and st is not None:
                 back = located_mode_lr(st, best.effect, f.effect)
                 lr = None if back is None else -back
+            if lr is None and st is not None:
+                lr = spread_mode_lr(st, f.effect, best.effect)
             if lr is not None and lr > ALTERNATIVE_MARGIN:
                 continue
             out.append((s, f))
@@ -116,7 +122,59 @@ def parsimonious(ch: str, best: CandidateFit, scored, score, st: State, null: Nu
     if extra > need:
         return best
     lr = located_mode_lr(st, simple.effect, best.effect)
+    if lr is None:
+        lr = spread_mode_lr(st, simple.effect, best.effect)
     return best if lr is not None and lr > need else simple
+
+
+def richer_spread(ch: str, best: CandidateFit, scored, score, st: State, alpha: float) -> CandidateFit:
+    """When the best-scoring candidate is a spread (a walk) and another on its channel, within
+    :data:`ALTERNATIVE_MARGIN` of it on the ranking's penalised Σz² and with a positive score,
+    is a richer spread whose family holds it as a limit (a Gauss–Markov term,
+    :data:`budget.gap.walk.NESTED_SPREADS`), the richer one is taken when the slow modes'
+    profile likelihood ratio (:func:`spread_mode_lr`) exceeds χ²_Δp(1 − α), Δp its extra
+    parameters: the likelihood-ratio test of nested models (Wilks), on the part of the record
+    where the two differ.
+
+    Σz² does not tell them apart where it matters: a walk's spectrum keeps rising as f⁻² below
+    the Gauss–Markov corner 1/(2πτ), the Gauss–Markov term's is flat there, and only the
+    record's slowest modes lie below it (periods 3600 … 630 s for τ = 100 s on a 30-min log,
+    5 of the 48 modes). Σz² sees them through the slow-mode statistic T (one number, their
+    summed power) and the last Allan octaves (a few degrees of freedom); the modes' likelihood
+    sees each mode's variance against the f⁻² or flat shape."""
+    top = score((ch, best))
+    better = []
+    for c, f in scored:
+        if c != ch or f.n_params <= best.n_params or not (np.isfinite(score((c, f))) and score((c, f)) > 0):
+            continue
+        if top - score((c, f)) > ALTERNATIVE_MARGIN:
+            continue
+        lr = spread_mode_lr(st, best.effect, f.effect)
+        if lr is not None and lr > stats.chi2.isf(alpha, f.n_params - best.n_params):
+            better.append((lr, f))
+    return max(better, key=lambda t: t[0])[1] if better else best
+
+
+def spread_mode_lr(st: State, simple: Effect, rich: Effect) -> float | None:
+    """2·ln of the likelihood ratio of the record's slowest modes (:mod:`budget.gap.walk`) with
+    ``rich``'s family added to the model against with ``simple``'s, each maximised over its own
+    parameters (:func:`budget.gap.walk.nested_spread_lr`: profile likelihoods), when ``rich``'s
+    family holds ``simple`` as a limit (a Gauss–Markov term of τ → ∞ is a walk in the modes);
+    ``None`` otherwise, or when the channel has no slow modes. The candidates' parameters are
+    fitted on Σz², not on the modes: at those parameters the ratio is not a likelihood-ratio
+    statistic of the two families (on a 30-min log with a τ = 100 s term, −1.6 where the
+    profiles give 0.0), so each family is maximised afresh; the fitted walk level centres the
+    search. A likelihood of a part of the data, its ratio is a fair second test at the
+    workflow's level, as :func:`located_mode_lr` is for located effects."""
+    if (simple.name, rich.name) not in walk.NESTED_SPREADS:
+        return None
+    lay, y, cov0 = st.grid.walk, st.meas.walk, st.summary.walk_cov
+    if lay is None or y is None or cov0 is None:
+        return None
+    level = float(dict(simple.params).get("K", 0.0)) ** 2
+    if not level > 0:
+        return None
+    return walk.nested_spread_lr(simple.name, rich.name, y, st.summary.walk_mean, cov0, lay, level)
 
 
 def located_mode_lr(st: State, spread: Effect, located: Effect) -> float | None:

@@ -53,7 +53,7 @@ from threadpoolctl import threadpool_limits
 from ..errors import InputError, from_validation_error
 from ..imu import Effect, NoiseModel
 from . import whitening
-from .choice import alternatives, located_over_spread, parsimonious
+from .choice import alternatives, located_over_spread, parsimonious, richer_spread
 from .candidates import LIBRARY
 from .detectors import direct_proposals
 from .fitting import CandidateFit, FitContext
@@ -461,6 +461,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
 
             ch, best = max(scored, key=score)
             best = located_over_spread(ch, best, scored, score, states[ch], alpha)
+            best = richer_spread(ch, best, scored, score, states[ch], alpha)
             best = parsimonious(ch, best, scored, score, states[ch], null, alpha)
             if score((ch, best)) <= 0:
                 stop = ("no candidate gives a significant penalised improvement that also removes "
