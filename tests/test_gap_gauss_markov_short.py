@@ -120,6 +120,7 @@ def _first(x: np.ndarray):
     return rep.steps[0] if rep.steps else None
 
 
+@pytest.mark.slow  # a whole run_gap on a 30-min 200-Hz six-channel log (≈ 13 s)
 def test_short_gauss_markov_named_where_the_modes_tell_it_from_a_walk():
     """Seed 12 of this generator: the modes' profile 2·ln Λ of the Gauss–Markov family over the
     walk is 7.2, above χ²₁(0.99) = 6.6 (the level of Occam's step), so the Gauss–Markov term is
