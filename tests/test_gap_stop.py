@@ -190,6 +190,7 @@ def test_one_spike_names_outliers_at_the_rate_floor_and_says_so():
     assert len(said) == 1 and "(1 spike seen)" in said[0] and said[0] in rep.summary()
 
 
+@pytest.mark.slow  # a whole run_gap on a one-hour log with a step (≈ 11 s quiet)
 def test_a_bias_step_is_warned_in_the_gap_report_naming_channel_and_meaning():
     """A bias step of 160 deg/h (16× the record's own 10 deg/h block-to-block wander) half-way through
     one hour of gyro_z, written here: the gap workflow — which assumes one stationary regime,

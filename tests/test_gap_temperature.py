@@ -95,6 +95,7 @@ def _first_named(seed: int):
     return first, c
 
 
+@pytest.mark.slow  # a whole run_gap on a one-hour log (≈ 8 s quiet); the over-seeds check is slow too
 def test_a_temperature_sensitivity_on_an_accelerometer_is_named_as_such():
     """One seed of the faster warm-up on accel_x: named first, coefficient within 30 %."""
     first, c = _first_named(5)

@@ -67,6 +67,7 @@ def _first(name: str, seed: int):
     return (rep.steps[0] if rep.steps else None), truth
 
 
+@pytest.mark.slow  # two whole run_gap on one-hour logs (≈ 15 s quiet)
 def test_a_lagged_gyro_is_named_a_lag_and_an_instantaneous_one_is_not():
     """gyro_z alone, 1 h: a 300-s lag whose part beyond an instantaneous sensitivity has an
     Allan deviation 3× the base's (gap_truth's sizing of the lag) is named ``temperature_lag``
