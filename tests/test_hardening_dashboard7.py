@@ -18,7 +18,7 @@ import json
 import numpy as np
 import pytest
 
-from app_harness import MAIN, AppTest
+from app_harness import AppTest, open_app as _app, page_errors as _errors
 from budget.errors import InputError
 from budget.noise.adev_table import needs_channel_name
 from budget.units import CHANNELS
@@ -26,19 +26,6 @@ from budget.units import CHANNELS
 UPLOAD = "upload a log or an Allan table"
 LOG_PAGES = [("pages/noise_lab.py", "noise_source", "noise_upload", "noise"),
              ("pages/model_gap.py", "gap_source", "gap_upload", "gap")]
-
-
-def _app(page: str | None = None) -> AppTest:
-    at = AppTest.from_file(MAIN, default_timeout=120).run()
-    if page is not None:
-        at.switch_page(page).run()
-    assert not at.exception, [e.value for e in at.exception]
-    return at
-
-
-def _errors(at: AppTest) -> list[str]:
-    assert not at.exception, [e.value for e in at.exception]
-    return [e.value for e in at.error]
 
 
 def _one_line(at: AppTest, name: str) -> str:

@@ -18,25 +18,12 @@ import numpy as np
 import pytest
 
 import budget.errors as errors
-from app_harness import MAIN, REPO, AppTest
+from app_harness import REPO, AppTest, open_app as _app, page_errors as _errors
 from budget.errors import WAYS, InputError, describe_error, in_words_of
 
 UPLOAD = "upload a log or an Allan table"
 #: A Python argument (``repair=True``, ``channels=``) or a command-line option (``--repair``).
 OPTION = re.compile(r"(?<![\w-])--[a-z][a-z-]+|\b[a-z_]+=(True|False|\[|/| )")
-
-
-def _app(page: str | None = None) -> AppTest:
-    at = AppTest.from_file(MAIN, default_timeout=120).run()
-    if page is not None:
-        at.switch_page(page).run()
-    assert not at.exception, [e.value for e in at.exception]
-    return at
-
-
-def _errors(at: AppTest) -> list[str]:
-    assert not at.exception, [e.value for e in at.exception]
-    return [e.value for e in at.error]
 
 
 def _one_line(at: AppTest, start: str) -> str:
