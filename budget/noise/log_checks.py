@@ -65,6 +65,22 @@ class LogIssue:
         return f"{self.severity}: {self.kind}{where}: {self.message}{rows}"
 
 
+
+#: Temperatures (°C) an IMU log can hold; outside, the column's unit is probably not what it says.
+TEMP_PLAUSIBLE_C = (-80.0, 200.0)
+
+
+def implausible_temperature(temp_c: np.ndarray, column: str) -> list[LogIssue]:
+    """A warning when the temperature (°C) leaves :data:`TEMP_PLAUSIBLE_C` (a unit misread:
+    kelvin written without a unit reads ≈ 300 °C), else none."""
+    lo, hi = float(np.nanmin(temp_c)), float(np.nanmax(temp_c))
+    if TEMP_PLAUSIBLE_C[0] <= lo and hi <= TEMP_PLAUSIBLE_C[1]:
+        return []
+    return [LogIssue("implausible_temperature", "warning",
+                     f"temperature spans {lo:.4g} … {hi:.4g} °C, outside {TEMP_PLAUSIBLE_C[0]:g} … "
+                     f"{TEMP_PLAUSIBLE_C[1]:g} °C: is its unit right (°C, K, °F in brackets)?", 0, (), column)]
+
+
 @dataclass
 class LogReport:
     """All issues found in one log, and the repairs applied (empty unless asked for)."""

@@ -248,10 +248,6 @@ def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
     return data[:n] if n * 1.1 >= data.shape[0] else data[:n].copy(order="F")
 
 
-#: Temperatures (°C) an IMU log can hold; outside, the column's unit is probably not what it says.
-TEMP_PLAUSIBLE_C = (-80.0, 200.0)
-
-
 def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool = False, *,
              rate_hz: float | None = None, channels: Iterable[str] | None = None,
              max_rows: int | None = None, min_samples: int = 3,
@@ -325,12 +321,8 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     rate = _rate(time_s, rate_given, report, path)
     chans = {ch: data[:, plan.channel_index[ch]] for ch in CHANNELS if ch in plan.channel_index}
     temp = data[:, plan.temp_index] + plan.temp_offset_c if plan.temp_index is not None else None
-    if temp is not None and n and not (TEMP_PLAUSIBLE_C[0] <= np.nanmin(temp) and np.nanmax(temp) <= TEMP_PLAUSIBLE_C[1]):
-        report.issues.append(lc.LogIssue(
-            "implausible_temperature", "warning",
-            f"temperature spans {np.nanmin(temp):.4g} … {np.nanmax(temp):.4g} °C, outside "
-            f"{TEMP_PLAUSIBLE_C[0]:g} … {TEMP_PLAUSIBLE_C[1]:g} °C: is its unit right (°C, K, °F in brackets)?",
-            0, (), plan.sources[plan.temp_index]))
+    if temp is not None:
+        report.issues += lc.implausible_temperature(temp, plan.sources[plan.temp_index])
     return ImuLog(str(path), chans, rate, time_s, temp, report,
                   {c: plan.source_units[c] for c in chans})
 
