@@ -20,7 +20,8 @@ import numpy as np
 
 from budget.imu.generator import generate_imu_errors
 from budget.imu.noise_model import NoiseModel
-from budget.motion.engine import block_trials, simulate_motion
+from budget.motion.cost import block_trials
+from budget.motion.engine import simulate_motion
 from budget.nav.strapdown import propagate_errors
 from budget.scenario import Scenario
 from budget.units import G0

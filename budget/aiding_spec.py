@@ -241,6 +241,10 @@ def parse_aiding(data, *, imu_rate_hz: float | None = None,
                          value=value) from None
 
 
+#: Feed-forward blend time when the plan gives none, in apertures (5·Tc).
+BLEND_APERTURES = 5.0
+
+
 class AidingPlan(BaseModel):
     """Aiding sensors plus how the corrections reach the track (``mode``, :data:`CORRECTION_MODES`).
 
@@ -264,6 +268,11 @@ class AidingPlan(BaseModel):
         """The plan of a scenario's aiding section (its sensors are already typed)."""
         return cls(aiding=list(scenario.aiding), mode=scenario.aiding_mode,
                    warmup_s=scenario.aiding_warmup_s, blend_time_s=scenario.aiding_blend_time_s)
+
+    def blend_time_for(self, tc_s: float) -> float:
+        """Feed-forward blend time (s) over an aperture of ``tc_s``: the plan's, or
+        :data:`BLEND_APERTURES`·Tc."""
+        return self.blend_time_s or BLEND_APERTURES * tc_s
 
     def label(self) -> str:
         """Short text for results: sensors, mode and warm-up (``none`` without sensors)."""

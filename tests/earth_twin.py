@@ -1,6 +1,6 @@
 """Test helper: run the motion engine with the Earth model's terms in the truth *and* the filter.
 
-The flat-earth rule of :mod:`budget.motion.engine` is checked by running the same trials twice —
+The flat-earth rule of :mod:`budget.motion.flat_earth` is checked by running the same trials twice —
 flat, and with Schuler, Earth-rate and transport-rate terms (:mod:`budget.nav.earth`) given to
 both the simulated truth and the aiding filter's dynamics — so that the difference measures what
 the flat model leaves out, not a filter/truth mismatch.

@@ -126,9 +126,9 @@ def test_bracketed_units_and_utf16_logs_are_read_and_a_refused_unit_is_one_line(
 # --- 3. motion runs refused for their memory ------------------------------------------------------
 
 def test_a_motion_run_refused_for_its_memory_is_one_line_and_leaves_no_bar(monkeypatch):
-    import budget.motion.engine as engine
+    import budget.motion.cost as cost
 
-    monkeypatch.setattr(engine, "MAX_WORKING_BYTES", 1000)
+    monkeypatch.setattr(cost, "MAX_WORKING_BYTES", 1000)
     at = _app("pages/monte_carlo.py")
     at.number_input(key="mc_trials").set_value(3).run()
     at.number_input(key="mc_seed").set_value(70_707).run()  # not cached by another test

@@ -153,9 +153,9 @@ def test_a_channel_the_model_gives_no_random_term_is_left_out_on_the_page():
 # --- 4. motion memory: no workers on the dashboard; the refused sweep names its scenario ----------
 
 def test_a_refused_motion_run_names_the_scenario_and_no_workers(monkeypatch):
-    import budget.motion.engine as engine
+    import budget.motion.cost as cost
 
-    monkeypatch.setattr(engine, "MAX_WORKING_BYTES", 1000)
+    monkeypatch.setattr(cost, "MAX_WORKING_BYTES", 1000)
     at = _app("pages/monte_carlo.py")
     at.number_input(key="mc_trials").set_value(3).run()
     at.number_input(key="mc_seed").set_value(80_808).run()

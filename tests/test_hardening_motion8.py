@@ -21,7 +21,8 @@ import pytest
 from budget.errors import InputError
 from budget.imu.noise_model import NoiseModel
 from budget.motion import simulate_motion
-from budget.motion.engine import DEFAULT_LATITUDE_DEG, block_trials
+from budget.motion.cost import block_trials
+from budget.motion.flat_earth import DEFAULT_LATITUDE_DEG
 from budget.nav.earth import (EARTH_RADIUS_M, SCHULER_RAD_S, navigation_frame_rate,
                               propagate_errors_earth, system_matrix)
 from budget.nav.strapdown import InitialErrors, propagate_errors
@@ -220,7 +221,7 @@ def test_a_run_beyond_the_memory_limit_is_refused_with_its_figure():
     two workers on two chunks hold two blocks (≈ 4.8 GB) — refused before anything runs, naming
     the figure and what to change; one worker fits."""
     from budget.aiding_spec import AidingPlan
-    from budget.motion.engine import MAX_WORKING_BYTES, estimate_cost
+    from budget.motion.cost import MAX_WORKING_BYTES, estimate_cost
 
     s = scen(2.0, imu_rate_hz=500.0, aiding=[GNSS], aiding_mode="smoothed", aiding_warmup_s=3600.0)
     cost = estimate_cost(s, 2048, AidingPlan.from_scenario(s), workers=2)
@@ -238,7 +239,7 @@ def test_memory_estimate_against_the_traced_peak(aided):
     import tracemalloc
 
     from budget.aiding_spec import AidingPlan
-    from budget.motion.engine import estimate_cost
+    from budget.motion.cost import estimate_cost
 
     upd = {"aiding": [GNSS | {"rate_hz": 10.0}], "aiding_mode": "realtime", "aiding_warmup_s": 60.0} if aided else {}
     s = scen(2.0 if aided else 300.0, imu_rate_hz=100.0, **upd)

@@ -5,7 +5,7 @@ heading error grows unobserved (σ_ψ² = σ_ψ0² + (b·W)² + N²·W for a gyr
 warm-up W). The flat model gives it no effect; with the Earth and transport rate it is a tilt
 rate |ω_in × ẑ|·ψ, which a coast across the aperture (``frozen``, ``feedforward`` blending slower
 than Tc) does not correct: a position error g·|ω_in × ẑ|·σ_ψ·Tc³/6. Relative to the coast's 1σ
-error (:func:`budget.motion.engine.heading_term`, from the filter's covariance) that is what the
+error (:func:`budget.motion.flat_earth.heading_term`, from the filter's covariance) that is what the
 flat model leaves out; the rule adds it to the coast estimate (0.09 % at Tc = 30 s) and refuses
 beyond 10 %.
 
@@ -27,7 +27,7 @@ import warnings
 import numpy as np
 import pytest
 
-import budget.motion.engine as engine
+import budget.motion.flat_earth as flat_earth
 from budget.aiding_spec import AidingPlan
 from budget.errors import InputError
 from budget.imu.noise_model import NoiseModel, as_noise_model_si
@@ -57,7 +57,7 @@ def model(gyro_deg_h: float) -> NoiseModel:
 
 
 def head(s: Scenario, gyro_deg_h: float) -> dict:
-    return engine.heading_term(s, AidingPlan.from_scenario(s), as_noise_model_si(model(gyro_deg_h)),
+    return flat_earth.heading_term(s, AidingPlan.from_scenario(s), as_noise_model_si(model(gyro_deg_h)),
                                None, W_IN)
 
 
@@ -65,7 +65,7 @@ def flat_and_earth(s: Scenario, m: NoiseModel, n: int, seed: int):
     """The same trials flat and with the Earth terms in truth and filter (rule lifted)."""
     mp = pytest.MonkeyPatch()
     try:
-        mp.setattr(engine, "MAX_FLAT_EARTH_NEGLECT", math.inf)
+        mp.setattr(flat_earth, "MAX_FLAT_EARTH_NEGLECT", math.inf)
         flat = simulate_motion(s, m, n, seed, keep_series="position")
         with earth_in_truth_and_filter(50.0, LAT):
             full = simulate_motion(s, m, n, seed, keep_series="position")
@@ -108,7 +108,7 @@ def test_frozen_after_a_300_s_warmup_against_the_earth_model():
     s = scen(30.0, aiding=[GNSS], aiding_mode="frozen", aiding_warmup_s=300.0)
     h = head(s, 10.0)
     est = flat_earth_neglect(30.0, 50.0) + h["neglect"]
-    assert 0.02 < est < engine.MAX_FLAT_EARTH_NEGLECT
+    assert 0.02 < est < flat_earth.MAX_FLAT_EARTH_NEGLECT
     n = 16
     a, b = flat_and_earth(s, model(10.0), n, 7)
     rms, _ = rms_change(a, b)
@@ -117,7 +117,7 @@ def test_frozen_after_a_300_s_warmup_against_the_earth_model():
     assert rms <= (est + initial_term) * (1 + tol)
     assert rms >= h["neglect"] * (1 - tol) - initial_term  # (i) only lowers it: not at 300 s
     res = simulate_motion(s, model(10.0), 2, 7, keep_series=False)
-    assert engine.HEADING_TERM_NOTE in res.earth_model
+    assert flat_earth.HEADING_TERM_NOTE in res.earth_model
     assert f"≈ {100 * h['neglect']:.2g} %" in res.earth_model
 
 
@@ -136,7 +136,7 @@ def test_the_measured_case_is_refused():
     with pytest.raises(InputError) as info:
         simulate_motion(s, model(10.0), 2, 1)
     text = str(info.value)
-    assert "aiding_warmup_s" in text and "heading 1σ 145 mrad" in text and engine.HEADING_TERM_NOTE in text
+    assert "aiding_warmup_s" in text and "heading 1σ 145 mrad" in text and flat_earth.HEADING_TERM_NOTE in text
 
 
 def test_feedforward_with_its_default_blend_coasts_like_frozen():

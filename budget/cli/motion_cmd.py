@@ -6,7 +6,8 @@ from ..errors import InputError
 import sys
 
 from ..aiding_spec import AidingPlan
-from ..motion.engine import estimate_cost, simulate_motion
+from ..motion.cost import estimate_cost
+from ..motion.engine import simulate_motion
 from ..nav.platform import Disturbance
 from .common import add_part_or_model_options, add_scenario_options, part_or_model_from_args, scenario_from_args
 from .output import add_json_option, write_json

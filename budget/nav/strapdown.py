@@ -75,6 +75,12 @@ class InitialErrors(BaseModel):
         return out
 
 
+#: 1σ initial errors of a coarse alignment (1 m, 0.1 m/s, 1 mrad per axis): the default start of
+#: an aided run's warm-up, and the aiding filter's initial 1σ there (it converges in the warm-up).
+COARSE_ALIGNMENT = InitialErrors(position_sigma_m=(1.0, 1.0, 1.0), velocity_sigma_m_s=(0.1, 0.1, 0.1),
+                                 attitude_sigma_rad=(1e-3, 1e-3, 1e-3))
+
+
 @dataclass
 class NavErrors:
     """Computed − true errors, (T, N, 3): ``apc_position_m`` always; the others if kept."""
