@@ -275,6 +275,10 @@ LOG_MAPPING_WAY = Way("and not mapped (--mapping)", "(rename it in the file: the
 #: Logger names in the header (GyroX …): the mapping that reads them.
 LOG_NAMES_WAY = Way("or a --mapping that names them (source column → canonical name)",
                     "(rename the columns in the file: the dashboard takes no mapping)")
+#: Isolated spikes replaced before a characterisation's fit: keeping them instead.
+KEEP_SPIKES_WAY = Way("keep_spikes=True, CLI --keep-spikes, keeps them", "tick 'keep spikes' to keep them")
+#: The grade of a characterised part when it cannot be inferred.
+GRADE_WAY = Way("an explicit grade (--grade)", "an explicit grade (pick it in 'grade' beside the part id)")
 #: The model-gap workflow's τ-range check, which the dashboard always makes.
 GAP_TAU_CHECK_WAY = Way(" (or check_tau_range=False / --no-tau-check)", "")
 #: The channels the model-gap workflow compares (a subset of the measurement's).
@@ -285,7 +289,7 @@ MOTION_MEMORY_WAY = Way("fewer workers, a lower imu_rate_hz", "a lower imu rate 
 #: Every way a library message names, longest first (a way's words never rewrite another's).
 WAYS: tuple[Way, ...] = tuple(sorted((REPAIR_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, LOG_CHANNEL_WAY, LOG_MAPPING_WAY,
                                       LOG_NAMES_WAY, CURVE_CHANNEL_WAY, TABLE_RATE_WAY, GAP_CHANNELS_WAY,
-                                      GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY), key=lambda w: -len(w.cli)))
+                                      GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY, KEEP_SPIKES_WAY, GRADE_WAY), key=lambda w: -len(w.cli)))
 #: The interfaces a message can be said for.
 INTERFACES = ("cli", "dashboard")
 

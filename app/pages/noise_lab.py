@@ -12,7 +12,8 @@ import streamlit as st
 
 from budget import units as u
 from budget.catalog.io import parts_to_csv_text
-from budget.errors import InputError
+from budget.catalog.schema import GRADES
+from budget.errors import InputError, in_words_of
 from budget.fileio import json_text
 from budget.noise import ImuLog, LogError, allan_deviation, characterize, fit_noise_terms, welch_psd
 from budget.noise.pipeline import analyse_arma
@@ -24,7 +25,7 @@ from budget.units import channel_si_unit
 from formatting import tidy, value_table
 from page_frame import run_page
 from upload_tables import is_adev_table, upload_log_or_table, uploaded_adev
-from uploads import naming_upload, read_uploaded_log, repair_box, show_error, show_log_findings
+from uploads import INTERFACE, naming_upload, read_uploaded_log, repair_box, show_error, show_log_findings
 
 DEFAULT_MAX_ROWS = 500_000
 DEFAULT_ARMA_SAMPLES = 20_000
@@ -59,6 +60,10 @@ def example_csv(seed: int) -> str:
     return buf.getvalue()
 
 
+#: The grade choice that leaves the grade to the grades table.
+GRADE_INFERRED = "inferred"
+
+
 @st.cache_data(show_spinner="Modelling the channel …", max_entries=8)
 def _analyse(key: str, channel: str, arma_samples: int, _log: ImuLog):
     """The ARMA pipeline (:func:`budget.noise.pipeline.analyse_arma`, as ``sar-budget noise arma``)
@@ -71,8 +76,8 @@ def _analyse(key: str, channel: str, arma_samples: int, _log: ImuLog):
 
 
 @st.cache_data(show_spinner="Characterising …", max_entries=8)
-def _characterize(key: str, part_id: str, _data):
-    return characterize(_data, part_id=part_id)
+def _characterize(key: str, part_id: str, _data, grade: str | None = None, keep_spikes: bool = False):
+    return characterize(_data, part_id=part_id, grade=grade, keep_spikes=keep_spikes)
 
 
 def _source() -> tuple[bytes, str] | None:
@@ -209,13 +214,21 @@ def _allan_table_sections(data: bytes, name: str) -> dict | None:
 
 def _catalog_entry(data, key: str) -> None:
     st.subheader("Save the characterisation as a catalog entry")
-    part_id = st.text_input("part id", value="measured_imu", key="noise_part_id").strip()
+    left, mid, right = st.columns([2, 2, 1])
+    part_id = left.text_input("part id", value="measured_imu", key="noise_part_id").strip()
+    grade = mid.selectbox("grade", (GRADE_INFERRED, *GRADES), key="noise_grade",
+                          help="the grade of the catalog row; inferred: the best grade whose limits hold "
+                               "the measured bias instability and noise (seed 004 Tables 3–4)")
+    keep = right.checkbox("keep spikes", key="noise_keep_spikes", disabled=not isinstance(data, ImuLog),
+                          help="fit the Allan deviation with isolated spikes kept (by default, spikes that "
+                               "would decide the short-τ noise are replaced by their neighbours' mean)")
     if not part_id:
         st.info("Give the part an id.")
         return
-    ch = _characterize(key, part_id, data)
+    ch = _characterize(key, part_id, data, None if grade == GRADE_INFERRED else grade,
+                       keep and isinstance(data, ImuLog))
     for warning in ch.warnings:  # e.g. the log is not one stationary regime
-        st.warning(warning)
+        st.warning(in_words_of(warning, INTERFACE))
     st.dataframe(value_table(ch.part.model_dump()), hide_index=True, key="noise_part_row")
     with st.expander("Per-channel IEEE-952 fits"):
         st.dataframe(tidy(ch.to_frame()), hide_index=True, key="noise_char_table")

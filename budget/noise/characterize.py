@@ -29,7 +29,7 @@ from scipy import stats
 
 from .. import units as u
 from ..catalog.schema import GRADES, PartSpec
-from ..errors import InputError, from_validation_error
+from ..errors import GRADE_WAY, InputError, from_validation_error
 from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
 from .spikes import find_spikes
@@ -282,7 +282,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
             grade = infer_grade(values)
         except InputError as err:
             raise InputError(f"cannot infer the grade ({err})", field="grade",
-                             expected="an explicit grade (--grade)") from None
+                             expected=GRADE_WAY.cli) from None
         notes.append(f"grade {grade} inferred from the grades table")
     text = source or f"measured: {origin}, IEEE-952 Allan-variance fit"
     row_notes = f"axes combined by {COMBINE_RULE}"

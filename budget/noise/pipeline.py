@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..errors import InputError
+from ..errors import REPAIR_WAY, InputError
 from ..units import channel_si_unit
 from .arma import DEFAULT_ORDERS, MIN_SAMPLES, ArmaSelection, check_magnitude, check_orders, select_arma
 from .checks import CheckReport, check_series
@@ -146,7 +146,7 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
     if bad.size:  # named as such, not as a value beyond the log limits (inf) or as "x" (NaN)
         raise InputError(f"{bad.size} non-finite sample(s) (NaN or ±inf), first at index {bad[0]}",
                          field=channel, value=raw[bad[0]],
-                         expected="finite values (repair the log first: --repair, or drop the rows)")
+                         expected=f"finite values (repair the log first: {REPAIR_WAY.cli}, or drop the rows)")
     if raw.size < MIN_SAMPLES:  # one minimum for the whole pipeline (the checks need fewer)
         raise InputError(f"only {raw.size} samples", field=channel,
                          expected=f"at least {MIN_SAMPLES} samples for ARMA modelling")

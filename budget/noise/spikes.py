@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import KEEP_SPIKES_WAY
 from .stationarity import record_rows
 
 #: A spike's local residual exceeds this many robust standard deviations of the residuals.
@@ -71,7 +72,7 @@ class Spikes:
                 f"from the 7-sample running median) carry {100 * self.share:.3g} % of the sample-to-sample variance")
         if self.replaced:
             return (what + " and would decide the short-τ Allan deviation (ARW/VRW): replaced by the mean of "
-                    "their neighbours before the fit (keep_spikes=True, CLI --keep-spikes, keeps them)")
+                    f"their neighbours before the fit ({KEEP_SPIKES_WAY.cli})")
         if self.share >= DOMINANT_FRACTION:
             return what + " and decide the short-τ Allan deviation (ARW/VRW): kept on request (keep_spikes)"
         return what + f"; kept (below {100 * DOMINANT_FRACTION:g} %, they do not decide the fit)"
