@@ -5,16 +5,18 @@ traceback and never a bare "something went wrong"."""
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import os
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import streamlit as st
 
 from budget.errors import InputError, describe_error, in_words_of
 from budget.fileio import printable
-from budget.noise import ImuLog, read_log
+from budget.noise import ImuLog, LogMapping, read_log
 
 log = logging.getLogger("sar_budget.dashboard")
 
@@ -81,12 +83,55 @@ def repair_box(key: str, container=st) -> bool:
     return container.checkbox(REPAIR_LABEL, key=key)
 
 
+#: The inputs beside a log upload that the library's messages about a log's layout name
+#: (``budget.errors.LOG_MAPPING_WAY``, ``LOG_NAMES_WAY``, ``LOG_RATE_WAY``).
+MAPPING_LABEL = "column mapping (JSON/YAML, optional)"
+RATE_LABEL = "sampling rate (Hz)"
+
+
+@dataclass(frozen=True)
+class LogLayout:
+    """How to read an uploaded log when its header is not canonical: a column mapping file
+    (:class:`budget.noise.LogMapping`, as the CLI's ``--mapping`` reads it) and a sampling rate
+    (Hz) for a log without a time column; None where not given."""
+
+    mapping: tuple[bytes, str] | None = None
+    rate_hz: float | None = None
+
+    def key(self) -> str:
+        """Part of a cache key: the mapping's content digest and the rate."""
+        digest = hashlib.sha256(self.mapping[0]).hexdigest()[:16] if self.mapping else "-"
+        return f"{digest}:{self.rate_hz}"
+
+
+def layout_inputs(prefix: str) -> LogLayout:
+    """The mapping upload and the rate input beside a log upload (in an expander: most logs need
+    neither), under keys ``{prefix}_mapping`` and ``{prefix}_rate_hz``."""
+    with st.expander("column mapping and sampling rate (for logs a logger wrote)"):
+        st.caption("A log whose header is not `time_s, gyro_x_dps … accel_z_mps2` is read through a mapping "
+                   "file: `{\"columns\": {\"GyrX\": \"gyro_x_dps\"}, \"scale\": …, \"skip_rows\": …, "
+                   "\"rate_hz\": …}`. The rate is needed only when the log has no time column.")
+        left, right = st.columns(2)
+        up = left.file_uploader(MAPPING_LABEL, type=["json", "yaml", "yml"], key=f"{prefix}_mapping")
+        rate = right.number_input(RATE_LABEL, min_value=0.0, max_value=1e7, value=0.0, step=1.0,
+                                  key=f"{prefix}_rate_hz",
+                                  help="0: the rate comes from the log's time column (or the mapping's rate_hz)")
+    mapping = (up.getvalue(), Path(up.name).name[:200]) if up is not None else None
+    return LogLayout(mapping, float(rate) if rate and rate > 0 else None)
+
+
 @st.cache_data(show_spinner="Reading the log …", max_entries=4)
-def read_uploaded_log(data: bytes, name: str, max_rows: int, repair: bool) -> ImuLog:
-    """Write the upload to a temporary file (keeping its suffix: .csv, .gz, …) and read it;
-    errors name the user's file, not the temporary copy."""
+def read_uploaded_log(data: bytes, name: str, max_rows: int, repair: bool,
+                      layout: LogLayout | None = None) -> ImuLog:
+    """Write the upload to a temporary file (keeping its suffix: .csv, .gz, …) and read it, through
+    the ``layout``'s mapping and rate if given; errors name the user's files, not the temporary copies."""
     name = Path(name or "upload.csv").name[:200] or "upload.csv"
-    log_ = read_via_temp_copy(data, name, lambda tmp: read_log(tmp, repair=repair, max_rows=max_rows))
+    layout = layout or LogLayout()
+    mapping = None
+    if layout.mapping is not None:
+        mapping = read_via_temp_copy(layout.mapping[0], layout.mapping[1], LogMapping.load)
+    log_ = read_via_temp_copy(data, name, lambda tmp: read_log(tmp, mapping, repair=repair, max_rows=max_rows,
+                                                               rate_hz=layout.rate_hz))
     log_.source = name
     return log_
 

@@ -257,11 +257,12 @@ class Way:
 
 #: A log's problems are repaired on request (both dashboard pages that read logs have the box).
 REPAIR_WAY = Way("read with repair=True (CLI --repair)", "tick 'repair the log' beside the upload")
-#: A log without a time column needs its rate; the dashboard reads a log's rate from its time column.
+#: A log without a time column needs its rate (the dashboard's rate input beside the upload).
 LOG_RATE_WAY = Way(", or rate_hz (--rate-hz / mapping rate_hz)",
-                   " (the dashboard reads a log's rate from its time column only)")
+                   ", or its 'sampling rate (Hz)' under 'column mapping and sampling rate'")
 #: Time stamps in ms or µs read as seconds.
-LOG_TIME_UNIT_WAY = Way("or give the rate (--rate-hz)", "or write the unit in its header (time [ms])")
+LOG_TIME_UNIT_WAY = Way("or give the rate (--rate-hz)", "or write the unit in its header (time [ms]), or give "
+                        "the 'sampling rate (Hz)' under 'column mapping and sampling rate'")
 #: A log channel that cannot be used (clipped) is left out of the reading.
 LOG_CHANNEL_WAY = Way("leave this channel out (--channels, or channels= in the library)",
                       "leave this channel's column out of the uploaded file")
@@ -270,11 +271,12 @@ CURVE_CHANNEL_WAY = Way("--channels gyro_z on the command line, channels=['gyro_
                         "pick it in 'channel of this curve' below the upload")
 #: The rate of the record an Allan table was computed from (the table does not hold it).
 TABLE_RATE_WAY = Way("--rate-hz of the record", "the sampling rate of the record")
-#: A log column that is no canonical name is read through a mapping, which the dashboard does not take.
-LOG_MAPPING_WAY = Way("and not mapped (--mapping)", "(rename it in the file: the dashboard takes no mapping)")
+#: A log column that is no canonical name is read through a mapping (uploaded beside the log).
+LOG_MAPPING_WAY = Way("and not mapped (--mapping)", "and not mapped (upload a 'column mapping' beside the log)")
 #: Logger names in the header (GyroX …): the mapping that reads them.
 LOG_NAMES_WAY = Way("or a --mapping that names them (source column → canonical name)",
-                    "(rename the columns in the file: the dashboard takes no mapping)")
+                    "or a 'column mapping' uploaded beside the log that names them (source column → "
+                    "canonical name)")
 #: Isolated spikes replaced before a characterisation's fit: keeping them instead.
 KEEP_SPIKES_WAY = Way("keep_spikes=True, CLI --keep-spikes, keeps them", "tick 'keep spikes' to keep them")
 #: The grade of a characterised part when it cannot be inferred.

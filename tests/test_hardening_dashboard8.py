@@ -100,8 +100,8 @@ def test_a_log_without_a_readable_time_column_names_no_rate_option():
             _log(300, header="time [fortnight],gyro_z_dps,accel_x_mps2"))
     text = _one_line(at, "fortnight.csv")
     assert "time unit 'fortnight' not understood" in text
-    assert "mapping" not in text and "rate_hz" not in text
-    assert "the dashboard reads a log's rate from its time column" in text
+    assert "--mapping" not in text and "rate_hz" not in text
+    assert "'sampling rate (Hz)' under 'column mapping and sampling rate'" in text  # the page's input
     # a low rate (ms read as s?): the finding says how to write the unit, not --rate-hz
     _upload(at, "noise_source", "noise_upload", "slow.csv", _log(300, rate=0.5))
     warned = [w.value for w in at.warning if "time stamps give 0.5 Hz" in w.value]

@@ -72,3 +72,45 @@ def test_the_grade_is_inferred_unless_picked(page):
     assert _row(page, "grade") == other and not page.exception
     page.selectbox(key="noise_grade").set_value("inferred").run()
     assert _row(page, "grade") == inferred
+
+
+# --- a logger's log on the dashboard: the mapping and the rate the messages name -------------------
+
+def _logger_log(n: int = 4000) -> bytes:
+    """A logger's layout: its own column names, raw counts of a ±250 deg/s gyro (131 LSB per
+    deg/s) and a ±2 g accelerometer (16384 LSB per g), no time column."""
+    rng = np.random.default_rng(5)
+    gyro = np.round(rng.normal(0.0, 60.0, n)).astype(int)
+    accel = 16384 + np.round(rng.normal(0.0, 80.0, n)).astype(int)
+    return ("GyroZ,AccZ\n" + "".join(f"{g},{a}\n" for g, a in zip(gyro, accel))).encode()
+
+
+MAPPING = (b'{"columns": {"GyroZ": "gyro_z_dps", "AccZ": "accel_z_g"}, '
+           b'"scale": {"GyroZ": 0.0076335877862595, "AccZ": 6.103515625e-05}}')
+
+
+@pytest.mark.parametrize("page,prefix", [("pages/noise_lab.py", "noise"), ("pages/model_gap.py", "gap")])
+def test_a_loggers_log_is_read_through_an_uploaded_mapping_and_rate(page, prefix):
+    at = open_app(page)
+    at.radio(key=f"{prefix}_source").set_value(UPLOAD).run()
+    at.file_uploader(key=f"{prefix}_upload").set_value(("logger.csv", _logger_log(), "text/csv")).run()
+    said = " ".join(e.value for e in at.error)
+    assert "'column mapping' uploaded beside the log" in said and "--mapping" not in said, said
+    at.file_uploader(key=f"{prefix}_mapping").set_value(("map.json", MAPPING, "application/json")).run()
+    said = " ".join(e.value for e in at.error)
+    assert "no time column" in said and "'sampling rate (Hz)'" in said and "--rate-hz" not in said, said
+    at.number_input(key=f"{prefix}_rate_hz").set_value(200.0).run()
+    assert not at.exception and not at.error, [e.value for e in at.error]
+    shown = " ".join(m.value for m in (*at.markdown, *at.caption))
+    assert "4000 samples at 200 Hz" in shown, shown
+
+
+def test_a_bad_mapping_file_is_named_on_the_page():
+    at = open_app("pages/noise_lab.py")
+    at.radio(key="noise_source").set_value(UPLOAD).run()
+    at.file_uploader(key="noise_upload").set_value(("logger.csv", _logger_log(), "text/csv")).run()
+    bad = b'{"columns": {"GyroZ": "gyro_z_furlongs"}}'
+    at.file_uploader(key="noise_mapping").set_value(("map.json", bad, "application/json")).run()
+    said = [e.value for e in at.error]
+    assert not at.exception and len(said) == 1, said
+    assert said[0].startswith("map.json") and "GyroZ" in said[0] and "tmp" not in said[0], said

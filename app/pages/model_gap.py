@@ -28,7 +28,7 @@ import components as c
 from formatting import fmt_value, tidy
 from page_frame import run_page
 from upload_tables import is_adev_table, upload_log_or_table, uploaded_adev
-from uploads import read_uploaded_log, read_via_temp_copy, repair_box, show_log_findings
+from uploads import layout_inputs, read_uploaded_log, read_via_temp_copy, repair_box, show_log_findings
 
 SOURCES = ("built-in example (a part with a hidden effect)", "upload a log or an Allan table")
 #: The example: 30 min at 100 Hz of the chosen part, plus a sinusoid on gyro_z the part does not
@@ -136,10 +136,11 @@ def _measured(model: NoiseModel, seed: int):
     max_rows = int(left.number_input("read at most this many rows", min_value=4096, value=DEFAULT_MAX_ROWS,
                                      step=100_000, key="gap_max_rows"))
     repair = repair_box("gap_repair", right)  # the library's repair= of the log (run_gap reads it repaired)
-    log = read_uploaded_log(data, name, max_rows, repair)
+    layout = layout_inputs("gap")
+    log = read_uploaded_log(data, name, max_rows, repair, layout)
     st.caption(f"{name}: {log.n_samples} samples at {log.rate_hz:.6g} Hz ({log.duration_s:.6g} s).")
     show_log_findings(log)
-    return f"{name}-{digest}-{max_rows}-{repair}", log, None, None, name
+    return f"{name}-{digest}-{max_rows}-{repair}-{layout.key()}", log, None, None, name
 
 
 def _compared(model: NoiseModel, measured, name: str) -> list[str] | None:

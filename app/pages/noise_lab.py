@@ -25,7 +25,8 @@ from budget.units import channel_si_unit
 from formatting import tidy, value_table
 from page_frame import run_page
 from upload_tables import is_adev_table, upload_log_or_table, uploaded_adev
-from uploads import INTERFACE, naming_upload, read_uploaded_log, repair_box, show_error, show_log_findings
+from uploads import (INTERFACE, layout_inputs, naming_upload, read_uploaded_log, repair_box, show_error,
+                     show_log_findings)
 
 DEFAULT_MAX_ROWS = 500_000
 DEFAULT_ARMA_SAMPLES = 20_000
@@ -103,13 +104,15 @@ def _source() -> tuple[bytes, str] | None:
                                "Upload a static IMU log or an Allan table, or pick the built-in example.")
 
 
-def _load(data: bytes, name: str) -> ImuLog | None:
+def _load(data: bytes, name: str) -> tuple[ImuLog, str] | None:
+    """The uploaded log and the key of how it was read (rows, repair, mapping, rate), or None."""
     left, right = st.columns(2)
     max_rows = int(left.number_input("read at most this many rows", min_value=100, value=DEFAULT_MAX_ROWS,
                                      step=10_000, key="noise_max_rows"))
     repair = repair_box("noise_repair", right)
+    layout = layout_inputs("noise")
     try:
-        log = read_uploaded_log(data, name, max_rows, repair)
+        log = read_uploaded_log(data, name, max_rows, repair, layout)
     except LogError as err:
         show_error(err)
         st.dataframe(err.report.to_frame(), hide_index=True, key="noise_log_errors")
@@ -128,7 +131,7 @@ def _load(data: bytes, name: str) -> ImuLog | None:
                 st.dataframe(log.issues.to_frame(), hide_index=True, key="noise_log_issues")
     else:
         st.caption("Log checks: no issues found.")
-    return log
+    return log, f"{max_rows}:{repair}:{layout.key()}"
 
 
 def _terms_table(terms, key: str) -> None:
@@ -253,10 +256,11 @@ def render() -> None:
         rate, samples = st.session_state["noise_adev_rate"], st.session_state["noise_adev_samples"]
         _catalog_entry(tables, f"{digest}:{rate}:{samples}:{st.session_state.get('noise_curve_channel')}")
         return
-    log = _load(data, name)
-    if log is None:
+    loaded = _load(data, name)
+    if loaded is None:
         return
-    key = f"{digest}:{st.session_state['noise_max_rows']}:{st.session_state['noise_repair']}"
+    log, how = loaded
+    key = f"{digest}:{how}"
     _channel_sections(log, key)
     _catalog_entry(log, key)
 
