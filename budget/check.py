@@ -224,7 +224,9 @@ class CheckResult:
         df.insert(3, "tc_s", [float(np.ravel(self.tc_s)[s]) for s in df["s"]])
         any_spec = self.specified.any(axis=-1).reshape(-1)
         df["verdict"] = np.where(~any_spec, "unknown", np.where(self.passed.reshape(-1), "pass", "fail"))
-        df["binding"] = [self.params[b] for b in self.binding_index.reshape(-1)]
+        # no specified term: no binding one (None, as in to_dict and '-' in summary)
+        df["binding"] = [self.params[b] if known else None
+                         for b, known in zip(self.binding_index.reshape(-1), any_spec)]
         df["min_margin"] = self.min_margin.reshape(-1)
         flags = [self.flag(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["flag"] = [f for f, _ in flags]

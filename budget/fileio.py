@@ -24,6 +24,7 @@ import lzma
 import math
 import os
 import re
+import stat
 import tempfile
 import time
 import zipfile
@@ -312,10 +313,29 @@ def glob_escape(name: str) -> str:
     return re.sub(r"([*?\[])", r"[\1]", name)
 
 
+def read_only_reason(path: str | Path) -> str | None:
+    """Why an existing file must not be overwritten (``None`` when it may be): the user cannot
+    write it, or it has no write permission bit at all (``chmod a-w``: marked read-only on
+    purpose; root's ``os.access`` says yes to it, and ``os.replace`` would replace it anyway)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return None
+    if not stat.S_ISREG(mode):
+        return None
+    if not mode & 0o222:
+        return f"file is read-only (mode {mode & 0o7777:04o}); make it writable (chmod u+w) or give another file"
+    if not os.access(path, os.W_OK):
+        return "file is read-only for this user; make it writable or give another file"
+    return None
+
+
 def atomic_write_text(path: str | Path, text: str, *, create_dirs: bool = True) -> None:
     """Write ``text`` to ``path`` through a temporary file and ``os.replace``: never half-written.
 
-    A symbolic link is followed (its target is updated, the link stays). The temporary file
+    A symbolic link is followed (its target is updated, the link stays). An existing target
+    that is read-only (:func:`read_only_reason`) is refused with :class:`OutputError` and left
+    as it is: the rename would otherwise replace it whatever its permissions. The temporary file
     (``.<name>.sar-budget-XXXX.tmp`` beside the target) is removed on any failure or
     interruption; stale ones left by a killed process are cleaned after an hour.
     """
@@ -323,6 +343,9 @@ def atomic_write_text(path: str | Path, text: str, *, create_dirs: bool = True) 
     path = Path(os.path.realpath(path))
     if path.is_dir():
         raise OutputError("is a folder; give a file name", file=given)
+    locked = read_only_reason(path)
+    if locked:
+        raise OutputError(locked, file=given)
     if not create_dirs and not path.parent.is_dir():
         raise OutputError(f"folder {path.parent} does not exist", file=given)
     if create_dirs:

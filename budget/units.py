@@ -39,6 +39,8 @@ C_SOUND_WATER = 1500.0
 DEG = math.pi / 180.0
 HOUR = 3600.0
 SQRT_HOUR = 60.0
+#: International foot, m (Honeywell and Northrop Grumman datasheets give VRW in ft/s/√h).
+FOOT = 0.3048
 
 # --- angles ---------------------------------------------------------------
 
@@ -105,6 +107,11 @@ def rad_s_rt_s_to_deg_h_rt_h(x):
     return x * HOUR * SQRT_HOUR / DEG
 
 
+def deg_h_rt_hz_to_deg_rt_h(x):
+    """Angle random walk deg/h/√Hz (KVH datasheets) → deg/√h: 1 deg/h/√Hz = 1/60 deg/√h."""
+    return x / SQRT_HOUR
+
+
 # --- accelerometer ----------------------------------------------------------
 
 
@@ -149,6 +156,16 @@ def m_s_rt_h_to_ug_rt_hz(x):
 
 def ug_rt_hz_to_m_s_rt_h(x):
     return m_s2_rt_hz_to_m_s_rt_h(ug_rt_hz_to_m_s2_rt_hz(x))
+
+
+def mg_rt_hz_to_m_s_rt_h(x):
+    """Velocity random walk mg/√Hz (VectorNav, KVH datasheets) → m/s/√h: 1 mg/√Hz = 0.5884 m/s/√h."""
+    return ug_rt_hz_to_m_s_rt_h(x * 1e3)
+
+
+def ft_s_rt_h_to_m_s_rt_h(x):
+    """Velocity random walk ft/s/√h (Honeywell, Northrop Grumman datasheets) → m/s/√h (× 0.3048)."""
+    return x * FOOT
 
 
 # --- IMU channel unit tags used in log and Allan-deviation column names -------

@@ -199,12 +199,17 @@ def get_part(part_id: str, catalog: Mapping[str, PartSpec] | None = None,
 # --- writing -----------------------------------------------------------------------------------
 
 def _cell(part: PartSpec, column: str):
-    """The value of ``part`` for a header ``column`` (canonical or alternative unit)."""
+    """The value of ``part`` for a header ``column`` (canonical or alternative unit). A converted
+    value is written with the fewest digits (15 to 17) that the reader converts back to exactly
+    the canonical value: 50 µg/√Hz held as 0.02942 m/s/√h is written as 50, not 50.00000000000001."""
     d = part.model_dump()
     if column in ALT_UNIT_COLUMNS:
         canon, conv = ALT_UNIT_COLUMNS[column]
         v = d[canon]
-        return None if v is None else float(v) / float(conv(1.0))  # conversions are linear
+        if v is None:
+            return None
+        x = float(v) / float(conv(1.0))  # conversions are linear
+        return next((w for w in (float(f"{x:.{n}g}") for n in (15, 16, 17)) if float(conv(w)) == float(v)), x)
     return d[column]
 
 

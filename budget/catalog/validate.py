@@ -39,12 +39,15 @@ ALT_UNIT_COLUMNS: dict[str, tuple[str, callable]] = {
     "gyro_bias_repeatability_deg_s": ("gyro_bias_repeatability_deg_h", lambda v: v * 3600.0),
     "gyro_arw_deg_s_rt_hz": ("gyro_arw_deg_rt_h", lambda v: v * 60.0),
     "gyro_arw_rad_s_rt_hz": ("gyro_arw_deg_rt_h", u.rad_s_rt_hz_to_deg_rt_h),
+    "gyro_arw_deg_h_rt_hz": ("gyro_arw_deg_rt_h", u.deg_h_rt_hz_to_deg_rt_h),
     "gyro_scale_factor_pct": ("gyro_scale_factor_ppm", lambda v: v * 1e4),
     "gyro_misalignment_deg": ("gyro_misalignment_mrad", lambda v: u.rad_to_mrad(u.deg_to_rad(v))),
     "accel_bias_instability_mg": ("accel_bias_instability_ug", lambda v: v * 1e3),
     "accel_bias_repeatability_mg": ("accel_bias_repeatability_ug", lambda v: v * 1e3),
     "accel_vrw_ug_rt_hz": ("accel_vrw_m_s_rt_h", u.ug_rt_hz_to_m_s_rt_h),
     "accel_vrw_m_s2_rt_hz": ("accel_vrw_m_s_rt_h", u.m_s2_rt_hz_to_m_s_rt_h),
+    "accel_vrw_mg_rt_hz": ("accel_vrw_m_s_rt_h", u.mg_rt_hz_to_m_s_rt_h),
+    "accel_vrw_ft_s_rt_h": ("accel_vrw_m_s_rt_h", u.ft_s_rt_h_to_m_s_rt_h),
     "accel_scale_factor_pct": ("accel_scale_factor_ppm", lambda v: v * 1e4),
     "accel_misalignment_deg": ("accel_misalignment_mrad", lambda v: u.rad_to_mrad(u.deg_to_rad(v))),
 }
@@ -55,18 +58,23 @@ ALT_UNIT_LABELS: dict[str, str] = {
     "gyro_bias_repeatability_deg_s": "deg/s",
     "gyro_arw_deg_s_rt_hz": "deg/s/√Hz",
     "gyro_arw_rad_s_rt_hz": "rad/s/√Hz",
+    "gyro_arw_deg_h_rt_hz": "deg/h/√Hz",
     "gyro_scale_factor_pct": "%",
     "gyro_misalignment_deg": "deg",
     "accel_bias_instability_mg": "mg",
     "accel_bias_repeatability_mg": "mg",
     "accel_vrw_ug_rt_hz": "µg/√Hz",
     "accel_vrw_m_s2_rt_hz": "m/s²/√Hz",
+    "accel_vrw_mg_rt_hz": "mg/√Hz",
+    "accel_vrw_ft_s_rt_h": "ft/s/√h",
     "accel_scale_factor_pct": "%",
     "accel_misalignment_deg": "deg",
 }
 
 _PART_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._\-]{0,63}")
 _BAD_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
+#: A number written with a comma (``0,4``, ``1,000``): a spreadsheet's decimal comma or separator.
+_DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+")
 _BOOL_CELL = re.compile(r'(?im)(^|,)[ \t"]*(true|false)[ \t"]*(,|\r?$)')
 _TEXT_COLUMNS = tuple(c for c in PART_COLUMNS if c not in PART_NUMERIC_COLUMNS)
 
@@ -140,9 +148,11 @@ def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], require
     """Header column → canonical column; raises on unknown, duplicate or missing columns."""
     mapping: dict[str, str] = {}
     seen: dict[str, str] = {}
-    for col in header:
+    for j, col in enumerate(header):
         if col == "":
-            raise InputError("empty column name in the header", file=path, row=1)
+            raise InputError(f"empty column name in the header (column {j + 1} of {len(header)})", file=path,
+                             row=1, expected="a name for every column (empty columns at the end of the "
+                             "header are often left by a spreadsheet: delete them)")
         if col in allowed:
             canon = col
         elif col in alt:
@@ -152,7 +162,8 @@ def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], require
             if sep is not None:
                 raise InputError(f"the header is a single column holding {sep!r}: the file seems to "
                                  f"use {sep!r} as its delimiter", file=path, row=1, field=col,
-                                 expected="comma-separated columns (save the sheet as CSV with commas)")
+                                 expected="comma-separated columns and decimal points (save the sheet as CSV with "
+                                 "commas; a spreadsheet set to a decimal-comma locale writes ';' and 0,4)")
             raise InputError("unknown column", file=path, row=1, field=col,
                              expected=f"one of {', '.join(allowed)}"
                              + (f" or an alternative-unit column ({', '.join(alt)})" if alt else ""))
@@ -177,8 +188,12 @@ def _numbers(cells: tuple[str, ...], rows: list[int], path: Path, col: str, cano
         vals = np.fromiter((float(c) if c else 0.0 for c in cells), float, len(cells))
     except ValueError:
         k = next(k for k, c in enumerate(cells) if c and not _is_float(c))
-        raise InputError("not a number", file=path, row=rows[k], field=col, value=cells[k],
-                         expected=f"a number in {unit} (or an empty cell if unknown)") from None
+        comma = _DECIMAL_COMMA.fullmatch(cells[k])
+        raise InputError("not a number" + (" (a decimal comma or a thousands separator?)" if comma else ""),
+                         file=path, row=rows[k], field=col, value=cells[k],
+                         expected=f"a number in {unit}"
+                         + (f" with a decimal point (e.g. {cells[k].replace(',', '.')} if the comma is decimal)"
+                            if comma else "") + " (or an empty cell if unknown)") from None
     return _check_numbers(vals, empty, rows, path, col, canon, lambda k: cells[k])
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..api import load_parts
 from ..bounds import scenario_assumptions
 from ..bounds.lever_arm import pga_limited_bounds
-from ..catalog.io import load_catalog, load_grades
+from ..catalog.io import load_catalog, load_grades, user_catalog_path
 from ..check import check_parts, recommend_grade
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
 from .mc_cmd import add_platform_motion_options, platform_motion_from_args
@@ -36,9 +36,11 @@ def run(args) -> int:
     limited, _ = pga_limited_bounds(scen)
     rec_limited = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, bounds=limited)
     if args.json:
+        # the user catalog merged over the shipped one: --catalog, else $SAR_BUDGET_CATALOG
+        user = user_catalog_path(args.catalog)
         # what the verdicts were computed with, beside the records
         write_json({"mode": args.mode, "scenario": scen.model_dump(mode="json"), "tc_s": float(scen.tc_s),
-                    "catalog": str(args.catalog) if args.catalog else "shipped",
+                    "catalog": str(user) if user else "shipped",
                     "assumptions": res.assumptions, "parts": res.to_dict()["scenarios"][0]["parts"],
                     "rotation": res.rotation[0] if res.rotation else None,
                     "lowest_sufficient_grade": {args.mode: rec.grade[0], "pga_limited": rec_limited.grade[0]}},

@@ -9,6 +9,7 @@ import tempfile
 from pathlib import Path
 
 from ..errors import InputError, OutputError
+from ..fileio import read_only_reason
 from ..presets import PRESETS, get_preset
 from ..scenario import Scenario
 
@@ -103,8 +104,9 @@ def check_output_path(path: str | os.PathLike, option: str, *, must_exist_dir: b
         if not folder.is_dir():
             raise OutputError(f"{folder} is not a folder", file=text, option=option)
     _probe_dir(folder, option, Path(text))
-    if target.is_file() and not os.access(target, os.W_OK):
-        raise OutputError("file is read-only", file=text, option=option)
+    locked = read_only_reason(target) if target.is_file() else None
+    if locked:
+        raise OutputError(locked, file=text, option=option)
     return target
 
 
