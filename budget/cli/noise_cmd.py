@@ -145,6 +145,15 @@ def run_arma(args) -> int:
             res = analyse_arma(log.channels[args.channel], log.rate_hz, channel=args.channel, options=opts)
         except InputError as err:  # about the log's channel: name the log
             raise (err if err.file else err.rename_file(args.log)) from None
+    # what the reader found and changed (jitter, rows dropped or values interpolated by
+    # --repair) is said, as characterize says it: the model was fitted to that data (after the
+    # analysis, so that a refusal stays one line)
+    name = Path(args.log).name
+    for issue in log.issues.issues:
+        if issue.severity == "warning":  # errors were refused by the reader or are repaired
+            warn(args, f"{name}: {issue.text().removeprefix('warning: ')}")
+    for repair in log.issues.repairs:
+        warn(args, f"{name}: log repaired: {repair}")
     for flag in res.checks.flags():
         warn(args, f"{args.channel}: {flag} — modelled anyway, see 'checks'")
     if args.json:  # the summary lists the selection's notes itself (a short record, no convergence)

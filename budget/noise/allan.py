@@ -16,6 +16,8 @@ decreases, and a lower α is the conservative choice). Interval: σ·√(edf/χ�
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -170,8 +172,9 @@ def noise_type_from_slope(tau_s: np.ndarray, adev: np.ndarray) -> np.ndarray:
 
 def confidence_interval(adev: np.ndarray, edf: np.ndarray, ci: float = ONE_SIGMA):
     """Chi-square interval (lo, hi) of a deviation with ``edf`` degrees of freedom."""
-    if not 0.0 < ci < 1.0:
-        raise InputError("confidence level must be in (0, 1)", field="ci", value=ci)
+    if isinstance(ci, bool) or not isinstance(ci, numbers.Real) or not 0.0 < ci < 1.0:
+        raise InputError("confidence level must be in (0, 1)", field="ci", value=ci,
+                         expected="a number between 0 and 1, e.g. 0.683 (±1σ) or 0.95")
     lo = adev * np.sqrt(edf / stats.chi2.ppf(0.5 + ci / 2, edf))
     hi = adev * np.sqrt(edf / stats.chi2.ppf(0.5 - ci / 2, edf))
     return lo, hi
@@ -202,6 +205,17 @@ def overlapping_avar(y: np.ndarray, m: np.ndarray) -> np.ndarray:
     return var
 
 
+def check_rate_hz(rate_hz) -> float:
+    """``rate_hz`` as a float, or :class:`InputError` (field ``rate_hz``) unless it is a finite
+    real number > 0 (Hz); ``True``, a string or ``None`` is refused, not read as 1 Hz or failing
+    as a TypeError."""
+    if isinstance(rate_hz, bool) or not isinstance(rate_hz, numbers.Real) or not (
+            math.isfinite(rate_hz) and rate_hz > 0):
+        raise InputError("sampling rate must be a positive number", field="rate_hz", value=rate_hz,
+                         expected="a sampling rate in Hz, a finite number > 0")
+    return float(rate_hz)
+
+
 def allan_deviation(x, rate_hz: float, taus="octave", *, ci: float = ONE_SIGMA,
                     channel: str | None = None, unit: str = "") -> AllanResult:
     """Overlapping Allan deviation of rate samples ``x`` (any unit; SI by convention).
@@ -209,11 +223,14 @@ def allan_deviation(x, rate_hz: float, taus="octave", *, ci: float = ONE_SIGMA,
     Equals ``allantools.oadev(x, rate_hz, data_type="freq", taus=...)`` for the same τ list
     (to rounding), with EDF-based intervals instead of σ/√n.
     """
-    y = np.asarray(x, dtype=np.float64)
+    try:
+        y = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("the series is not numbers", field=channel or "x", value=x,
+                         expected="a 1-D array of rate samples") from None
     if y.ndim != 1:
         raise InputError("expected a 1-D series", field=channel or "x", value=f"shape {y.shape}")
-    if not (np.isfinite(rate_hz) and rate_hz > 0):
-        raise InputError("sampling rate must be positive", field="rate_hz", value=rate_hz)
+    check_rate_hz(rate_hz)
     bad = np.flatnonzero(~np.isfinite(y))
     if bad.size:
         raise InputError(f"{bad.size} non-finite sample(s), first at index {bad[0]}",

@@ -166,7 +166,11 @@ class ArmaSelection:
 
 
 def _check_series(x, name: str = "x") -> np.ndarray:
-    x = np.asarray(x, dtype=np.float64)
+    try:
+        x = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("the series is not numbers", field=name, value=x,
+                         expected="a 1-D array of samples (SI for IMU channels)") from None
     if x.ndim != 1:
         raise InputError("expected a 1-D series", field=name, value=f"shape {x.shape}")
     bad = np.flatnonzero(~np.isfinite(x))

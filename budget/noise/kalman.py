@@ -22,6 +22,8 @@ low-pass filter of the measurement — see :mod:`.kalman_response` for what it d
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -90,10 +92,15 @@ class ArmaKalman:
         if process_noise not in ("paper", "model"):
             raise InputError(f"unknown process_noise {process_noise!r}", field="process_noise",
                              expected="paper (Q = δ₁·I) or model (Q = δ₁·G·Gᵀ)")
-        R = fit.data_variance if measurement_variance is None else float(measurement_variance)
-        if not (np.isfinite(R) and R > 0):
+        R = fit.data_variance if measurement_variance is None else measurement_variance
+        if isinstance(R, bool) or not isinstance(R, numbers.Real) or not (math.isfinite(R) and R > 0):
             raise InputError("measurement variance must be positive", field="measurement_variance",
-                             value=R)
+                             value=R, expected="R in the series' unit squared, a finite number > 0")
+        R = float(R)
+        if isinstance(p0, bool) or not isinstance(p0, numbers.Real) or not (math.isfinite(p0) and p0 > 0):
+            # P₀ = p0·I is a covariance: ≤ 0 or NaN gave a wrong transient or an SVD failure
+            raise InputError("initial covariance scale p0 must be positive", field="p0", value=p0,
+                             expected="a finite number > 0 (P₀ = p0·I, the paper's 1)")
         self.fit = fit
         self.F, self.G, self.H = state_space(fit)
         n = self.F.shape[0]
@@ -152,7 +159,11 @@ class ArmaKalman:
         return X
 
     def _prep(self, z):
-        z = np.asarray(z, dtype=np.float64)
+        try:
+            z = np.asarray(z, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError("the series is not numbers", field="z", value=z,
+                             expected="a 1-D array of samples in the fitted series' unit") from None
         if z.ndim != 1 or z.size < 2:
             raise InputError("expected a 1-D series of at least 2 samples", field="z")
         bad = np.flatnonzero(~np.isfinite(z))

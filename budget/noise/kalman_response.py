@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ..errors import InputError
+from .allan import check_rate_hz
 from .kalman import ArmaKalman
 
 
@@ -70,8 +70,7 @@ class FrequencyResponse:
 def frequency_response(kf: ArmaKalman, rate_hz: float, freq_hz=None, *,
                        smoother: bool = False) -> FrequencyResponse:
     """Steady-state response of ``kf`` (filter or RTS smoother) at ``freq_hz`` (default: 0…f_s/2)."""
-    if not (np.isfinite(rate_hz) and rate_hz > 0):
-        raise InputError("sampling rate must be positive", field="rate_hz", value=rate_hz)
+    rate_hz = check_rate_hz(rate_hz)
     f = np.linspace(0.0, rate_hz / 2, 513) if freq_hz is None else np.asarray(freq_hz, float)
     w = 2 * np.pi * f / rate_hz
     n = kf.n_states

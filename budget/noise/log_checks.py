@@ -42,6 +42,10 @@ PLAUSIBLE_RATE_HZ = (1e-3, 1e6)
 GAP_FACTOR = 1.5
 #: Relative RMS jitter of the sampling period above which a warning is raised.
 JITTER_WARN = 0.01
+#: |mean| (rad/s) of a gyro at rest above which a warning says the unit or the record is wrong:
+#: 200 deg/s, well beyond consumer MEMS turn-on biases (≤ ±75 deg/s) and Earth's rate (15 deg/h);
+#: raw counts of a ±250 deg/s part (131 per deg/s) read as deg/s pass it from a 1.5 deg/s bias on.
+GYRO_REST_MAX_RAD_S = math.radians(200.0)
 MAX_ROWS_LISTED = 5
 
 
@@ -189,6 +193,13 @@ def check_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
             issues.append(LogIssue("constant_channel", "warning",
                                    f"all samples equal {fin[0]:.6g} (stuck or unused sensor); "
                                    "it carries no noise to analyse", int(fin.size), (), names[j]))
+        elif ch.startswith("gyro") and fin.size and abs(float(fin.mean())) > GYRO_REST_MAX_RAD_S:
+            issues.append(LogIssue("gyro_rate_at_rest", "warning",
+                                   f"mean {math.degrees(float(fin.mean())):.4g} deg/s on a static log, "
+                                   f"beyond any gyro's turn-on bias (≤ {math.degrees(GYRO_REST_MAX_RAD_S):g} "
+                                   "deg/s): raw counts without their scale, another unit, or a turning "
+                                   "unit? every noise figure of this channel scales with its unit",
+                                   int(fin.size), (), names[j]))
     return issues
 
 
@@ -200,7 +211,9 @@ def gravity_unit_slip(data: np.ndarray, channel_index: dict[str, int], source_un
                       path) -> InputError | None:
     """A static log's three accelerometers read gravity: a mean magnitude off by the factor of
     a unit slip (g ↔ m/s², mg ↔ g, within 25 %) means the columns carry another unit than their
-    names say — every noise figure would be off by that factor. The error, or None."""
+    names say — every noise figure would be off by that factor; so does any other magnitude
+    above 1.25 g (e.g. raw counts without their scale), as it does for one or two axes. Below
+    gravity nothing is refused (a log may have had gravity removed). The error, or None."""
     axes = tuple(a for a in ("accel_x", "accel_y", "accel_z") if a in channel_index)
     if not axes:
         return None
@@ -216,14 +229,24 @@ def gravity_unit_slip(data: np.ndarray, channel_index: dict[str, int], source_un
                               expected="at most ≈ 9.81 m/s² (1 g) at rest; name the columns after their "
                               "unit (accel_x_mps2 | accel_x_g | accel_x_mg) or fix the mapping's scale")
         return None
+    unit = source_units.get("accel_x", "?")
     for factor, slip in _GRAVITY_UNIT_SLIPS:
         if math.isfinite(ratio) and 0.8 < ratio / factor < 1.25:
-            unit = source_units.get("accel_x", "?")
             return InputError(f"at rest the accelerometers read |mean| = {ratio * G0:.4g} m/s², "
                               f"{ratio:.3g} g: the values look like {slip}", file=path,
                               field=f"accel_x_{unit} … accel_z_{unit}",
                               expected="≈ 9.81 m/s² of gravity; name the columns after their unit "
                               "(accel_x_mps2 | accel_x_g | accel_x_mg) or fix the mapping's scale")
+    if math.isfinite(ratio) and ratio > 1.25:
+        # three axes see all of gravity: more than 1.25 g at rest is another unit (raw counts of
+        # a ±2 g part read as m/s² give 16384 m/s², 1670 g) — every figure off by that factor
+        return InputError(f"at rest the accelerometers read |mean| = {ratio * G0:.4g} m/s², "
+                          f"{ratio:.3g} g, more than gravity: the values are not in {unit} (raw "
+                          "counts without their scale?)", file=path,
+                          field=f"accel_x_{unit} … accel_z_{unit}",
+                          expected="≈ 9.81 m/s² (1 g) at rest; name the columns after their unit "
+                          "(accel_x_mps2 | accel_x_g | accel_x_mg) or give the mapping's scale "
+                          "(counts → unit)")
     return None
 
 
