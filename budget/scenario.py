@@ -143,6 +143,25 @@ def scenario_field(field: str | None) -> bool:
     return base in Scenario.model_fields or base == "tc_s"
 
 
+#: Carrier bands (Hz) a synthetic aperture is flown in: radar P band … W band and beyond
+#: (100 MHz … 300 GHz), sonar 1 kHz … 1 MHz. Used only to guess the unit a carrier was written in.
+TYPICAL_CARRIER_HZ = {"radar": (1e8, 3e11), "sonar": (1e3, 1e6)}
+
+
+def carrier_unit_hint(medium: str, f0_hz: float) -> str:
+    """Why a carrier ``f0_hz`` (Hz) is implausible for ``medium``, in words: the unit
+    (kHz, MHz, GHz) whose reading puts it in the medium's typical band (a GHz figure written into
+    the Hz key: 9.6 → 9.6e+09 Hz), and, for a radar carrier in the sonar band, the other medium."""
+    lo, hi = TYPICAL_CARRIER_HZ[medium]
+    guesses = [f"{f0_hz * k:.4g} Hz if it was in {unit}"
+               for unit, k in (("kHz", 1e3), ("MHz", 1e6), ("GHz", 1e9)) if lo <= f0_hz * k <= hi]
+    text = "carrier_frequency_hz is in Hz" + (f" ({'; '.join(guesses)})" if guesses else "")
+    lo, hi = PLAUSIBLE_CARRIER_HZ["sonar"]
+    if medium == "radar" and lo <= f0_hz <= hi:
+        text += "; or did you mean medium 'sonar'?"
+    return text
+
+
 def los_unit_vector(depression_deg: float, squint_deg: float) -> np.ndarray:
     """Unit vector APC → scene at depression ψ (below horizontal) and squint s (positive
     forward, 0 = broadside): u = (cos ψ·sin s, cos ψ·cos s, −sin ψ), in the local-level frame
@@ -228,10 +247,15 @@ class Scenario(BaseModel):
     def _check(self) -> "Scenario":
         if not all(math.isfinite(v) for v in self.lever_arm_m):
             raise ValueError("lever_arm_m must hold three finite numbers (m)")
-        if self.medium == "sonar" and self.carrier_frequency_hz > 5e6:
-            raise ValueError("sonar carrier_frequency_hz above 5 MHz: did you mean medium 'radar'?")
-        if self.medium == "radar" and self.carrier_frequency_hz < 1e6:
-            raise ValueError("radar carrier_frequency_hz below 1 MHz: did you mean medium 'sonar'?")
+        f0 = self.carrier_frequency_hz
+        if self.medium == "sonar" and f0 > PLAUSIBLE_CARRIER_HZ["sonar"][1]:
+            raise InputError("sonar carrier above 5 MHz: did you mean medium 'radar'?",
+                             field="carrier_frequency_hz", value=f0,
+                             expected="10 … 5e+06 Hz for sonar, or medium: radar")
+        if self.medium == "radar" and f0 < PLAUSIBLE_CARRIER_HZ["radar"][0]:
+            raise InputError("radar carrier below 1 MHz: " + carrier_unit_hint("radar", f0),
+                             field="carrier_frequency_hz", value=f0,
+                             expected="1e+06 … 1e+13 Hz for radar, the number in Hz")
         c = self.propagation_speed_m_s
         if c is not None and self.medium == "radar" and c < RADAR_MIN_SPEED_M_S:
             raise InputError("a speed of sound for radar: did you mean medium 'sonar'?",
@@ -259,14 +283,18 @@ class Scenario(BaseModel):
         # resolutions no aperture or bandwidth can give: δr = c/(2B) with B < 2 f0 (the band's
         # lower edge above 0 Hz), δℓ ≥ λ/4 (a 180° synthetic aperture)
         lam = self.c_m_s / self.carrier_frequency_hz
+        band_lo, band_hi = TYPICAL_CARRIER_HZ[self.medium]  # a carrier outside: its unit is named
+        unit_hint = ("" if band_lo <= self.carrier_frequency_hz <= band_hi else
+                     f" (a carrier outside the {self.medium} bands: "
+                     f"{carrier_unit_hint(self.medium, self.carrier_frequency_hz)})")
         if self.range_resolution_m <= 0.25 * lam:
             raise InputError(f"range resolution {self.range_resolution_m:.4g} m needs a bandwidth "
                              f"c/(2δr) = {self.c_m_s / (2 * self.range_resolution_m):.4g} Hz, more than "
-                             f"twice the carrier {self.carrier_frequency_hz:.4g} Hz", field="range_resolution_m",
+                             f"twice the carrier {self.carrier_frequency_hz:.4g} Hz{unit_hint}", field="range_resolution_m",
                              expected=f"> λ/4 = {0.25 * lam:.4g} m (bandwidth < 2 × carrier)")
         if self.azimuth_resolution_m < 0.25 * lam:
             raise InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m is finer than any "
-                             "synthetic aperture gives", field="azimuth_resolution_m",
+                             f"synthetic aperture gives{unit_hint}", field="azimuth_resolution_m",
                              expected=f"≥ λ/4 = {0.25 * lam:.4g} m (a 180° aperture)")
         if any(abs(v) > 1e3 for v in self.lever_arm_m):
             raise InputError("lever arm longer than 1 km", field="lever_arm_m",

@@ -123,6 +123,11 @@ class McResult:
             line += j["imu_rate"] + "\n"
         if j.get("platform_motion"):
             line += j["platform_motion"] + "\n"
+        for key in ("lever_arm", "acceptance"):
+            if j.get(key):
+                line += j[key] + "\n"
+        if j.get("earth_model"):
+            line += f"earth model: {j['earth_model']}\n"
         if j.get("wideband_note"):
             line += j["wideband_note"] + "\n"
         if j.get("reference_summary"):

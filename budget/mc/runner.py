@@ -30,8 +30,11 @@ from typing import Callable
 
 from threadpoolctl import threadpool_limits
 
+from ..aiding_spec import AidingPlan
 from ..catalog.fill import resolve_unspecified
 from ..errors import InputError, whole_number
+from ..imu.noise_model import as_noise_model_si
+from ..motion.flat_earth import check_flat_earth, coasts_over_aperture, earth_frame, earth_model_note
 from ..nav.manoeuvre import PlatformMotion
 from ..scenario import Scenario
 from ..units import G0
@@ -199,6 +202,9 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     judged = _cached_setup(scen_json, opt_json).describe()
     judged["imu_rate"] = imu_rate_note(scenario, getattr(model, "rate_hz", None))
     judged["platform_motion"] = platform_motion_note(scenario, options.platform_motion)
+    judged["lever_arm"] = lever_arm_note(scenario)
+    judged["acceptance"] = acceptance_note(options)
+    judged["earth_model"] = earth_model_line(scenario, model)
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
                     tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
                     options=options, scenario=scenario, judged_on=judged)
@@ -235,3 +241,46 @@ def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = Non
                  "(McOptions.platform_motion, --platform-motion: oscillation or attitude_change flies a rotation)")
     return text
 
+
+
+def lever_arm_note(scenario: Scenario) -> str:
+    """The lever arm d (m, body frame, IMU → antenna phase centre) the trials were flown with,
+    and whether the scenario gave it or it is the default 0 (seed 004's IMU at the antenna: no
+    attitude error × lever arm in the verdict)."""
+    d = [float(v) for v in scenario.lever_arm_m]
+    arm = "[" + ", ".join(f"{v:g}" for v in d) + "] m"
+    if "lever_arm_m" not in scenario.model_fields_set:
+        return (f"lever arm IMU → antenna {arm}: the default (the scenario gives no lever_arm_m), seed "
+                "004's IMU at the antenna phase centre; attitude error × lever arm is not in this verdict")
+    return f"lever arm IMU → antenna {arm} (|d| = {math.sqrt(sum(v * v for v in d)):.3g} m, the scenario's lever_arm_m)"
+
+
+def acceptance_note(options: McOptions) -> str:
+    """The limits a trial is judged against (:class:`McOptions`), in words: what "pass" meant."""
+    a = options.acceptance
+    pslr = f"PSLR ≤ {a.max_pslr_db:g} dB" if a.max_pslr_db is not None else \
+        f"PSLR ≤ the window's ideal + {a.pslr_margin_db:g} dB"
+    islr = f"ISLR ≤ {a.max_islr_db:g} dB" if a.max_islr_db is not None else \
+        f"ISLR ≤ the window's ideal + {a.islr_margin_db:g} dB"
+    parts = [f"3 dB broadening ≤ {100 * a.max_broadening:g} %", pslr, islr,
+             f"peak loss ≤ {a.max_peak_loss_db:g} dB ({' and '.join(a.axes)} cuts)"]
+    parts.append("peak shift not judged" if a.max_peak_shift_cells >= 1000.0 else
+                 f"peak shift ≤ {a.max_peak_shift_cells:g} cells")
+    cells = options.max_range_migration_cells
+    parts.append("range migration not judged" if cells is None else f"range migration ≤ {cells:g} range cell(s)")
+    deg = options.max_residual_phase_rms_deg
+    parts.append("what PGA cannot remove not judged" if deg is None else
+                 f"what PGA cannot remove ≤ {deg:g}° rms")
+    return "acceptance: " + ", ".join(parts)
+
+
+def earth_model_line(scenario: Scenario, model) -> str:
+    """The navigation model's note for this run (:func:`budget.motion.flat_earth.earth_model_note`,
+    as the motion engine writes it for the trials): flat-earth propagation with the size of what
+    it leaves out over Tc, and the latitude and heading — the defaults, which the verdict does not
+    let a user set — at which the Earth and transport rate turn an aided run's initial attitude
+    error."""
+    plan = AidingPlan.from_scenario(scenario)
+    frame = earth_frame(scenario, None, None)
+    heading = check_flat_earth(scenario, plan, as_noise_model_si(model), None, frame["rate"])
+    return earth_model_note(scenario, coasts_over_aperture(plan, scenario.tc_s), frame, heading)
