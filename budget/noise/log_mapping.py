@@ -158,29 +158,57 @@ def _temp_column(name: str, path, row: int) -> tuple[float, float, bool] | None:
     return (*(scales[0] if scales else (1.0, 0.0)), bool(scales))
 
 
-#: Sensor column names loggers write (GyroX, gyr_y, wz, AccX, acc_y, ax …): suggested, never read
-#: without a mapping — their unit is not in the name.
-_SENSOR_NAME = re.compile(r"(gyro|gyr|gyroscope|omega|rate|w|g|acc|accel|accelerometer|a)"
-                          r"[ _.-]?(x|y|z)")
+#: Sensor column names loggers write (GyroX, gyr_y, wz, AccX, acc_y, ax; ROS's
+#: ``field.angular_velocity.x``; ``w_RS_S_x`` of public visual-inertial datasets): suggested, never
+#: read without a mapping — the name does not say the unit, and a bracketed one may be wrong.
+_SENSOR_NAME = re.compile(r"(?:field\.)?(?P<kind>angular_velocity|linear_acceleration|gyroscope|gyro|gyr|omega|"
+                          r"rate|w|g|accelerometer|accel|acc|a)(?:[_.][a-z0-9]+)*?[ _.-]?(?P<axis>x|y|z)")
+#: Names of the time column in those layouts (ROS's ``%time`` and header stamp are in ns).
+_TIME_NAMES = ("t", "time", "timestamp", "#timestamp", "%time", "field.header.stamp", "header.stamp")
+#: ROS messages carry SI units (REP 103): rad/s and m/s², stamps in ns.
+_ROS_KINDS = ("angular_velocity", "linear_acceleration")
+_TIME_TAGS = {1.0: "time_s", 1e-3: "time_ms", 1e-6: "time_us", 1e-9: "time_ns"}
 
 
 def suggest_mapping(header: list[str]) -> dict[str, str]:
     """A mapping a user could write for a header without canonical names (``GyroX`` →
     ``gyro_x_<unit>``, ``acc_z`` → ``accel_z_<unit>``, ``Time`` → ``time_<unit>``), when it
-    names three axes of at least one sensor; ``{}`` otherwise. Only said in an error, never
-    applied: the units are the user's to write."""
+    names three axes of at least one sensor; ``{}`` otherwise. The unit is the one written in
+    brackets when it is a channel's (``w_RS_S_x [rad s^-1]`` → ``gyro_x_rps``), SI for ROS names
+    (REP 103), else deg/s and m/s² for the user to correct. Only said in an error, never applied:
+    the units are the user's to write."""
     found: dict[str, str] = {}
     for col in header:
-        m = _SENSOR_NAME.fullmatch(u.split_header_unit(col)[0].strip().lower())
+        base, written = u.split_header_unit(col)
+        m = _SENSOR_NAME.fullmatch(base.strip().lower())
         if m is None:
             continue
-        kind = "accel" if m.group(1).startswith("a") else "gyro"
-        found[col] = f"{kind}_{m.group(2)}_{'mps2' if kind == 'accel' else 'dps'}"
+        kind = "accel" if m.group("kind") in ("linear_acceleration", "accelerometer", "accel", "acc", "a") \
+            else "gyro"
+        tag = ("mps2" if kind == "accel" else "rps") if m.group("kind") in _ROS_KINDS else \
+            ("mps2" if kind == "accel" else "dps")
+        if written is not None:
+            try:
+                tag = u.header_channel_unit(kind, written)
+            except ValueError:
+                pass  # a unit that is no channel's: keep the default for the user to correct
+        found[col] = f"{kind}_{m.group('axis')}_{tag}"
     kinds = [dst.split("_")[0] for dst in found.values()]
     if not any(kinds.count(k) >= 3 for k in ("gyro", "accel")):
         return {}
-    times = [c for c in header if c.strip().lower() in ("t", "time", "timestamp")]
-    return ({times[0]: "time_s"} if len(times) == 1 else {}) | found
+    for col in header:
+        base, written = u.split_header_unit(col)
+        if base.strip().lower() not in _TIME_NAMES:
+            continue
+        factor = 1e-9 if base.strip().lower() in ("%time", "field.header.stamp", "header.stamp") else 1.0
+        if written is not None:
+            try:
+                factor = u.header_time_factor(written)
+            except ValueError:
+                pass
+        if factor in _TIME_TAGS:
+            return {col: _TIME_TAGS[factor]} | found
+    return found
 
 
 def time_unit_hint(ignored) -> str:
@@ -322,14 +350,14 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
         if other:
             hint = (f"; the header holds {other[0]!r}: a file delimited by it needs a mapping with "
                     f"\"delimiter\": {other[0]!r}")
-        elif len(header) <= 2 or not any(h.replace("_", "").isalnum() for h in header):
-            hint = ("; if the file starts with preamble lines (device, date, units), a mapping's "
-                    "\"skip_rows\" skips them")
         elif suggested := suggest_mapping(header):
             hint = ("; the header looks like sensor columns: a mapping such as {\"columns\": {"
                     + ", ".join(f'"{src}": "{dst}"' for src, dst in suggested.items())
-                    + "}} reads them — write the unit each holds (gyro: dps, rps, dph; accel: "
+                    + "}} reads them — check the unit each holds (gyro: dps, rps, dph; accel: "
                       "mps2, g; raw counts: with a \"scale\")")
+        elif len(header) <= 2 or not any(h.replace("_", "").isalnum() for h in header):
+            hint = ("; if the file starts with preamble lines (device, date, units), a mapping's "
+                    "\"skip_rows\" skips them")
         raise InputError(f"no sensor channel column found in the header row ({shown}){hint}",
                          file=path, row=1 + (mapping.skip_rows if mapping else 0),
                          expected=f"columns like gyro_x_dps … accel_z_mps2, {LOG_NAMES_WAY.cli}")
