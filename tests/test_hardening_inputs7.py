@@ -75,3 +75,36 @@ def test_bracketed_exponent_units_are_read_on_canonical_channels(tmp_path):
     log = read_log(path)
     assert log.source_units["gyro_z"] == "rps" and log.source_units["accel_z"] == "mps2"
     assert np.mean(log.channels["accel_z"]) == pytest.approx(9.81, abs=5e-3)
+
+
+# --- a characterisation carries what the reader found and changed in the record it fitted -----------
+
+def _plain_log(path, n=6000, jitter=0.0, nan_row=None, seed=6):
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / 100.0 + rng.uniform(-jitter, jitter, n) / 100.0
+    g = rng.normal(0.0, 1e-3, n)
+    a = 9.81 + rng.normal(0.0, 1e-2, n)
+    lines = [f"{ti:.6f},{'nan' if i == nan_row else f'{gi:.6g}'},{ai:.6g}" for i, (ti, gi, ai) in enumerate(zip(t, g, a))]
+    path.write_text("time_s,gyro_z_dps,accel_z_mps2\n" + "\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def test_a_characterisation_carries_the_readers_warnings_and_repairs(tmp_path):
+    from budget.noise import characterize
+
+    jittery = read_log(_plain_log(tmp_path / "jitter.csv", jitter=0.3))
+    warned = [i.text() for i in jittery.issues.issues if i.severity == "warning"]
+    assert warned, "the generator's ±30 % stamp jitter is what the reader warns of"
+    res = characterize(jittery)
+    assert res.log_findings and all(w.removeprefix("warning: ") in res.log_findings for w in warned)
+    assert res.to_dict()["log_findings"] == res.log_findings
+    assert "log: " in res.summary()
+
+    repaired = read_log(_plain_log(tmp_path / "gap.csv", nan_row=2500), repair=True)
+    assert repaired.issues.repairs
+    res = characterize(repaired)
+    assert any(f.startswith("log repaired: ") for f in res.log_findings), res.log_findings
+    assert "log repaired before the fit" in res.part.notes
+
+    clean = characterize(read_log(_plain_log(tmp_path / "clean.csv")))
+    assert clean.log_findings == [] and "repaired" not in clean.part.notes

@@ -90,11 +90,7 @@ def run_characterize(args) -> int:
             raise InputError(f"channel(s) {', '.join(missing)} missing from the table", file=path,
                              field="--channels", expected=f"channels the table has: {', '.join(data)}")
         data = {c: data[c] for c in chans}
-    if isinstance(data, ImuLog):
-        for issue in data.issues.issues:
-            if issue.severity != "info":
-                print(f"note: {issue.text()}", file=sys.stderr)
-    else:
+    if not isinstance(data, ImuLog):  # a log's warnings and repairs are in the result (log_findings)
         for option, given in (("--max-rows", args.max_rows is not None), ("--mapping", args.mapping),
                               ("--repair", args.repair)):
             if given:  # options of a log: an Allan table would silently ignore them
@@ -107,7 +103,7 @@ def run_characterize(args) -> int:
                               vendor=args.vendor, model=args.model, taus=args.taus,
                               keep_spikes=args.keep_spikes)
     if args.json:  # the summary printed below lists them itself
-        for warning in result.warnings:  # e.g. a log that is not one stationary regime
+        for warning in result.warnings + result.log_findings:  # e.g. not one stationary regime, jitter
             warn(args, f"{path.name}: {warning}")
     if args.append:
         from ..catalog.io import append_part

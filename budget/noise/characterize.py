@@ -54,6 +54,10 @@ class Characterization:
     #: findings that make the fit doubtful, one line each naming the channel (e.g. a log that is
     #: not one stationary regime: :func:`budget.noise.stationarity.check_stationarity`)
     warnings: list[str] = field(default_factory=list)
+    #: what the log reader found and changed in the record fitted (timing jitter, a channel's
+    #: implausible mean, rows dropped or values interpolated on request), one line each; empty
+    #: for Allan tables
+    log_findings: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """``{"part": row fields, "channels": {ch: {Q, N, B, K, R}}, ..., "options": {...}}`` (SI
@@ -64,7 +68,7 @@ class Characterization:
                 "uncertainty": {ch: t.sigmas for ch, t in self.channels.items()},
                 "resolved": {ch: t.resolved for ch, t in self.channels.items()},
                 "notes": list(self.notes), "warnings": list(self.warnings),
-                "options": dict(self.options)}
+                "log_findings": list(self.log_findings), "options": dict(self.options)}
 
     def to_frame(self) -> pd.DataFrame:
         rows = []
@@ -92,6 +96,7 @@ class Characterization:
         lines += [t.summary() for t in self.channels.values()]
         lines += [f"note: {n}" for n in self.notes]
         lines += [f"warning: {w}" for w in self.warnings]
+        lines += [f"log: {f}" for f in self.log_findings]
         return "\n".join(lines)
 
 
@@ -301,6 +306,9 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                       + ": its long-τ terms are doubtful")
     if replaced:
         row_notes += "; isolated spikes replaced before the fit on " + ", ".join(replaced)
+    log_findings = log_findings_of(data) if isinstance(data, ImuLog) else []
+    if isinstance(data, ImuLog) and data.issues.repairs:
+        row_notes += f"; log repaired before the fit ({len(data.issues.repairs)} repair(s))"
     try:
         part = PartSpec(part_id=part_id, vendor=vendor, model=model, grade=grade, rate_hz=rate,
                         source=text, bias_instability_convention="adev_min",
@@ -314,4 +322,11 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                "keep_spikes": bool(keep_spikes)}
     return Characterization(part, fits, allan, COMBINE_RULE, notes, options,
                             spike_warnings + [f"{i.column}: {i.message}" for i in regimes]
-                            + drift_warnings + misfit_warnings)
+                            + drift_warnings + misfit_warnings, log_findings)
+
+
+def log_findings_of(log: ImuLog) -> list[str]:
+    """The reader's warnings about ``log`` and the repairs it made, one line each — what a
+    result fitted to the log must carry (errors were refused or repaired; notes are not findings)."""
+    return ([i.text().removeprefix("warning: ") for i in log.issues.issues if i.severity == "warning"]
+            + [f"log repaired: {r}" for r in log.issues.repairs])
