@@ -40,6 +40,9 @@ class McResult:
     options: McOptions | None = None
     scenario: Scenario | None = None
     judged_on: dict = field(default_factory=dict)
+    #: the values of the model simulated (:func:`budget.mc.runner.model_spec`: datasheet units,
+    #: unspecified terms as filled); None for a model given in SI
+    model_spec: dict | None = None
 
     @property
     def trials(self) -> int:
@@ -86,7 +89,7 @@ class McResult:
                "worst_trials": [{"trial": o.trial, "reasons": o.reasons, "metrics_after": o.after,
                                  "peak_range_cells": o.peak_range_cells} for o in self.worst_trials()],
                "cancelled": self.cancelled, "decision_rule": DECISION_RULE,
-               "judged_on": dict(self.judged_on),
+               "judged_on": dict(self.judged_on), "model_spec": self.model_spec,
                "options": self.options.model_dump(mode="json") if self.options is not None else None,
                "scenario_spec": self.scenario.model_dump(mode="json") if self.scenario is not None else None}
         if self.agg.keep_trial_metrics:
@@ -105,6 +108,7 @@ class McResult:
                             "trials": self.trials, "seed": self.seed, "p_pass_before": self.p_pass_before,
                             "p_pass_after": self.p_pass_after, "ci_before": list(self.ci_before),
                             "ci_after": list(self.ci_after), "cancelled": self.cancelled,
+                            "judged_on": dict(self.judged_on), "model_spec": self.model_spec,
                             "options": self.options.model_dump(mode="json") if self.options is not None else None})
         return frame
 

@@ -123,6 +123,18 @@ def model_label(model) -> str:
     return getattr(model, "part_id", None) or getattr(model, "model", None) or "noise model"
 
 
+def model_spec(model) -> dict | None:
+    """The values of the model simulated, JSON-ready (datasheet units, as a catalog row or a
+    noise-model file writes them; unspecified terms as filled), so that a verdict says which
+    row it judged — a user's row under a shipped part's id included. None for a model given in
+    SI (``NoiseModelSI``: its label is all a result names)."""
+    if hasattr(model, "to_dict") and hasattr(model, "effects"):  # NoiseModel: its effects too
+        return model.to_dict()
+    if hasattr(model, "model_dump"):
+        return model.model_dump(mode="json")
+    return None
+
+
 def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOptions | None = None,
            workers: int = 1, backend: str = "auto", client=None, progress: ProgressFn | None = None,
            cancel: threading.Event | None = None, keep_detail: bool = False) -> McResult:
@@ -207,7 +219,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     judged["earth_model"] = earth_model_line(scenario, model)
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
                     tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
-                    options=options, scenario=scenario, judged_on=judged)
+                    options=options, scenario=scenario, judged_on=judged, model_spec=model_spec(model))
 
 
 def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:

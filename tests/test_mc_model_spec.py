@@ -1,0 +1,58 @@
+"""A Monte Carlo verdict records the values of the model it simulated, not just its name.
+
+A user's catalog row may carry a shipped part's id with other figures (a newer datasheet); the
+verdict's JSON, frame and result must say which values were judged — the row as written, with
+the terms it left empty filled from its grade (and those fills stated)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from budget.catalog.io import get_part
+from budget.imu.noise_model import NoiseModel
+from budget.mc import McOptions, run_mc
+from budget.presets import get_preset
+
+
+@pytest.fixture(scope="module")
+def verdicts():
+    shipped = get_part("STIM300")
+    # the same id, a user's figures: ARW halved, the accelerometer scale factor left empty
+    user = shipped.model_copy(update={"gyro_arw_deg_rt_h": shipped.gyro_arw_deg_rt_h / 2,
+                                      "accel_scale_factor_ppm": None})
+    s = get_preset("airborne_xband")
+    opts = McOptions(unspecified="fill_grade_typical")
+    return shipped, user, run_mc(s, shipped, 2, 3, options=opts), run_mc(s, user, 2, 3, options=opts)
+
+
+def test_the_verdict_names_the_values_it_simulated(verdicts):
+    shipped, user, r_shipped, r_user = verdicts
+    assert r_shipped.model_label == r_user.model_label == "STIM300"  # the names cannot tell them apart
+    assert r_shipped.model_spec["gyro_arw_deg_rt_h"] == shipped.gyro_arw_deg_rt_h
+    assert r_user.model_spec["gyro_arw_deg_rt_h"] == pytest.approx(shipped.gyro_arw_deg_rt_h / 2, rel=1e-15)
+    for r in (r_shipped, r_user):
+        d = json.loads(json.dumps(r.to_dict()))  # JSON-ready
+        assert d["model_spec"] == r.model_spec
+        assert r.to_frame().attrs["model_spec"] == r.model_spec
+        assert r.to_frame().attrs["judged_on"] == r.judged_on
+
+
+def test_a_filled_term_is_recorded_with_its_value_and_said(verdicts):
+    _, user, _, r_user = verdicts
+    filled = r_user.extra["unspecified_terms"]["filled"]
+    fill = next(f for f in filled if f["column"] == "accel_scale_factor_ppm")
+    # the model simulated holds the fill, and the record says where it came from
+    assert r_user.model_spec["accel_scale_factor_ppm"] == pytest.approx(fill["value"], rel=1e-15)
+    assert user.grade in fill["source"]
+
+
+def test_a_noise_model_file_is_recorded_with_its_effects():
+    model = NoiseModel.from_dict({"part_id": "my-model", "grade": "tactical", "gyro_arw_deg_rt_h": 0.15,
+                                  "accel_vrw_m_s_rt_h": 0.05,
+                                  "effects": [{"name": "sinusoid", "channel": "gyro_z",
+                                               "params": {"frequency_hz": 3.0, "amplitude": 1e-5}}]})
+    r = run_mc(get_preset("airborne_xband"), model, 1, 0, options=McOptions(unspecified="zero"))
+    assert r.model_spec["gyro_arw_deg_rt_h"] == 0.15
+    assert r.model_spec["effects"][0]["params"]["frequency_hz"] == 3.0
