@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..bounds import LeverArmAssumptions, compute_bounds, fast_phase_limits, lever_arm_terms, scenario_assumptions
@@ -101,6 +103,8 @@ def run(args) -> int:
             lever = LeverArmAssumptions.from_scenario(s)
     assumed = lever if args.tc or lever is not None else scenario_assumptions(args.mode, s)
     table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=assumed)
+    if not args.tc:  # the table says which scenario it is for, as the library's compute_bounds does
+        table = replace(table, scenario=s.model_dump(mode="json"))
     # fast-phase limits at these Tc, weighted by the window the verdict images with (a scenario's:
     # Taylor on radar) or unweighted, the conservative side, for bare --tc
     window = LeverArmAssumptions.from_scenario(s).aperture_window if not args.tc else "rect"

@@ -29,6 +29,9 @@ def add_scenario_options(parser, required: bool = False) -> None:
 
 def scenario_from_args(args, default_preset: str | None = None) -> Scenario:
     if getattr(args, "scenario", None):
+        if args.scenario in PRESETS and not Path(args.scenario).exists():  # a preset's name, not a file
+            raise InputError("file not found (this is the name of a preset)", file=args.scenario,
+                             field="--scenario", expected=f"--preset {args.scenario}, or a scenario JSON/YAML file")
         return Scenario.load(args.scenario)
     if getattr(args, "preset", None):
         return get_preset(args.preset)

@@ -1,8 +1,10 @@
-"""A Monte Carlo verdict records the values of the model it simulated, not just its name.
+"""Results say what they were computed for.
 
+A Monte Carlo verdict records the values of the model it simulated, not just its name.
 A user's catalog row may carry a shipped part's id with other figures (a newer datasheet); the
 verdict's JSON, frame and result must say which values were judged — the row as written, with
-the terms it left empty filled from its grade (and those fills stated)."""
+the terms it left empty filled from its grade (and those fills stated). The bounds table of a
+scenario names it; a preset's name given where a file is expected names the preset option."""
 
 from __future__ import annotations
 
@@ -56,3 +58,16 @@ def test_a_noise_model_file_is_recorded_with_its_effects():
     r = run_mc(get_preset("airborne_xband"), model, 1, 0, options=McOptions(unspecified="zero"))
     assert r.model_spec["gyro_arw_deg_rt_h"] == 0.15
     assert r.model_spec["effects"][0]["params"]["frequency_hz"] == 3.0
+
+
+# --- the CLI's scenario options: a preset's name given as a file, the bounds table's heading ---------
+
+def test_a_preset_name_given_as_a_scenario_file_names_the_preset_option(tmp_path, monkeypatch, capsys):
+    from budget.cli.main import main
+
+    monkeypatch.chdir(tmp_path)  # no file of that name here
+    assert main(["bounds", "--scenario", "airborne_xband"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "is the name of a preset" in err and "--preset airborne_xband" in err and "\n" not in err, err
+    assert main(["bounds", "--preset", "missile_borne"]) == 0
+    assert capsys.readouterr().out.startswith("Bounds (paper mode) for missile_borne")
