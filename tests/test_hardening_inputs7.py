@@ -108,3 +108,21 @@ def test_a_characterisation_carries_the_readers_warnings_and_repairs(tmp_path):
 
     clean = characterize(read_log(_plain_log(tmp_path / "clean.csv")))
     assert clean.log_findings == [] and "repaired" not in clean.part.notes
+
+
+def test_a_record_too_short_for_the_long_tau_terms_is_said_so(tmp_path):
+    from budget.noise import characterize
+    from budget.noise.characterize import SHORT_RECORD_TAU_S
+
+    short = characterize(read_log(_plain_log(tmp_path / "short.csv", n=60)))
+    said = [w for w in short.warnings if "the record is short" in w]
+    assert len(said) == 1 and "bias instability" in said[0], short.warnings
+    assert max(float(r.tau_s.max()) for r in short.allan.values()) < SHORT_RECORD_TAU_S
+    no_floor = short.part.gyro_bias_instability_deg_h is None and short.part.accel_bias_instability_ug is None
+    assert ("inferred from the white-noise terms alone" in said[0]) == no_floor  # nothing else to grade by
+    white_only = characterize(read_log(_plain_log(tmp_path / "short.csv", n=60)), terms=("Q", "N"))
+    assert any("inferred from the white-noise terms alone" in w for w in white_only.warnings)
+    # two minutes at 100 Hz: the Allan deviation reaches past 10 s, no such warning
+    enough = characterize(read_log(_plain_log(tmp_path / "two_min.csv", n=12_000)))
+    assert max(float(r.tau_s.max()) for r in enough.allan.values()) >= SHORT_RECORD_TAU_S
+    assert not any("the record is short" in w for w in enough.warnings)

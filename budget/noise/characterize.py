@@ -158,6 +158,24 @@ def infer_grade(row: Mapping[str, float | None]) -> str:
     return GRADES[-1]
 
 
+#: Longest averaging time (s) below which a record is too short to show a bias-instability floor:
+#: IEEE-952's flat Allan floor sits at τ ≈ 10–1000 s for tactical to navigation grades.
+SHORT_RECORD_TAU_S = 10.0
+
+
+def _short_record_warning(allan: Mapping[str, AllanResult], fits: Mapping[str, NoiseTerms]) -> str | None:
+    """The warning for a record whose Allan deviation stops before :data:`SHORT_RECORD_TAU_S`
+    (a log under about a minute): the terms whose signature lies beyond it — bias instability,
+    rate random walk, rate ramp — are not measured by it."""
+    tau_max = max(float(np.max(allan[ch].tau_s)) for ch in fits)
+    if tau_max >= SHORT_RECORD_TAU_S:
+        return None
+    return (f"the record is short: its Allan deviation reaches τ = {tau_max:.3g} s only (below "
+            f"{SHORT_RECORD_TAU_S:g} s): bias instability, rate random walk and rate ramp lie beyond what "
+            "it measures (a value the row gives for them rests on the short τ alone); a static log of "
+            "≥ 1 h measures them")
+
+
 #: blocks whose means give the drift span named in a rate-ramp warning (~56 s on an hour)
 DRIFT_BLOCKS = 64
 
@@ -282,6 +300,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     misfit_warnings = [w for ch, t in fits.items() if (w := _misfit_warning(ch, t, allan[ch], model_error))]
     values = _row_values(fits)
     given_grade = grade
+    short = _short_record_warning(allan, fits)
     if grade is None:
         try:
             grade = infer_grade(values)
@@ -289,6 +308,10 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
             raise InputError(f"cannot infer the grade ({err})", field="grade",
                              expected=GRADE_WAY.cli) from None
         notes.append(f"grade {grade} inferred from the grades table")
+        if short and values.get("gyro_bias_instability_deg_h") is None \
+                and values.get("accel_bias_instability_ug") is None:
+            short += f"; the grade ({grade}) is inferred from the white-noise terms alone"
+    misfit_warnings += [short] if short else []
     text = source or f"measured: {origin}, IEEE-952 Allan-variance fit"
     row_notes = f"axes combined by {COMBINE_RULE}"
     weak_cols = _unresolved_columns(fits)
