@@ -34,7 +34,7 @@ from ..errors import GAP_CHANNELS_WAY, GAP_TAU_CHECK_WAY, InputError
 from ..imu import NoiseModel
 from ..imu.registry import DETERMINISTIC_EFFECTS, TEMPERATURE_EFFECTS
 from ..imu.resolve import resolve_noise_model
-from ..units import channel_si_unit
+from ..units import DEG, G0, HOUR, SQRT_HOUR, channel_si_unit
 from ..noise import ImuLog
 from ..noise.allan import AllanResult
 from ..noise.log_checks import LogReport
@@ -239,6 +239,29 @@ def _check_tau(meas: Measured, model: NoiseModel, wanted) -> None:
                 samples = int(math.ceil(4 * need * meas.rate_hz))
                 raise InputError(f"log too short for the τ range needed: its Allan deviation reaches "
                                  f"τ = {tau_max:.4g} s but the model's bias-instability floor on {ch} "
-                                 f"starts at τ ≈ {need:.4g} s", file=meas.source, field="samples",
+                                 f"starts at τ ≈ {need:.4g} s{_levels_said(model, ch, n, b)}",
+                                 file=meas.source, field="samples",
                                  value=meas.n_samples,
                                  expected=f"at least {samples} samples at {meas.rate_hz:g} Hz{GAP_TAU_CHECK_WAY.cli}")
+
+
+def _levels_said(model: NoiseModel, ch: str, n: float, b: float) -> str:
+    """The two levels behind the τ the tau check asks for, τ = (N/(0.664·B))²: the channel's
+    white density N (SI unit/√Hz, and deg/√h or m/s/√h) and its flicker floor 0.664·B (SI, and
+    deg/h or µg), and the share of N written in the model's ``effects``. Effect parameters are
+    SI channel units; a datasheet figure written there (an ARW of 0.3 deg/√h as a density of
+    0.3 rad/s/√Hz, 1.0e3 deg/√h) asks for a record of years, which the levels make plain."""
+    unit = channel_si_unit(ch)
+    floor = FLICKER_FLOOR * b
+    if ch.startswith("gyro"):
+        ds = f"{n / DEG * SQRT_HOUR:.3g} deg/√h", f"{floor / DEG * HOUR:.3g} deg/h"
+    else:
+        ds = f"{n * SQRT_HOUR:.3g} m/s/√h", f"{floor / G0 * 1e6:.3g} µg"
+    said = (f" (white noise N = {n:.3g} {unit}/√Hz = {ds[0]}, flicker floor 0.664·B = {floor:.3g} "
+            f"{unit} = {ds[1]})")
+    n_fx = math.sqrt(sum(f.param("density") ** 2 for f in model.effects
+                         if f.channel == ch and f.name == "white_noise"))
+    if n_fx > 0.5 * n:
+        said += (f"; {n_fx:.3g} {unit}/√Hz of N is the model's white_noise effect, whose density is "
+                 f"in SI channel units ({unit}/√Hz), not a datasheet unit")
+    return said
