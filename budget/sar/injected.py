@@ -23,6 +23,7 @@ from .echoes import simulate_echoes
 from .geometry import SarGeometry
 from .image import form_image
 from .metrics import TargetMetricsTable, measure_targets
+from ..errors import InputError
 from .pga import PgaResult, pga
 from .phase import los_offset_for_phase, phase_on_bins, residual_phase_rad, residual_rms_rad
 from .scene import Scene
@@ -74,13 +75,29 @@ class InjectedPhaseTrial:
         return "\n".join(lines)
 
 
+def _check_phase(phase_rad, n_pulses: int) -> np.ndarray:
+    """``phase_rad`` as one finite phase per pulse (a scalar is broadcast), else :class:`InputError`
+    naming ``phase_rad`` (was a NumPy broadcast error, or NaN reported as an APC offset)."""
+    try:
+        psi = np.asarray(phase_rad, dtype=float)
+    except (TypeError, ValueError):
+        psi = None
+    if psi is None or psi.shape not in ((), (n_pulses,)):
+        raise InputError("not one phase per pulse", field="phase_rad", value=getattr(psi, "shape", phase_rad),
+                         expected=f"a number or {n_pulses} phases (rad), one per pulse of the geometry")
+    if not np.all(np.isfinite(psi)):
+        raise InputError(f"{int(np.sum(~np.isfinite(psi)))} phases are NaN or infinite", field="phase_rad",
+                         expected="finite phases in rad")
+    return np.broadcast_to(psi, (n_pulses,))
+
+
 def run_injected_phase_trial(geom: SarGeometry, scene: Scene, phase_rad, rng: np.random.Generator | None, *,
                              method: str = "rda", kernel: str = "ml",
                              acceptance: Acceptance | None = None) -> InjectedPhaseTrial:
     """Image ``scene`` with the phase error ``phase_rad`` (rad, one value per pulse) injected on
     the true track, autofocus with PGA (``kernel`` ml | lumv) and measure (module docstring).
     ``rng`` draws receiver noise and clutter (required when the scene has them)."""
-    psi = np.broadcast_to(np.asarray(phase_rad, dtype=float), (geom.n_pulses,))
+    psi = _check_phase(phase_rad, geom.n_pulses)
     offset = los_offset_for_phase(geom, psi)
     data = simulate_echoes(geom, scene, offset, rng)
     image = form_image(geom, data, None, method=method)

@@ -10,7 +10,16 @@ Definitions (the results depend on them; the same ones measure the ideal of
 * ISLR: energy with null < |x − x_peak| ≤ extent over energy with |x − x_peak| ≤ null, where
   ``null`` is the IDEAL first-null distance of the window (so defocus that spills the main lobe
   counts as sidelobe energy) and ``extent`` defaults to the whole line (one period of a circular
-  image, equivalent to an infinite extent; pass a number of metres to restrict it).
+  image, equivalent to an infinite extent; pass a number of metres to restrict it). Each sample
+  stands for one sample interval centred on it (midpoint rule), so a sample that a boundary
+  crosses counts with the fraction of its interval inside,
+
+      f_main(d) = clip(null_s − d + ½, 0, 1),   d = |k − centre| (samples),          (1)
+
+  and likewise at the extent. (Counting such a sample whole or not at all made the ISLR of a
+  defocused response jump by up to 0.5 dB as the peak moved by a sixteenth of a cell: −0.37 dB
+  with the boundary on a sample, +0.1 dB half-way, for a Taylor response with π/2 of quadratic
+  phase at the aperture edge.)
 """
 
 from __future__ import annotations
@@ -105,12 +114,12 @@ def measure_cut(cut: np.ndarray, spacing: float, origin: float, *, expected_inde
     k = np.arange(int(np.floor(centre)) - lim, int(np.floor(centre)) + lim + 1)
     dist = np.abs(k - centre)
     pk = p[np.mod(k, n)]
+    f_main = np.clip(null_s - dist + 0.5, 0.0, 1.0)  # eq. (1)
+    e_main = (pk * f_main).sum()
     if extent is None:
-        e_main = pk[dist <= null_s].sum()
         e_side = p.sum() - e_main
     else:
-        e_main = pk[dist <= null_s].sum()
-        e_side = pk[(dist > null_s) & (dist <= ext_s)].sum()
+        e_side = (pk * (np.clip(ext_s - dist + 0.5, 0.0, 1.0) - f_main).clip(0.0)).sum()
     islr = 10 * np.log10(e_side / e_main) if e_side > 0 else -np.inf
     return CutMeasurement(peak_position=origin + centre * spacing, peak_amplitude=float(peak_amp),
                           width_3db=float(width), pslr_db=float(pslr), islr_db=float(islr))

@@ -109,16 +109,19 @@ def measure_rows(cuts: np.ndarray, spacing: np.ndarray, origin: np.ndarray, expe
         fc = int(math.floor(centre))
         lim = int(math.ceil(ext_s + 1))
         reach = min(int(math.ceil(null_s)) + 1, lim)
+        # (boundary samples count with the fraction of their interval inside: irf.py, eq. 1)
         e_main = 0.0
         for m in range(-reach, reach + 1):
-            if abs((fc + m) - centre) <= null_s:
-                e_main += p[(fc + m) % n]
+            f_main = min(max(null_s - abs((fc + m) - centre) + 0.5, 0.0), 1.0)
+            if f_main > 0.0:
+                e_main += p[(fc + m) % n] * f_main
         if finite_ext:
             e_side = 0.0
             for m in range(-lim, lim + 1):
                 dist = abs((fc + m) - centre)
-                if null_s < dist <= ext_s:
-                    e_side += p[(fc + m) % n]
+                f_side = min(max(ext_s - dist + 0.5, 0.0), 1.0) - min(max(null_s - dist + 0.5, 0.0), 1.0)
+                if f_side > 0.0:
+                    e_side += p[(fc + m) % n] * f_side
         else:
             e_side = total - e_main
         islr[r] = 10 * math.log10(e_side / e_main) if e_side > 0 else -np.inf

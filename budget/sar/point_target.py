@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ..errors import InputError
 from .irf import measure_cut
 from .windows import Window, ideal_irf
 
@@ -62,12 +63,21 @@ def azimuth_irf_metrics(phase_error_rad, window: Window | str | None = None, *,
     ``search_cells``: the peak is searched within ±this many cells of the centre (default: the
     whole line, so a badly defocused response is measured about its global maximum).
     """
-    phi = np.atleast_2d(np.asarray(phase_error_rad, dtype=float))
+    try:
+        phi = np.atleast_2d(np.asarray(phase_error_rad, dtype=float))
+    except (TypeError, ValueError):
+        phi = None
+    if phi is None or phi.ndim != 2:
+        raise InputError("not a phase error per pulse", field="phase_error_rad",
+                         value=getattr(phi, "shape", phase_error_rad),
+                         expected="real numbers (rad), shape (P,) or (trials, P)")
     if not np.all(np.isfinite(phi)):
-        raise ValueError("phase error contains NaN or infinity")
+        raise InputError("phase error holds NaN or infinite values", field="phase_error_rad",
+                         expected="finite phases in rad")
     T, P = phi.shape
     if P < 8:
-        raise ValueError("need at least 8 pulses for an impulse response")
+        raise InputError(f"{P} pulses are too few for an impulse response", field="phase_error_rad",
+                         value=P, expected="at least 8 pulses")
     win = Window.parse(window)
     w = win.samples(P)
     null = ideal_irf(win).first_null_cells
