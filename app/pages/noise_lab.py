@@ -25,7 +25,7 @@ from budget.units import channel_si_unit
 from formatting import tidy, value_table
 from page_frame import run_page
 from upload_tables import is_adev_table, upload_log_or_table, uploaded_adev
-from uploads import (INTERFACE, layout_inputs, naming_upload, read_uploaded_log, repair_box, show_error,
+from uploads import (INTERFACE, LogLayout, layout_inputs, naming_upload, read_uploaded_log, repair_box, show_error,
                      show_log_findings)
 
 DEFAULT_MAX_ROWS = 500_000
@@ -110,7 +110,8 @@ def _load(data: bytes, name: str) -> tuple[ImuLog, str] | None:
     max_rows = int(left.number_input("read at most this many rows", min_value=100, value=DEFAULT_MAX_ROWS,
                                      step=10_000, key="noise_max_rows"))
     repair = repair_box("noise_repair", right)
-    layout = layout_inputs("noise")
+    # a logger's layout is the user's file's; the built-in example is canonical
+    layout = layout_inputs("noise") if st.session_state.get("noise_source") == SOURCES[1] else LogLayout()
     try:
         log = read_uploaded_log(data, name, max_rows, repair, layout)
     except LogError as err:

@@ -68,6 +68,8 @@ def test_real_log_on_model_gap(page, dashboard_url):
     log = _real_log()
     open_page(page, dashboard_url, "model-gap")
     page.get_by_text("upload a log or an Allan table").click()
+    expect(page.get_by_text("Upload a static IMU log or an Allan table", exact=False)).to_be_visible()
+    _idle(page)  # the radio's rerun ends before the file is set (see test_allan_table_on_noise_lab)
     _upload(page, log)
     expect(page.get_by_text("adis16405_static_1.csv.gz:", exact=False)).to_be_visible()
     # 2·10⁵ samples (33 min) keep the browser test short; the CLI test runs the whole log
@@ -153,6 +155,10 @@ def test_allan_table_on_noise_lab(page, dashboard_url):
         pytest.skip(f"Allan table not found at {table} (clone without ../shared)")
     open_page(page, dashboard_url, "noise-lab")
     page.get_by_text("upload a log or an Allan table").click()
+    # the radio's rerun must end before the file is set: an uploader replaced by a rerun still in
+    # flight drops it (the page then waits for an upload that never comes)
+    expect(page.get_by_text("Upload a static IMU log or an Allan table", exact=False)).to_be_visible()
+    _idle(page)
     _upload(page, table)
     expect(page.locator("#noise-loaded")).to_contain_text("Allan table, 6 channel(s)")
     expect(page.get_by_text("Allan deviation and IEEE-952 terms")).to_be_visible()
