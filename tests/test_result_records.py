@@ -71,3 +71,24 @@ def test_a_preset_name_given_as_a_scenario_file_names_the_preset_option(tmp_path
     assert "is the name of a preset" in err and "--preset airborne_xband" in err and "\n" not in err, err
     assert main(["bounds", "--preset", "missile_borne"]) == 0
     assert capsys.readouterr().out.startswith("Bounds (paper mode) for missile_borne")
+
+
+# --- the sar demonstration scores a PGA that did not finish as the Monte Carlo does -------------------
+
+def test_an_image_pga_did_not_finish_is_never_scored_as_focused():
+    import numpy as np
+
+    from budget.sar import SarGeometry, Scene
+    from budget.sar.injected import run_injected_phase_trial, with_pga_outcome
+    from budget.sar.pga import pga
+
+    g = SarGeometry.from_scenario(get_preset("airborne_xband"))
+    ideal = run_injected_phase_trial(g, Scene.default(g, snr_db=None), 0.0, None)
+    assert ideal.pga.converged and ideal.evaluation_after.passed  # a clean image passes, PGA finished
+    assert with_pga_outcome(ideal.evaluation_after, ideal.pga) is ideal.evaluation_after
+    noise = np.random.default_rng(2).standard_normal((64, 128)) * (1 + 1j)
+    stalled = pga(noise)  # no scatterer to estimate from: PGA gives up, its image unchanged
+    assert not stalled.converged
+    judged = with_pga_outcome(ideal.evaluation_after, stalled)
+    assert judged.passed is False and judged.reasons[0].startswith("PGA found no usable scatterers")
+    assert ideal.evaluation_after.passed  # the evaluation it was given is left as it was

@@ -13,7 +13,7 @@ of an IMU-measured trajectory.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -109,5 +109,17 @@ def run_injected_phase_trial(geom: SarGeometry, scene: Scene, phase_rad, rng: np
     resid = residual_rms_rad(result.phase_error_rad, truth, mask) if result.converged else math.nan
     acc = acceptance or Acceptance()
     return InjectedPhaseTrial(geometry=geom, injected_phase_rad=np.array(psi), before=before, after=after,
-                              evaluation_before=evaluate(before, acc), evaluation_after=evaluate(after, acc),
+                              evaluation_before=evaluate(before, acc),
+                              evaluation_after=with_pga_outcome(evaluate(after, acc), result),
                               pga=result, residual_rms_rad=float(resid), kernel=kernel)
+
+
+def with_pga_outcome(evaluation: Evaluation, result: PgaResult) -> Evaluation:
+    """``evaluation`` of the image after PGA, failed when PGA itself failed or stalled — the
+    Monte Carlo's rule (:mod:`budget.mc.chain`: ``pga_failed``, ``pga_not_converged``): an image
+    PGA did not finish is never scored as focused, whatever its metrics say."""
+    if result.converged:
+        return evaluation
+    why = "found no usable scatterers" if result.failed else "did not converge"
+    reason = f"PGA {why} ({result.reason}): the image after PGA is not a focused one"
+    return replace(evaluation, passed=False, reasons=[reason, *evaluation.reasons])
