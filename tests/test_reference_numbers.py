@@ -40,7 +40,7 @@ def _printed(value: float, printed: str) -> bool:
 
 def test_vrw_unit_identity_exact():
     # 1 m/s/√h = 1/60 m/s²/√Hz = 1/(60·g·1e-6) µg/√Hz = 1699.53 µg/√Hz with g = 9.80665 m/s².
-    # (A quoted 1699.7 is 1.0e-4 high; tests/test_units.py accepts it at rel 2e-4.)
+    # (A quoted 1699.7 is 1.0e-4 high.)
     exact = 1.0 / (60.0 * G * 1e-6)
     assert u.m_s_rt_h_to_ug_rt_hz(1.0) == pytest.approx(exact, rel=1e-12)
     assert _printed(u.m_s_rt_h_to_ug_rt_hz(1.0), "1699.53")
