@@ -353,7 +353,7 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
         elif suggested := suggest_mapping(header):
             hint = ("; the header looks like sensor columns: a mapping such as {\"columns\": {"
                     + ", ".join(f'"{src}": "{dst}"' for src, dst in suggested.items())
-                    + "}} reads them — check the unit each holds (gyro: dps, rps, dph; accel: "
+                    + "}} reads them — write the unit each holds (gyro: dps, rps, dph; accel: "
                       "mps2, g; raw counts: with a \"scale\")")
         elif len(header) <= 2 or not any(h.replace("_", "").isalnum() for h in header):
             hint = ("; if the file starts with preamble lines (device, date, units), a mapping's "
