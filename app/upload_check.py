@@ -18,7 +18,7 @@ from pathlib import Path
 from budget.catalog.io import read_parts
 from budget.catalog.schema import PartSpec
 from budget.errors import InputError
-from budget.fileio import printable
+from budget.safe_text import printable
 
 MAX_UPLOAD_BYTES = 5_000_000
 #: At most this many errors are listed; at most this many rows are re-validated one by one.

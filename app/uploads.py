@@ -15,7 +15,7 @@ from pathlib import Path
 import streamlit as st
 
 from budget.errors import InputError, describe_error, in_words_of
-from budget.fileio import printable
+from budget.safe_text import printable
 from budget.noise import ImuLog, LogMapping, read_log
 
 log = logging.getLogger("sar_budget.dashboard")

@@ -13,7 +13,7 @@ from budget.catalog.io import parts_to_csv_text, read_parts
 from budget.catalog.schema import PartSpec
 from budget.cli.main import main
 from budget.errors import InputError
-from budget.fileio import frame_csv_text, looks_like_formula, printable, safe_csv_text
+from budget.safe_text import frame_csv_text, looks_like_formula, printable, safe_csv_text
 
 HEADER = "part_id,vendor,model,grade,gyro_arw_deg_rt_h,accel_vrw_m_s_rt_h,source,notes"
 

@@ -7,7 +7,8 @@ import streamlit as st
 from budget.bounds.lever_arm import pga_limited_bounds
 from budget.catalog.schema import GRADES
 from budget.check import check_parts, recommend_grade, rotation_line
-from budget.fileio import frame_csv_text, json_text
+from budget.fileio import json_text
+from budget.safe_text import frame_csv_text
 from budget.plots.check import margin_heatmap_figure
 from budget.report import build_report
 

@@ -10,7 +10,8 @@ from budget.catalog.schema import PartSpec
 from budget.errors import InputError
 from budget.mc import REASONS, TRIAL_METRICS, McOptions, McResult, run_mc
 from budget.check import check_parts
-from budget.fileio import frame_csv_text, json_text
+from budget.fileio import json_text
+from budget.safe_text import frame_csv_text
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS
 from budget.nav.manoeuvre import KINDS
 from budget.plots.mc import (METRIC_LABELS, has_detail, metric_histogram_figure, pass_probability_figure,

@@ -12,7 +12,8 @@ import streamlit as st
 from budget.api import VARIABLE_FIELDS, sweep_over
 from budget.api import sweep as run_sweep
 from budget.errors import InputError
-from budget.fileio import frame_csv_text, json_text
+from budget.fileio import json_text
+from budget.safe_text import frame_csv_text
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS
 from budget.mc.sweep import not_simulated
 from budget.plots.sweep import pass_heatmap_figure, pass_vs_figure

@@ -40,7 +40,8 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from ..errors import InputError, OutputError, from_validation_error
-from ..fileio import atomic_write_text, csv_text
+from ..fileio import atomic_write_text
+from ..safe_text import csv_text
 from .schema import PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED, GradeSpec, PartSpec
 from .validate import (ALT_UNIT_COLUMNS, MAX_BYTES, MAX_CELL_CHARS, _expected_text,  # noqa: F401
                        _map_header, _read_rows, _read_text, count_valid_parts, validate_parts_table)
@@ -250,7 +251,7 @@ def _checked(path: str | Path, text: str, part_id: str | None = None) -> str:
 
 def parts_to_csv_text(parts: Mapping[str, PartSpec] | list[PartSpec]) -> str:
     """Canonical CSV text (header + rows in canonical column order and units); text cells
-    spreadsheet-safe (:func:`budget.fileio.safe_csv_text`). A part may be a mapping of its
+    spreadsheet-safe (:func:`budget.safe_text.safe_csv_text`). A part may be a mapping of its
     fields (validated; a bad one is an :class:`InputError`); a :class:`PartSpec` is written as
     it stands (the text only: :func:`write_parts` and :func:`append_part` validate again)."""
     items = list(parts.values()) if isinstance(parts, Mapping) else list(parts)

@@ -22,7 +22,8 @@ import numpy as np
 
 from .. import units as u
 from ..errors import InputError
-from ..fileio import FORMULA_START, looks_like_formula, read_text
+from ..fileio import read_text
+from ..safe_text import FORMULA_START, looks_like_formula
 from .schema import (BIAS_CONVENTIONS, CONSTANT_BIAS_CONVENTIONS, GRADES, PART_COLUMNS,
                      PART_NUMERIC_COLUMNS, PART_REQUIRED, VERIFIED_STATES)
 

@@ -120,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
         else:
             if msg.kind == "unexpected" and _debug_wanted(args):
                 traceback.print_exc()
-            from ..fileio import printable  # no terminal escapes from file contents
+            from ..safe_text import printable  # no terminal escapes from file contents
             print(f"{label}: error: {printable(msg.text)}", file=sys.stderr)
         return msg.exit_code
     finally:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..fileio import atomic_write_text, frame_csv_text, json_text, printable  # noqa: F401
+from ..fileio import atomic_write_text, json_text  # noqa: F401
+from ..safe_text import frame_csv_text, printable  # noqa: F401
 
 
 def warning_line(label: str, text: str) -> str:
@@ -29,7 +30,7 @@ def write_json(obj, dest: str) -> None:
 
 
 def write_frame_csv(frame, dest: str) -> None:
-    """Write a table as CSV, every text cell spreadsheet-safe (see ``budget.fileio.safe_csv_text``)."""
+    """Write a table as CSV, every text cell spreadsheet-safe (see ``budget.safe_text.safe_csv_text``)."""
     text = frame_csv_text(frame)
     if dest == "-":
         sys.stdout.write(text)
