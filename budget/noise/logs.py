@@ -29,6 +29,7 @@ from ..errors import LOG_MAPPING_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, REPAIR_WA
 from ..fileio import check_input_file, compression_of, input_encoding, open_input, require_file
 from ..units import CHANNELS
 from . import log_checks as lc
+from . import log_values as lv
 from .log_mapping import ColumnPlan, LogMapping, plan_columns, time_unit_hint
 
 CHUNK_ROWS = 250_000
@@ -287,17 +288,17 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
                                   for c in plan.ignored]
                           + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes])
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
-    slip = lc.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
+    slip = lv.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
     if slip is not None:
         raise slip
-    stale = lc.stale_samples(data, plan.targets, plan.time_index, plan.channel_index, path)
+    stale = lv.stale_samples(data, plan.targets, plan.time_index, plan.channel_index, path)
     if stale is not None:
         raise stale
-    clip, clip_warnings = lc.clipped(data, plan.targets, plan.channel_index, path, plan.factors)
+    clip, clip_warnings = lv.clipped(data, plan.targets, plan.channel_index, path, plan.factors)
     if clip is not None:
         raise clip
     report.issues += clip_warnings
-    unchecked = lc.gravity_unchecked(plan.channel_index, plan.source_units)
+    unchecked = lv.gravity_unchecked(plan.channel_index, plan.source_units)
     if unchecked is not None:
         report.issues.append(unchecked)
     if report.errors:
@@ -322,7 +323,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     chans = {ch: data[:, plan.channel_index[ch]] for ch in CHANNELS if ch in plan.channel_index}
     temp = data[:, plan.temp_index] + plan.temp_offset_c if plan.temp_index is not None else None
     if temp is not None:
-        report.issues += lc.implausible_temperature(temp, plan.sources[plan.temp_index])
+        report.issues += lv.implausible_temperature(temp, plan.sources[plan.temp_index])
     return ImuLog(str(path), chans, rate, time_s, temp, report,
                   {c: plan.source_units[c] for c in chans})
 
