@@ -34,7 +34,8 @@ from ..errors import GAP_CHANNELS_WAY, GAP_TAU_CHECK_WAY, InputError
 from ..imu import NoiseModel
 from ..imu.registry import DETERMINISTIC_EFFECTS, TEMPERATURE_EFFECTS
 from ..imu.resolve import resolve_noise_model
-from ..units import DEG, G0, HOUR, SQRT_HOUR, channel_si_unit
+from .. import units as u
+from ..units import channel_si_unit
 from ..noise import ImuLog
 from ..noise.allan import AllanResult
 from ..noise.log_checks import LogReport
@@ -254,9 +255,9 @@ def _levels_said(model: NoiseModel, ch: str, n: float, b: float) -> str:
     unit = channel_si_unit(ch)
     floor = FLICKER_FLOOR * b
     if ch.startswith("gyro"):
-        ds = f"{n / DEG * SQRT_HOUR:.3g} deg/√h", f"{floor / DEG * HOUR:.3g} deg/h"
+        ds = f"{u.rad_s_rt_hz_to_deg_rt_h(n):.3g} deg/√h", f"{u.rad_s_to_deg_h(floor):.3g} deg/h"
     else:
-        ds = f"{n * SQRT_HOUR:.3g} m/s/√h", f"{floor / G0 * 1e6:.3g} µg"
+        ds = f"{u.m_s2_rt_hz_to_m_s_rt_h(n):.3g} m/s/√h", f"{u.m_s2_to_ug(floor):.3g} µg"
     said = (f" (white noise N = {n:.3g} {unit}/√Hz = {ds[0]}, flicker floor 0.664·B = {floor:.3g} "
             f"{unit} = {ds[1]})")
     n_fx = math.sqrt(sum(f.param("density") ** 2 for f in model.effects
