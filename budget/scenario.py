@@ -251,11 +251,13 @@ class Scenario(BaseModel):
         if self.medium == "sonar" and f0 > PLAUSIBLE_CARRIER_HZ["sonar"][1]:
             raise InputError("sonar carrier above 5 MHz: did you mean medium 'radar'?",
                              field="carrier_frequency_hz", value=f0,
-                             expected="10 … 5e+06 Hz for sonar, or medium: radar")
+                             expected="{:g} … {:g} Hz for sonar, or medium: radar".format(
+                                 *PLAUSIBLE_CARRIER_HZ["sonar"]))
         if self.medium == "radar" and f0 < PLAUSIBLE_CARRIER_HZ["radar"][0]:
             raise InputError("radar carrier below 1 MHz: " + carrier_unit_hint("radar", f0),
                              field="carrier_frequency_hz", value=f0,
-                             expected="1e+06 … 1e+13 Hz for radar, the number in Hz")
+                             expected="{:g} … {:g} Hz for radar, the number in Hz".format(
+                                 *PLAUSIBLE_CARRIER_HZ["radar"]))
         c = self.propagation_speed_m_s
         if c is not None and self.medium == "radar" and c < RADAR_MIN_SPEED_M_S:
             raise InputError("a speed of sound for radar: did you mean medium 'sonar'?",
