@@ -291,7 +291,8 @@ MOTION_MEMORY_WAY = Way("fewer workers, a lower imu_rate_hz", "a lower imu rate 
 #: Every way a library message names, longest first (a way's words never rewrite another's).
 WAYS: tuple[Way, ...] = tuple(sorted((REPAIR_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, LOG_CHANNEL_WAY, LOG_MAPPING_WAY,
                                       LOG_NAMES_WAY, CURVE_CHANNEL_WAY, TABLE_RATE_WAY, GAP_CHANNELS_WAY,
-                                      GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY, KEEP_SPIKES_WAY, GRADE_WAY), key=lambda w: -len(w.cli)))
+                                      GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY, KEEP_SPIKES_WAY, GRADE_WAY),
+                                     key=lambda w: -len(w.cli)))
 #: The interfaces a message can be said for.
 INTERFACES = ("cli", "dashboard")
 

@@ -292,7 +292,8 @@ class Scenario(BaseModel):
         if self.range_resolution_m <= 0.25 * lam:
             raise InputError(f"range resolution {self.range_resolution_m:.4g} m needs a bandwidth "
                              f"c/(2δr) = {self.c_m_s / (2 * self.range_resolution_m):.4g} Hz, more than "
-                             f"twice the carrier {self.carrier_frequency_hz:.4g} Hz{unit_hint}", field="range_resolution_m",
+                             f"twice the carrier {self.carrier_frequency_hz:.4g} Hz{unit_hint}",
+                             field="range_resolution_m",
                              expected=f"> λ/4 = {0.25 * lam:.4g} m (bandwidth < 2 × carrier)")
         if self.azimuth_resolution_m < 0.25 * lam:
             raise InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m is finer than any "

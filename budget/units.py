@@ -237,7 +237,8 @@ def _split_tagged(name: str) -> tuple[str, str]:
 # --- a unit written in a column header: ``gyro_x [deg/s]``, ``adev (deg/h)``, ``tau [s]`` -----
 
 #: Units a column header may write in brackets for a channel (compared in lower case, without
-#: spaces: ``rad s^-1`` as public datasets write it is ``rads^-1``) → its tag in :data:`CHANNEL_UNIT_TO_SI`, the one table of factors to SI.
+#: spaces: ``rad s^-1`` as public datasets write it is ``rads^-1``) → its tag in
+#: :data:`CHANNEL_UNIT_TO_SI`, the one table of factors to SI.
 HEADER_CHANNEL_UNITS: dict[str, dict[str, str]] = {
     "gyro": {"deg/s": "dps", "°/s": "dps", "deg/sec": "dps", "dps": "dps", "degs^-1": "dps",
              "rad/s": "rps", "rad/sec": "rps", "rps": "rps", "rads^-1": "rps", "rad·s⁻¹": "rps",

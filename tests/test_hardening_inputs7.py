@@ -84,7 +84,8 @@ def _plain_log(path, n=6000, jitter=0.0, nan_row=None, seed=6):
     t = np.arange(n) / 100.0 + rng.uniform(-jitter, jitter, n) / 100.0
     g = rng.normal(0.0, 1e-3, n)
     a = 9.81 + rng.normal(0.0, 1e-2, n)
-    lines = [f"{ti:.6f},{'nan' if i == nan_row else f'{gi:.6g}'},{ai:.6g}" for i, (ti, gi, ai) in enumerate(zip(t, g, a))]
+    lines = [f"{ti:.6f},{'nan' if i == nan_row else f'{gi:.6g}'},{ai:.6g}"
+             for i, (ti, gi, ai) in enumerate(zip(t, g, a))]
     path.write_text("time_s,gyro_z_dps,accel_z_mps2\n" + "\n".join(lines) + "\n", encoding="utf-8")
     return path
 

@@ -264,7 +264,8 @@ def lever_arm_note(scenario: Scenario) -> str:
     if "lever_arm_m" not in scenario.model_fields_set:
         return (f"lever arm IMU → antenna {arm}: the default (the scenario gives no lever_arm_m), seed "
                 "004's IMU at the antenna phase centre; attitude error × lever arm is not in this verdict")
-    return f"lever arm IMU → antenna {arm} (|d| = {math.sqrt(sum(v * v for v in d)):.3g} m, the scenario's lever_arm_m)"
+    return (f"lever arm IMU → antenna {arm} (|d| = {math.sqrt(sum(v * v for v in d)):.3g} m, "
+            "the scenario's lever_arm_m)")
 
 
 def acceptance_note(options: McOptions) -> str:

@@ -127,7 +127,8 @@ def heading_term(scenario: Scenario, plan: AidingPlan | None, model_si: NoiseMod
     of the fastest sensor's period (latency ignored): σ_ψ is its heading 1σ at the aperture start —
     the a-priori growth √(σ_ψ0² + (b·W)² + N²·W …) where no sensor observes heading (GNSS, with
     or without a lever arm: in straight flight l × ψ grows like a velocity error), less where one
-    does (DVL through V·ψ across track, master INS, star tracker). Over the aperture the Earth and transport rate turn it into the tilt rate
+    does (DVL through V·ψ across track, master INS, star tracker). Over the aperture the Earth
+    and transport rate turn it into the tilt rate
     |ω_in × ẑ|·σ_ψ, a position error g·|ω_in × ẑ|·σ_ψ·Tc³/6 (``term_m``); ``budget_m`` is the 1σ
     (3-D) of the flat coast's error over Tc relative to its start, from the same covariance
     propagated with the process noise; ``neglect`` = term / budget. Measured against the Earth
