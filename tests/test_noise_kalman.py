@@ -104,7 +104,9 @@ def test_measurement_variance_needed_for_a_factor_of_ten():
         return np.log(r.variance_before / r.variance_after) - np.log(10.0)
 
     mult = optimize.brentq(log_ratio, 1.0, 200.0, xtol=0.1)
-    assert 12 < mult < 30
+    # the README's R ≈ 21× the data variance; over seeds 11–18 of this 40,000-sample record it
+    # came out 20.2–22.5, so 15 % covers the record's sampling spread
+    assert mult == pytest.approx(21.0, rel=0.15)
 
 
 def test_frequency_response_matches_sinusoid_through_filter():
