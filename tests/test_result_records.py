@@ -92,3 +92,25 @@ def test_an_image_pga_did_not_finish_is_never_scored_as_focused():
     judged = with_pga_outcome(ideal.evaluation_after, stalled)
     assert judged.passed is False and judged.reasons[0].startswith("PGA found no usable scatterers")
     assert ideal.evaluation_after.passed  # the evaluation it was given is left as it was
+
+
+# --- a verdict says when one pulse in flight could not sample the aperture -----------------------
+
+def test_a_range_ambiguous_aperture_is_said_in_the_verdict():
+    from budget.catalog.io import get_part
+    from budget.mc.chain import range_ambiguity_note
+    from budget.sar import SarGeometry
+
+    for name, ambiguous in (("sas_100khz", True), ("airborne_xband", False)):
+        s = get_preset(name)
+        g = SarGeometry.from_scenario(s)
+        # independently: B_a = 2V²Tc/(λR) against one pulse in flight's c/(2R)
+        lam = g.c_m_s / s.carrier_frequency_hz
+        b_a = 2 * s.platform_speed_m_s ** 2 * s.tc_s / (lam * s.slant_range_m)
+        assert g.doppler_bandwidth_hz == pytest.approx(b_a, rel=1e-9)
+        assert (b_a > g.c_m_s / (2 * s.slant_range_m)) is ambiguous
+        assert bool(range_ambiguity_note(g)) is ambiguous
+    note = range_ambiguity_note(SarGeometry.from_scenario(get_preset("sas_100khz")))
+    assert f"≤ c/(2R) = {1500 / 200:.3g} Hz" in note
+    r = run_mc(get_preset("sas_100khz"), get_part("HG9900"), 1, 0)
+    assert r.judged_on["ambiguity_note"] == note and note in r.summary()

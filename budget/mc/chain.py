@@ -175,6 +175,7 @@ class ChainSetup:
                 "n_pulses": int(self.geom.n_pulses),
                 "fractional_bandwidth": self.geom.range_bandwidth_hz / self.geom.carrier_frequency_hz,
                 **({"wideband_note": note} if (note := wideband_note(self.geom)) else {}),
+                **({"ambiguity_note": note} if (note := range_ambiguity_note(self.geom)) else {}),
                 "navigation": navigation_note(self.scenario),
                 "metrics_on": "five clutter-free points focused with "
                 "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image",
@@ -210,6 +211,24 @@ def wideband_note(geom: SarGeometry) -> str:
     return (f"fractional bandwidth {100 * b:.0f} %: PGA corrects one phase per azimuth bin (the band centre's) "
             f"and leaves {100 * b / math.sqrt(12):.1f} % rms of the phase error across the band (range-dependent "
             "defocus), which the verdict after PGA includes; a wavenumber-domain autofocus would remove it")
+
+
+def range_ambiguity_note(geom: SarGeometry) -> str:
+    """What the simulation leaves out when one pulse in flight cannot sample the aperture, or ''.
+    The pulses must sample a target's Doppler band, PRF ≥ B_a = 2V²T/(λR) (:mod:`budget.sar.geometry`),
+    while an echo from range R returns only after 2R/c, so one pulse in flight allows
+    PRF ≤ c/(2R). When B_a > c/(2R) (a synthetic-aperture sonar at 100 m, a radar at very long
+    range) a real system flies several pulses in flight or a multi-element receiver; the
+    simulation forms the image from every pulse at its own PRF and models neither range
+    ambiguities nor the receiver array."""
+    limit = geom.c_m_s / (2.0 * geom.ref_range_m)
+    if geom.doppler_bandwidth_hz <= limit:
+        return ""
+    return (f"one pulse in flight cannot sample this aperture: its Doppler band needs a PRF ≥ "
+            f"{geom.doppler_bandwidth_hz:.3g} Hz, the range {geom.ref_range_m:.4g} m allows ≤ c/(2R) = "
+            f"{limit:.3g} Hz; a real system uses several pulses in flight or a multi-element receiver, "
+            f"which the simulation (one receiver at PRF {geom.prf_hz:.3g} Hz) does not model, nor range "
+            "ambiguities")
 
 
 def receiver_noise_scale(geom: SarGeometry, snr_db: float) -> np.ndarray:

@@ -132,8 +132,9 @@ class McResult:
                 line += j[key] + "\n"
         if j.get("earth_model"):
             line += f"earth model: {j['earth_model']}\n"
-        if j.get("wideband_note"):
-            line += j["wideband_note"] + "\n"
+        for key in ("wideband_note", "ambiguity_note"):
+            if j.get(key):
+                line += j[key] + "\n"
         if j.get("reference_summary"):
             line += j["reference_summary"] + "\n"
         if self.agg.twin_pass:
