@@ -90,3 +90,11 @@ def test_injected_trial_names_the_phase_field(bad, what):
     assert e.value.field == "phase_rad" and what in str(e.value) and e.value.expected
     if bad == "short":
         assert str(g.n_pulses) in str(e.value)
+
+
+def test_pga_refuses_a_ragged_image_by_field():
+    from budget.sar.pga import pga
+
+    with pytest.raises(InputError) as e:
+        pga([[1, 2], [3]])
+    assert e.value.field == "image_data" and "2-D" in e.value.expected

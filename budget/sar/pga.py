@@ -381,7 +381,11 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
     threshold (band power over jackknife noise power). ``corrected_image=False``: the result's
     ``image`` is the input (the caller applies ``phase_error_rad`` itself; saves two image FFTs).
     ``restarts``: the capture check (module docstring, "Restarts")."""
-    g = np.asarray(image_data)
+    try:
+        g = np.asarray(image_data)
+    except ValueError:  # ragged rows: numpy refuses the shape itself
+        raise InputError("the image's rows differ in length", field="image_data",
+                         expected="a 2-D complex array (azimuth × range)") from None
     _check(g, kernel, max_iter, tol_rad, line_fraction, min_window, first_window, band_snr)
     g = g.astype(complex, copy=False)
     n, n_lines = g.shape
