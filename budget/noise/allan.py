@@ -223,6 +223,9 @@ def allan_deviation(x, rate_hz: float, taus="octave", *, ci: float = ONE_SIGMA,
     Equals ``allantools.oadev(x, rate_hz, data_type="freq", taus=...)`` for the same τ list
     (to rounding), with EDF-based intervals instead of σ/√n.
     """
+    if np.iscomplexobj(x):  # numpy would drop the imaginary part with a warning only
+        raise InputError("the series is complex", field=channel or "x",
+                         expected="a 1-D array of real rate samples")
     try:
         y = np.asarray(x, dtype=np.float64)
     except (TypeError, ValueError):
