@@ -241,7 +241,6 @@ def test_kalman_steady_state_independent_of_p0_equals_scalar_riccati():
 
 
 def test_a_complex_series_is_refused_not_cut_to_its_real_part():
-
     x = np.random.default_rng(3).standard_normal(1000) * (1 + 1j)
     with pytest.raises(InputError) as e:
         allan_deviation(x, 100.0, channel="gyro_z")
