@@ -245,3 +245,14 @@ def test_a_complex_series_is_refused_not_cut_to_its_real_part():
     with pytest.raises(InputError) as e:
         allan_deviation(x, 100.0, channel="gyro_z")
     assert e.value.field == "gyro_z" and "real" in e.value.expected
+
+
+@pytest.mark.parametrize("bad", ["ab", (5.0,), (10.0, 1.0), (0.1, math.nan), [1.0, 2.0, 3.0]])
+def test_a_bad_tau_range_is_refused_by_field(bad):
+    from budget.noise import fit_noise_terms
+
+    r = allan_deviation(np.random.default_rng(4).standard_normal(20_000), 100.0, channel="gyro_z")
+    with pytest.raises(InputError) as e:
+        fit_noise_terms(r, tau_range_s=bad)
+    assert e.value.field == "tau_range_s"
+    assert fit_noise_terms(r, tau_range_s=(0.01, 10.0)).values["N"] is not None  # a good range fits

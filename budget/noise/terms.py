@@ -137,7 +137,14 @@ def fit_noise_terms(allan: AllanResult, terms: Iterable[str] = TERMS, *,
     tau, adev, edf = allan.tau_s, allan.adev, allan.edf
     keep = np.isfinite(adev) & (adev > 0) & np.isfinite(edf) & (edf > 0)
     if tau_range_s is not None:
-        keep &= (tau >= tau_range_s[0]) & (tau <= tau_range_s[1])
+        try:
+            lo, hi = (float(v) for v in tau_range_s)
+        except (TypeError, ValueError):
+            lo = hi = math.nan
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
+            raise InputError("tau_range_s must be two increasing τ values", field="tau_range_s",
+                             value=tau_range_s, expected="(τ_min, τ_max) in s, 0 ≤ τ_min < τ_max")
+        keep &= (tau >= lo) & (tau <= hi)
     tau, y, edf = tau[keep], adev[keep] ** 2, edf[keep]
     if tau.size < len(terms):
         what = allan.channel or "series"
