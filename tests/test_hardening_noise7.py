@@ -256,3 +256,13 @@ def test_a_bad_tau_range_is_refused_by_field(bad):
         fit_noise_terms(r, tau_range_s=bad)
     assert e.value.field == "tau_range_s"
     assert fit_noise_terms(r, tau_range_s=(0.01, 10.0)).values["N"] is not None  # a good range fits
+
+
+@pytest.mark.parametrize("freq", [["a"], [1.0, math.nan], [-1.0], [[1.0, 2.0]]])
+def test_filter_response_frequencies_not_numbers_are_named(freq):
+    x = np.random.default_rng(78).normal(0.0, 1e-3, 1000)
+    kf = ArmaKalman(fit_arma(x, 1, 0))
+    with pytest.raises(InputError) as err:
+        frequency_response(kf, 100.0, freq)
+    assert err.value.field == "freq_hz"
+    assert frequency_response(kf, 100.0, 5.0).magnitude.shape == (1,)  # one frequency is one value

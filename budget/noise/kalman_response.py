@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ..errors import InputError
 from .allan import check_rate_hz
 from .kalman import ArmaKalman
 
@@ -71,7 +72,16 @@ def frequency_response(kf: ArmaKalman, rate_hz: float, freq_hz=None, *,
                        smoother: bool = False) -> FrequencyResponse:
     """Steady-state response of ``kf`` (filter or RTS smoother) at ``freq_hz`` (default: 0…f_s/2)."""
     rate_hz = check_rate_hz(rate_hz)
-    f = np.linspace(0.0, rate_hz / 2, 513) if freq_hz is None else np.asarray(freq_hz, float)
+    if freq_hz is None:
+        f = np.linspace(0.0, rate_hz / 2, 513)
+    else:
+        try:
+            f = np.atleast_1d(np.asarray(freq_hz, float))
+        except (TypeError, ValueError):
+            f = np.array([np.nan])
+        if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
+            raise InputError("frequencies must be finite numbers ≥ 0", field="freq_hz", value=freq_hz,
+                             expected="a 1-D array of frequencies in Hz, 0 … rate_hz/2")
     w = 2 * np.pi * f / rate_hz
     n = kf.n_states
     eye = np.eye(n)
