@@ -187,11 +187,9 @@ def suggest_mapping(header: list[str]) -> dict[str, str]:
             else "gyro"
         tag = ("mps2" if kind == "accel" else "rps") if m.group("kind") in _ROS_KINDS else \
             ("mps2" if kind == "accel" else "dps")
-        if written is not None:
-            try:
-                tag = u.header_channel_unit(kind, written)
-            except ValueError:
-                pass  # a unit that is no channel's: keep the default for the user to correct
+        said = _written_channel_unit(written) if written is not None else None
+        if said is not None and said[0] == kind:  # else the default, for the user to correct
+            tag = said[1]
         found[col] = f"{kind}_{m.group('axis')}_{tag}"
     kinds = [dst.split("_")[0] for dst in found.values()]
     if not any(kinds.count(k) >= 3 for k in ("gyro", "accel")):
@@ -201,11 +199,8 @@ def suggest_mapping(header: list[str]) -> dict[str, str]:
         if base.strip().lower() not in _TIME_NAMES:
             continue
         factor = 1e-9 if base.strip().lower() in ("%time", "field.header.stamp", "header.stamp") else 1.0
-        if written is not None:
-            try:
-                factor = u.header_time_factor(written)
-            except ValueError:
-                pass
+        if written is not None and (said := _written_seconds(written)) is not None:
+            factor = said
         if factor in _TIME_TAGS:
             return {col: _TIME_TAGS[factor]} | found
     return found
@@ -230,6 +225,14 @@ def _written_channel_unit(written: str) -> tuple[str, str] | None:
     return next(((kind, tags[key]) for kind, tags in u.HEADER_CHANNEL_UNITS.items() if key in tags), None)
 
 
+def _written_seconds(written: str) -> float | None:
+    """Factor to seconds of a time unit written in a header (``ms`` → 1e-3), or None if it is none."""
+    try:
+        return u.header_time_factor(written)
+    except ValueError:
+        return None
+
+
 def _check_mapped_unit(col: str, target: str, path, row: int) -> None:
     """A mapped source column whose header writes a unit (``GyrX [deg/s]``, ``t (ms)``) must agree
     with the unit of the canonical name the mapping gives it: two sources of a unit that disagree
@@ -239,10 +242,7 @@ def _check_mapped_unit(col: str, target: str, path, row: int) -> None:
     if written is None:
         return
     said = _written_channel_unit(written)
-    try:
-        seconds = u.header_time_factor(written)
-    except ValueError:
-        seconds = None
+    seconds = _written_seconds(written)
     if said is None and seconds is None:
         return
     if target in TIME_COLUMNS:
