@@ -89,3 +89,18 @@ def test_telegraph_bias_named_gauss_markov_at_its_correlation_time():
     p = rep.steps[0].params
     assert abs(p["tau_s"] / (1.0 / (2.0 * lam)) - 1.0) < 0.5
     assert abs(p["sigma"] / a - 1.0) < 0.5
+
+
+def test_a_model_without_a_rate_is_said_to_take_the_logs():
+    from budget.gap.inputs import check_compatible, load_measured, log_from_arrays
+    from budget.imu import NoiseModel
+
+    rng = np.random.default_rng(9)
+    n, rate = 20_000, 50.0
+    chans = {ch: rng.normal(0.0, 1e-3, n) for ch in ("gyro_x", "gyro_y", "gyro_z")}
+    chans |= {ch: rng.normal(0.0, 1e-2, n) for ch in ("accel_x", "accel_y", "accel_z")}
+    meas = load_measured(log_from_arrays(chans, rate))
+    model = NoiseModel.from_dict({"part_id": "no-rate", "gyro_arw_deg_rt_h": 0.1, "accel_vrw_m_s_rt_h": 0.01})
+    assert model.rate_hz is None
+    _, notes = check_compatible(meas, model, False, None, check_tau_range=False)
+    assert any(f"simulated at the measurement's {rate:g} Hz" in n for n in notes), notes

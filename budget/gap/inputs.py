@@ -185,7 +185,9 @@ def check_compatible(meas: Measured, model: NoiseModel, from_catalog: bool,
                          file=meas.source, field="channels",
                          expected=f"every compared channel present (the model describes all six; compare a "
                                   f"subset of {','.join(meas.channels) or '…'}: {GAP_CHANNELS_WAY.cli})")
-    if model.rate_hz is not None and abs(model.rate_hz - meas.rate_hz) > RATE_TOLERANCE * model.rate_hz:
+    if model.rate_hz is None:  # said: the model is simulated at a rate the user did not write
+        notes.append(f"the model gives no rate_hz: it is simulated at the measurement's {meas.rate_hz:g} Hz")
+    elif abs(model.rate_hz - meas.rate_hz) > RATE_TOLERANCE * model.rate_hz:
         if from_catalog and meas.rate_hz < model.rate_hz:
             notes.append(f"catalog rate {model.rate_hz:g} Hz is the part's output rate; the log was "
                          f"recorded at {meas.rate_hz:g} Hz and the model is simulated at that rate "
