@@ -245,6 +245,14 @@ def test_a_complex_series_is_refused_not_cut_to_its_real_part():
     with pytest.raises(InputError) as e:
         allan_deviation(x, 100.0, channel="gyro_z")
     assert e.value.field == "gyro_z" and "real" in e.value.expected
+    # the same rule (budget.noise.arguments.float_series) at the ARMA and Kalman front doors
+    with pytest.raises(InputError) as e:
+        select_arma(x)
+    assert "complex" in str(e.value)
+    kf = ArmaKalman(fit_arma(x.real, 1, 0))
+    with pytest.raises(InputError) as e:
+        kf.filter(x)
+    assert e.value.field == "z" and "complex" in str(e.value)
 
 
 @pytest.mark.parametrize("bad", ["ab", (5.0,), (10.0, 1.0), (0.1, math.nan), [1.0, 2.0, 3.0]])

@@ -16,7 +16,6 @@ decreases, and a lower α is the conservative choice). Interval: σ·√(edf/χ�
 
 from __future__ import annotations
 
-import math
 import numbers
 from dataclasses import dataclass, field
 
@@ -25,6 +24,7 @@ import pandas as pd
 from scipy import stats
 
 from ..errors import InputError
+from .arguments import check_rate_hz, float_series
 
 #: Default confidence level of the interval: ±1σ of a Gaussian.
 ONE_SIGMA = 0.682689492137086
@@ -205,17 +205,6 @@ def overlapping_avar(y: np.ndarray, m: np.ndarray) -> np.ndarray:
     return var
 
 
-def check_rate_hz(rate_hz) -> float:
-    """``rate_hz`` as a float, or :class:`InputError` (field ``rate_hz``) unless it is a finite
-    real number > 0 (Hz); ``True``, a string or ``None`` is refused, not read as 1 Hz or failing
-    as a TypeError."""
-    if isinstance(rate_hz, bool) or not isinstance(rate_hz, numbers.Real) or not (
-            math.isfinite(rate_hz) and rate_hz > 0):
-        raise InputError("sampling rate must be a positive number", field="rate_hz", value=rate_hz,
-                         expected="a sampling rate in Hz, a finite number > 0")
-    return float(rate_hz)
-
-
 def allan_deviation(x, rate_hz: float, taus="octave", *, ci: float = ONE_SIGMA,
                     channel: str | None = None, unit: str = "") -> AllanResult:
     """Overlapping Allan deviation of rate samples ``x`` (any unit; SI by convention).
@@ -223,14 +212,7 @@ def allan_deviation(x, rate_hz: float, taus="octave", *, ci: float = ONE_SIGMA,
     Equals ``allantools.oadev(x, rate_hz, data_type="freq", taus=...)`` for the same τ list
     (to rounding), with EDF-based intervals instead of σ/√n.
     """
-    if np.iscomplexobj(x):  # numpy would drop the imaginary part with a warning only
-        raise InputError("the series is complex", field=channel or "x",
-                         expected="a 1-D array of real rate samples")
-    try:
-        y = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("the series is not numbers", field=channel or "x", value=x,
-                         expected="a 1-D array of rate samples") from None
+    y = float_series(x, channel or "x", "a 1-D array of rate samples")
     if y.ndim != 1:
         raise InputError("expected a 1-D series", field=channel or "x", value=f"shape {y.shape}")
     check_rate_hz(rate_hz)

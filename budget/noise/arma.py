@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from .arguments import float_series
 from .arma_ls import fit_ls, max_root_modulus
 
 DEFAULT_ORDERS = ((1, 0), (2, 0), (3, 0), (1, 1), (2, 1))
@@ -166,11 +167,7 @@ class ArmaSelection:
 
 
 def _check_series(x, name: str = "x") -> np.ndarray:
-    try:
-        x = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("the series is not numbers", field=name, value=x,
-                         expected="a 1-D array of samples (SI for IMU channels)") from None
+    x = float_series(x, name, "a 1-D array of samples (SI for IMU channels)")
     if x.ndim != 1:
         raise InputError("expected a 1-D series", field=name, value=f"shape {x.shape}")
     bad = np.flatnonzero(~np.isfinite(x))

@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from .arguments import float_series
 from .arma import ArmaFit
 from .recurrence import linear_recurrence
 
@@ -159,11 +160,7 @@ class ArmaKalman:
         return X
 
     def _prep(self, z):
-        try:
-            z = np.asarray(z, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputError("the series is not numbers", field="z", value=z,
-                             expected="a 1-D array of samples in the fitted series' unit") from None
+        z = float_series(z, "z", "a 1-D array of samples in the fitted series' unit")
         if z.ndim != 1 or z.size < 2:
             raise InputError("expected a 1-D series of at least 2 samples", field="z")
         bad = np.flatnonzero(~np.isfinite(z))

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from .allan import check_rate_hz
+from .arguments import check_rate_hz
 from .kalman import ArmaKalman
 
 

@@ -17,6 +17,7 @@ import pandas as pd
 
 from ..errors import REPAIR_WAY, InputError
 from ..units import channel_si_unit
+from .arguments import float_series
 from .arma import DEFAULT_ORDERS, MIN_SAMPLES, ArmaSelection, check_magnitude, check_orders, select_arma
 from .checks import CheckReport, check_series
 from .kalman import ArmaKalman, KalmanResult
@@ -135,11 +136,7 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
     if not isinstance(opt, ArmaOptions):
         raise InputError(f"not ArmaOptions (type {type(opt).__name__})", field="options", value=opt,
                          expected="budget.noise.pipeline.ArmaOptions or None")
-    try:
-        raw = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("the series is not numbers", field=channel, value=x,
-                         expected=f"a 1-D array of numbers ({channel_si_unit(channel)})") from None
+    raw = float_series(x, channel, f"a 1-D array of numbers ({channel_si_unit(channel)})")
     if raw.ndim != 1:
         raise InputError(f"the series has shape {raw.shape}", field=channel, expected="a 1-D series")
     bad = np.flatnonzero(~np.isfinite(raw))
