@@ -8,6 +8,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..noise import ImuLog, LogMapping, characterize, read_log
 from ..noise.arma import DEFAULT_ORDERS, MAX_ORDER
+from ..noise.characterize import log_findings_of
 from ..noise.measurement import read_measurement
 from ..noise.pipeline import AIC_DEFINITION, ArmaOptions, analyse_arma  # noqa: F401
 from ..noise.preprocess import DETREND_ORDERS
@@ -145,11 +146,8 @@ def run_arma(args) -> int:
     # --repair) is said, as characterize says it: the model was fitted to that data (after the
     # analysis, so that a refusal stays one line)
     name = Path(args.log).name
-    for issue in log.issues.issues:
-        if issue.severity == "warning":  # errors were refused by the reader or are repaired
-            warn(args, f"{name}: {issue.text().removeprefix('warning: ')}")
-    for repair in log.issues.repairs:
-        warn(args, f"{name}: log repaired: {repair}")
+    for finding in log_findings_of(log):
+        warn(args, f"{name}: {finding}")
     for flag in res.checks.flags():
         warn(args, f"{args.channel}: {flag} — modelled anyway, see 'checks'")
     if args.json:  # the summary lists the selection's notes itself (a short record, no convergence)
