@@ -34,7 +34,7 @@ from ..aiding_spec import AidingPlan
 from ..catalog.fill import resolve_unspecified
 from ..errors import InputError, whole_number
 from ..imu.noise_model import as_noise_model_si
-from ..motion.flat_earth import check_flat_earth, coasts_over_aperture, earth_frame, earth_model_note
+from ..motion.flat_earth import earth_model
 from ..nav.manoeuvre import PlatformMotion
 from ..scenario import Scenario
 from ..units import G0
@@ -293,7 +293,4 @@ def earth_model_line(scenario: Scenario, model) -> str:
     it leaves out over Tc, and the latitude and heading — the defaults, which the verdict does not
     let a user set — at which the Earth and transport rate turn an aided run's initial attitude
     error."""
-    plan = AidingPlan.from_scenario(scenario)
-    frame = earth_frame(scenario, None, None)
-    heading = check_flat_earth(scenario, plan, as_noise_model_si(model), None, frame["rate"])
-    return earth_model_note(scenario, coasts_over_aperture(plan, scenario.tc_s), frame, heading)
+    return earth_model(scenario, AidingPlan.from_scenario(scenario), as_noise_model_si(model), say_frame=True)[1]

@@ -66,7 +66,7 @@ from ..rng import STREAMS, trial_generator
 from ..scenario import Scenario
 from ..units import two_way_wavenumber_rad_m
 from .cost import DEFAULT_CHUNK, aperture_samples, block_trials, check_cost
-from .flat_earth import check_flat_earth, coasts_over_aperture, earth_frame, earth_model_note
+from .flat_earth import earth_model
 from .geometry import range_error, scene_targets
 from .phase import decompose_phase
 from .result import METRICS, MotionResult
@@ -311,9 +311,7 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                          expected="fewer trials or keep_series=False")
 
     aided = aiding is not None and bool(aiding.aiding)
-    coasting = coasts_over_aperture(aiding, scenario.tc_s)
-    frame = earth_frame(scenario, latitude_deg, heading_deg)
-    heading = check_flat_earth(scenario, aiding, si, initial_errors, frame["rate"])
+    frame, earth_note = earth_model(scenario, aiding, si, initial_errors, latitude_deg, heading_deg)
     span = (n - 1) / scenario.imu_rate_hz
     if abs(span - scenario.tc_s) > APERTURE_ROUNDING_NOTE * scenario.tc_s:
         warnings.warn(f"{scenario.name}: the aperture is simulated over {n - 1} IMU intervals = "
@@ -327,8 +325,6 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     check_cost(scenario, n_trials, aiding, workers)
     ctx = _Context(scenario, si, seed, disturbance, pts, initial_errors, keep_series, prefilter, aiding,
                    frame_rate=frame["rate"])
-    if ctx.initial is None or not any(ctx.initial.attitude_sigma_rad):
-        frame = None
     aiding_label = ctx.plan.label() if ctx.plan else "none"
     if ctx.plan is not None:
         no_fix = first_fix_note(ctx.plan, ctx.n_warm, ctx.n_total, ctx.rate)
@@ -369,7 +365,7 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     return MotionResult(scenario=scenario, model_label=_label(model), seed=seed, time_s=ctx.time_s,
                         targets_m=pts, position_error_m=out.pop("position_error_m", None),
                         range_error_m=out.pop("range_error_m", None),
-                        aiding=aiding_label, earth_model=earth_model_note(scenario, coasting, frame, heading),
+                        aiding=aiding_label, earth_model=earth_note,
                         prefilter=prefilter.kind if prefilter is not None else "none",
                         options={"disturbance": _dump(disturbance), "initial_errors": _dump(initial_errors),
                                  "aiding_plan": _dump(aiding), "first_trial": first, "keep_series": keep_series,

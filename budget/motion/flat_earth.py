@@ -232,3 +232,22 @@ def _max_coast_s(speed_m_s: float) -> float:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if flat_earth_neglect(mid, speed_m_s) <= MAX_FLAT_EARTH_NEGLECT else (lo, mid)
     return lo
+
+
+def earth_model(scenario: Scenario, plan: AidingPlan | None, model_si: NoiseModelSI,
+                initial: InitialErrors | None = None, latitude_deg=None, heading_deg=None, *,
+                say_frame: bool | None = None) -> tuple[dict, str]:
+    """The flat-earth rule applied to a run (:func:`check_flat_earth`, refusing beyond it) and the
+    note its result carries (:func:`earth_model_note`): ``(frame, note)`` with ``frame`` of
+    :func:`earth_frame`. The frame's sentence is said only when the run has an initial attitude
+    error for the Earth and transport rate to turn — the caller's ``initial``, else an aided
+    run's :data:`~budget.nav.strapdown.COARSE_ALIGNMENT`; a free-inertial run aligned at the
+    aperture start has none (``say_frame`` True says it whatever the run: a verdict states the
+    defaults it was judged with). The motion engine and the Monte Carlo's verdict both say this note."""
+    frame = earth_frame(scenario, latitude_deg, heading_deg)
+    head = check_flat_earth(scenario, plan, model_si, initial, frame["rate"])
+    start = initial if initial is not None else (COARSE_ALIGNMENT if plan is not None and plan.aiding else None)
+    if say_frame is None:
+        say_frame = start is not None and any(start.attitude_sigma_rad)
+    said = frame if say_frame else None
+    return frame, earth_model_note(scenario, coasts_over_aperture(plan, scenario.tc_s), said, head)
