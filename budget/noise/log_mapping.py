@@ -164,10 +164,11 @@ def _temp_column(name: str, path, row: int) -> tuple[float, float, bool] | None:
 _SENSOR_NAME = re.compile(r"(?:field\.)?(?P<kind>angular_velocity|linear_acceleration|gyroscope|gyro|gyr|omega|"
                           r"rate|w|g|accelerometer|accel|acc|a)(?:[_.][a-z0-9]+)*?[ _.-]?(?P<axis>x|y|z)")
 #: Names of the time column in those layouts (ROS's ``%time`` and header stamp are in ns).
-_TIME_NAMES = ("t", "time", "timestamp", "#timestamp", "%time", "field.header.stamp", "header.stamp")
+_NS_STAMPS = ("%time", "field.header.stamp", "header.stamp")
+_TIME_NAMES = (*TIME_NAMES, "#timestamp", *_NS_STAMPS)
 #: ROS messages carry SI units (REP 103): rad/s and m/s², stamps in ns.
 _ROS_KINDS = ("angular_velocity", "linear_acceleration")
-_TIME_TAGS = {1.0: "time_s", 1e-3: "time_ms", 1e-6: "time_us", 1e-9: "time_ns"}
+_TIME_TAGS = {factor: name for name, factor in TIME_COLUMNS.items()}  # factor to s → column name
 
 
 def suggest_mapping(header: list[str]) -> dict[str, str]:
@@ -198,7 +199,7 @@ def suggest_mapping(header: list[str]) -> dict[str, str]:
         base, written = u.split_header_unit(col)
         if base.strip().lower() not in _TIME_NAMES:
             continue
-        factor = 1e-9 if base.strip().lower() in ("%time", "field.header.stamp", "header.stamp") else 1.0
+        factor = 1e-9 if base.strip().lower() in _NS_STAMPS else 1.0
         if written is not None and (said := _written_seconds(written)) is not None:
             factor = said
         if factor in _TIME_TAGS:
