@@ -6,6 +6,11 @@ path to a scenario file — and resolves them first, so a wrong type or name is 
 :class:`~budget.errors.InputError` naming the argument and what it accepts, never an
 ``AttributeError`` from deep inside. The work itself is done by the library modules named in
 each docstring; these are thin front doors.
+
+Every function that names parts takes ``catalog=``: a mapping from :func:`load_catalog`, a path
+to a user parts CSV (merged over the shipped parts, as the CLI's ``--catalog``) or ``None`` (the
+shipped catalog, and ``$SAR_BUDGET_CATALOG``); :func:`budget.catalog.io.as_catalog` is the one
+conversion. A user row with a shipped ``part_id`` replaces the shipped row (as on the CLI).
 """
 
 from __future__ import annotations
@@ -63,78 +68,90 @@ def load_scenarios(sources) -> list:
 
 
 def load_catalog(user_csv: str | Path | None = None) -> dict:
-    """Shipped parts merged with a user CSV (``part_id`` → :class:`PartSpec`);
-    :func:`budget.catalog.io.load_catalog`."""
+    """Shipped parts merged with a user CSV (``part_id`` → :class:`PartSpec`; a user row with a
+    shipped id replaces it); :func:`budget.catalog.io.load_catalog`."""
     from .catalog.io import load_catalog as _load
 
     return _load(user_csv)
 
 
 def load_part(part, catalog: Mapping | str | Path | None = None):
-    """The IMU of a command: :func:`budget.imu.resolve.resolve_part` (a part id, a noise-model
-    file or an object; clear errors for unknown ids and bad files)."""
+    """The IMU of a command: :func:`budget.imu.resolve.resolve_part` (a part id of ``catalog``, a
+    noise-model file or an object; clear errors for unknown ids and bad files)."""
+    from .catalog.io import as_catalog
     from .imu.resolve import resolve_part
 
-    return resolve_part(part, catalog)
+    # a catalog given is checked even where no id needs it (a wrong file is not passed over in silence)
+    return resolve_part(part, None if catalog is None else as_catalog(catalog))
 
 
-def load_parts(parts=None, catalog: Mapping | None = None) -> list:
-    """Parts from ids/objects; ``None`` = every catalog part with a noise figure (as the CLI's sweep)."""
+def load_parts(parts=None, catalog: Mapping | str | Path | None = None) -> list:
+    """Parts from ids (of ``catalog``) or objects; ``None`` = every part of ``catalog`` with a
+    noise figure (as the CLI's sweep, ``--catalog`` included)."""
+    from .catalog.io import as_catalog
+
     if parts is None:
-        cat = catalog if catalog is not None else load_catalog()
-        return [p for p in cat.values()
+        return [p for p in as_catalog(catalog).values()
                 if p.gyro_arw_deg_rt_h is not None or p.accel_vrw_m_s_rt_h is not None]
     from pydantic import BaseModel
 
     if isinstance(parts, (str, BaseModel)) or not isinstance(parts, Iterable):
         parts = [parts]
-    cat = catalog
-    if cat is None and any(isinstance(p, str) for p in parts):
-        cat = load_catalog()
+    parts = list(parts)
+    # read once for all ids; a catalog argument given is checked even if no id needs it
+    cat = as_catalog(catalog) if catalog is not None or any(isinstance(p, str) for p in parts) else None
     return [load_part(p, cat) for p in parts]
 
 
 def check_parts(parts=None, scenarios="airborne_xband", mode: str = "paper", assumptions=None,
-                platform_motion=None):
+                platform_motion=None, *, catalog: Mapping | str | Path | None = None):
     """Analytic check of parts × scenarios against the seed 004 bounds (:func:`budget.check.check_parts`).
 
-    ``parts``: ids or objects (``None`` = the whole catalog); ``scenarios``: one or several
+    ``parts``: ids or objects (``None`` = the whole catalog, as ``sar-budget check``); ``catalog``:
+    where ids are looked up (a mapping, a user CSV merged over the shipped parts, or None: shipped);
+    ``scenarios``: one or several
     scenarios, preset names or files; ``platform_motion``: the rotation the gyro scale factor and
     misalignment are judged against (a ``PlatformMotion`` or its dict, e.g. ``{"kind":
     "oscillation"}``; None: the bounds' own 1-rad attitude change).
     """
+    from .catalog.io import as_catalog
     from .check import check_parts as _check
 
-    cat = load_catalog()
-    plist = list(cat.values()) if parts is None else load_parts(parts, cat)
+    plist = list(as_catalog(catalog).values()) if parts is None else load_parts(parts, catalog)
     return _check(plist, load_scenarios(scenarios), mode, assumptions, platform_motion=platform_motion)
 
 
-def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED, **kwargs):
+def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED, *,
+           catalog: Mapping | str | Path | None = None, **kwargs):
     """Monte Carlo verdict of one part on one scenario (:func:`budget.mc.runner.run_mc`).
 
-    ``scenario`` and ``part`` may be names; keyword arguments (``options``, ``workers``,
-    ``progress``, ``keep_detail`` …) are passed on.
+    ``scenario`` and ``part`` may be names (``part`` an id of ``catalog``: a mapping, a user CSV
+    merged over the shipped parts, or None: shipped); keyword arguments (``options``,
+    ``workers``, ``progress``, ``keep_detail`` …) are passed on.
     """
     from .mc.runner import run_mc as _run
     from .scenario import name_scenario_file
 
     s = load_scenario(scenario)
+    imu = load_part(part, catalog)
     try:
-        return _run(s, load_part(part), trials, seed, **kwargs)
+        return _run(s, imu, trials, seed, **kwargs)
     except InputError as err:  # a scenario file's value the simulator cannot use: name the file
         raise name_scenario_file(err, scenario if _is_file(scenario) else None) from None
 
 
 def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int = DEFAULT_TRIALS,
-          seed: int = DEFAULT_SEED, **kwargs):
+          seed: int = DEFAULT_SEED, *, catalog: Mapping | str | Path | None = None, **kwargs):
     """Trade study parts × scenarios → tidy :class:`pandas.DataFrame`, one row per pair
     (:func:`budget.mc.sweep.sweep`; columns ``scenario, part_id, grade, p_pass_after, ci_after_lo,
-    ci_after_hi`` …). Names are accepted for parts and scenarios."""
+    ci_after_hi`` …). Names are accepted for parts and scenarios; part ids are looked up in
+    ``catalog`` (a mapping, a user CSV merged over the shipped parts, or None: shipped), and
+    ``parts=None`` is every part of that catalog with a noise figure (as ``sar-budget sweep
+    --catalog``)."""
     from .mc.sweep import sweep as _sweep
 
     given = _scenario_sources(scenarios)
-    return _sweep(load_parts(parts), [load_scenario(s) for s in given], trials, seed,
+    return _sweep(load_parts(parts, catalog), [load_scenario(s) for s in given], trials, seed,
                   sources=[s if _is_file(s) else None for s in given], **kwargs)
 
 
@@ -208,11 +225,12 @@ def vary_scenario(base, field: str, values) -> list:
 
 
 def sweep_over(parts, base, field: str, values, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED,
-               **kwargs):
+               *, catalog: Mapping | str | Path | None = None, **kwargs):
     """:func:`sweep` over :func:`vary_scenario` copies; the table gains a ``field`` column (and
-    has ``tc_s``), ready for P(pass) vs slant range, speed or Tc."""
+    has ``tc_s``), ready for P(pass) vs slant range, speed or Tc. ``parts`` and ``catalog`` as
+    in :func:`sweep`."""
     scens = vary_scenario(base, field, values)
-    table = sweep(parts, scens, trials, seed, **kwargs)
+    table = sweep(parts, scens, trials, seed, catalog=catalog, **kwargs)
     by_name = {sc.name: getattr(sc, field) for sc in scens}
     if len(table):
         table.insert(1, field, table["scenario"].map(by_name))

@@ -3,7 +3,8 @@
 * The shipped catalog lives in ``catalog/`` at the repository root (installed as
   ``budget/_catalog``). A user catalog (``--catalog PATH`` or the environment variable
   ``SAR_BUDGET_CATALOG``) is merged over it: a user row with the same ``part_id`` replaces the
-  shipped one, new ids are added.
+  shipped one, new ids are added. :func:`as_catalog` turns the ``catalog`` argument of the API
+  (a mapping, a user CSV path or None) into the merged catalog, in one place.
 * Validation is strict: unknown or duplicate columns, duplicate ids, non-numeric, negative,
   NaN/inf or out-of-range numbers, formula-looking text cells (OWASP: a text cell starting with
   ``= + - @``, tab or CR; plain numbers such as ``-2.5`` pass), control characters or escape
@@ -124,14 +125,30 @@ def user_catalog_path(explicit: str | Path | None = None) -> Path | None:
     return Path(env) if env else None
 
 
-def load_catalog(user_csv: str | Path | None = None) -> dict[str, PartSpec]:
+class Catalog(dict):
+    """``part_id`` → :class:`PartSpec` as :func:`load_catalog` merged it, knowing the files it was
+    read from (``files``: the shipped ``parts.csv``, then the user CSV if any), so that an unknown
+    id can name the files searched. Otherwise a plain ``dict``."""
+
+    def __init__(self, parts=(), files=()):
+        super().__init__(parts)
+        self.files: tuple[Path, ...] = tuple(Path(f) for f in files)
+
+    @property
+    def user_file(self) -> Path | None:
+        """The user CSV merged over the shipped parts (None: the shipped catalog alone)."""
+        return self.files[1] if len(self.files) > 1 else None
+
+
+def load_catalog(user_csv: str | Path | None = None) -> Catalog:
     """Shipped parts merged with the user's (user rows replace shipped rows with the same id).
 
     A user id that differs from a shipped id only in letter case (``stim300`` vs ``STIM300``)
     stays a separate part (ids are case-sensitive, as in the CSV) but gives a ``UserWarning``
     naming the file and both ids: it is most likely meant to override the shipped row.
     """
-    parts = dict(read_parts(shipped_catalog_dir() / "parts.csv"))
+    shipped_csv = shipped_catalog_dir() / "parts.csv"
+    parts = Catalog(read_parts(shipped_csv), [shipped_csv])
     user = user_catalog_path(user_csv)
     if user is not None:
         mine = read_parts(user)
@@ -140,7 +157,37 @@ def load_catalog(user_csv: str | Path | None = None) -> dict[str, PartSpec]:
                           f"{shipped_id!r}; it is a separate part and does not replace the shipped "
                           f"row (name it {shipped_id!r} to do so)", UserWarning, stacklevel=2)
         parts.update(mine)
+        parts.files = (shipped_csv, user)
     return parts
+
+
+#: What a ``catalog`` argument of the API accepts (:func:`as_catalog`).
+CATALOG_ARGUMENT = ("a mapping part_id → PartSpec (budget.load_catalog(...)), a path to a user parts CSV "
+                    "(merged over the shipped parts) or None (the shipped catalog)")
+
+
+def as_catalog(catalog: Mapping[str, PartSpec] | str | os.PathLike | None = None,
+               field: str = "catalog") -> Mapping[str, PartSpec]:
+    """The catalog a ``catalog`` argument names — the one conversion for the API, the CLI and the
+    part resolution: a mapping (e.g. from :func:`load_catalog`) as is, a path to a user CSV merged
+    over the shipped parts (as ``--catalog``), ``None`` the shipped catalog (and
+    ``$SAR_BUDGET_CATALOG``). Anything else, or a mapping holding something other than parts,
+    is an :class:`InputError` naming ``field``; a missing or bad CSV is the reader's
+    :class:`InputError` naming the file, row and column."""
+    if isinstance(catalog, Catalog):  # read and checked by load_catalog
+        return catalog
+    if isinstance(catalog, Mapping):
+        for pid, part in catalog.items():
+            if not isinstance(part, PartSpec):
+                raise InputError(f"the catalog entry {pid!r} is not a part (a {type(part).__name__})",
+                                 field=field, expected=CATALOG_ARGUMENT)
+        return catalog
+    if catalog is not None and (isinstance(catalog, bool) or not isinstance(catalog, (str, os.PathLike))):
+        raise InputError(f"cannot use a {type(catalog).__name__} as a catalog", field=field, value=catalog,
+                         expected=CATALOG_ARGUMENT)
+    if isinstance(catalog, str) and not catalog.strip():
+        raise InputError("empty catalog path", field=field, value=catalog, expected=CATALOG_ARGUMENT)
+    return load_catalog(catalog)
 
 
 #: Where a merged catalog row comes from (:func:`part_origins`).
@@ -192,7 +239,11 @@ def get_part(part_id: str, catalog: Mapping[str, PartSpec] | None = None,
         return catalog[part_id]
     except KeyError:
         close = close_part_ids(part_id, catalog)
-        raise InputError(f"unknown part {part_id!r}", field="part_id",
+        files = getattr(catalog, "files", ())  # a Catalog names the files searched
+        user = catalog.user_file if isinstance(catalog, Catalog) else None
+        raise InputError(f"unknown part {part_id!r}" + (" (neither in this user catalog nor in the shipped "
+                                                         f"one, {files[0]})" if user else ""),
+                         file=user or (files[0] if files else None), field="part_id",
                          expected="a part_id of the catalog" + (f"; closest: {', '.join(close)}" if close else
                                                                  " (see `sar-budget catalog list`)")) from None
 

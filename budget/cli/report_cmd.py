@@ -51,9 +51,7 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     s = scenario_from_args(args)
-    cat = load_catalog(args.catalog)
-    parts = [cat[p] if p in cat else p for p in args.part] if args.part else list(cat.values())
-    mc_parts = [cat[p] if p in cat else p for p in args.mc_part]
+    cat = load_catalog(args.catalog)  # ids (and unknown ids' messages) of the catalog merged with --catalog
     motion = platform_motion_from_args(args)
     options = McOptions.build(prefilter=args.prefilter, **({"platform_motion": motion} if motion else {}))
     bars: list[Progress] = []
@@ -63,8 +61,8 @@ def run(args) -> int:
         return bars[-1]
 
     try:
-        rep = build_report(s, parts, mc_parts=mc_parts, trials=args.trials, seed=args.seed, options=options,
-                           mode=args.mode, progress=progress)
+        rep = build_report(s, args.part or None, mc_parts=args.mc_part, trials=args.trials, seed=args.seed,
+                           options=options, mode=args.mode, progress=progress, catalog=cat)
     finally:
         for b in bars:
             b.close()

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..catalog.io import get_part, load_catalog
+from ..catalog.io import as_catalog, get_part
 from ..catalog.schema import PartSpec
 from ..errors import InputError
 from .noise_model import NoiseModel
@@ -21,14 +21,15 @@ def resolve_part(part, catalog: Mapping | str | Path | None = None):
     or a string that is not a part id of the catalog and ends in .json/.yaml/.yml or names a file).
 
     ``catalog``: the catalog mapping, or a user CSV merged over the shipped one, or ``None``
-    (shipped catalog, ``$SAR_BUDGET_CATALOG``); read only for a ``part_id``. An unknown part id
-    is an :class:`InputError` listing the closest ids; a model file that is missing, not valid
+    (shipped catalog, ``$SAR_BUDGET_CATALOG``) — :func:`budget.catalog.io.as_catalog`; read only
+    for a ``part_id``. An unknown part id is an :class:`InputError` naming the catalog file(s)
+    searched and listing the closest ids; a model file that is missing, not valid
     JSON/YAML or has a bad field is an :class:`InputError` naming the file and the field.
     """
     if isinstance(part, Path):
         return NoiseModel.load(part)
     if isinstance(part, str):
-        cat = catalog if isinstance(catalog, Mapping) else load_catalog(catalog)
+        cat = as_catalog(catalog)
         if part not in cat and (Path(part).suffix.lower() in MODEL_FILE_SUFFIXES or Path(part).is_file()):
             return NoiseModel.load(Path(part))
         return get_part(part, cat)

@@ -11,6 +11,7 @@ import datetime as _dt
 import platform
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -187,15 +188,19 @@ def provenance(trials: int | None, seed: int | None, options=None, extra: Mappin
 def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence | None = None,
                  trials: int | None = None, seed: int | None = None, options=None, mode: str = "paper",
                  assumptions: Mapping | None = None, mc_results: Mapping | None = None,
-                 progress: Callable[[str], Callable[[int, int], None] | None] | None = None) -> Report:
+                 progress: Callable[[str], Callable[[int, int], None] | None] | None = None,
+                 catalog: Mapping | str | Path | None = None) -> Report:
     """Assemble a :class:`Report` for ``scenario`` (object or preset name).
 
-    ``parts``: checked analytically (ids or objects; default the whole catalog). ``mc_parts``:
+    ``parts``: checked analytically (ids or objects; default the whole catalog); ids are looked up
+    in ``catalog`` (a mapping, a user CSV merged over the shipped parts, or None: shipped,
+    :func:`budget.catalog.io.as_catalog`). ``mc_parts``:
     parts run through the Monte Carlo (default: none unless ``mc_results`` are given);
     ``mc_results``: already computed ``{part_id: McResult}`` (not re-run). ``progress(part_id)``
     may return a ``progress(done, total)`` callback for each Monte Carlo run.
     """
-    from ..api import load_catalog, load_part, load_parts, load_scenario
+    from ..api import load_part, load_parts, load_scenario
+    from ..catalog.io import as_catalog
     from ..check import check_parts
     from ..mc.options import DEFAULT_SEED, DEFAULT_TRIALS, McOptions
     from ..mc.runner import run_mc
@@ -203,7 +208,7 @@ def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence 
     s = load_scenario(scenario)
     if mode not in BOUND_MODES:
         raise InputError("unknown bounds mode", field="mode", value=mode, expected=", ".join(BOUND_MODES))
-    cat = load_catalog()
+    cat = as_catalog(catalog)
     plist = list(cat.values()) if parts is None else load_parts(parts, cat)
     options = options or McOptions()
     motion = options.rotation_for_check if (mc_parts or mc_results) else None
