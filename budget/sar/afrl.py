@@ -27,10 +27,14 @@ MAX_FILE_BYTES = 2_000_000_000
 
 
 def _field(rec, names: tuple[str, ...], name: str, path: Path, required: bool = True):
+    """Field ``name`` of the struct; None for an optional field that is absent or empty (``[]``,
+    MATLAB's way of saying "none")."""
     if name not in names:
         if required:
             raise InputError("missing field", file=path, field=f"data.{name}",
                              expected=f"an AFRL phase-history struct with fields {', '.join(_REQUIRED)}")
+        return None
+    if not required and np.asarray(rec[name]).size == 0:
         return None
     return rec[name]
 
@@ -47,6 +51,19 @@ def _row(value, n: int, name: str, path: Path) -> np.ndarray:
     if not np.all(np.isfinite(out)):
         raise InputError("holds NaN or infinite values", file=path, field=f"data.{name}", expected="finite values")
     return out
+
+
+def _uniform_axis(freq: np.ndarray, stored: np.dtype) -> np.ndarray:
+    """The evenly spaced axis from ``freq[0]`` to ``freq[-1]`` when every stored frequency is on it
+    to within the rounding of its storage type (two units in the last place: the Gotcha files keep
+    9.9 GHz in float32, 1024 Hz apart, so the steps of an even 1.47 MHz axis differ by up to
+    2048 Hz, 0.14 %); otherwise ``freq`` unchanged (an uneven axis is refused by
+    :class:`~budget.sar.phase_history.PhaseHistory`). The ends are kept as stored."""
+    if freq.size < 3 or not np.issubdtype(stored, np.number) or np.issubdtype(stored, np.complexfloating):
+        return freq
+    line = np.linspace(freq[0], freq[-1], freq.size)
+    ulp = float(np.spacing(np.abs(freq).max().astype(stored))) if np.issubdtype(stored, np.floating) else 1.0
+    return line if np.max(np.abs(freq - line)) <= 2.0 * ulp else freq
 
 
 #: Most bytes a file's variables may hold once decompressed (a MATLAB v7 file compresses each
@@ -102,6 +119,13 @@ def _load_struct(path: Path):
     if path.stat().st_size > MAX_FILE_BYTES:
         raise InputError(f"file is {path.stat().st_size} bytes", file=path,
                          expected=f"at most {MAX_FILE_BYTES} bytes")
+    if path.stat().st_size == 0:
+        raise InputError("file is empty (0 bytes)", file=path, expected="a MATLAB v5/v7 .mat file")
+    with open(path, "rb") as fh:
+        head = fh.read(128)
+    if len(head) == 128 and head[124:128] in (b"\x00\x02IM", b"\x02\x00MI"):
+        raise InputError("is a MATLAB v7.3 (HDF5) file, which this reader does not read", file=path,
+                         expected="a MATLAB v5/v7 .mat file (in MATLAB: save(name, 'data', '-v7'))")
     content = _content_bytes(path, MAX_CONTENT_BYTES)
     if content > MAX_CONTENT_BYTES:
         raise InputError(f"its variables decompress to more than {MAX_CONTENT_BYTES} bytes (a file of "
@@ -115,8 +139,12 @@ def _load_struct(path: Path):
     if "data" not in mat:
         raise InputError("missing variable", file=path, field="data", expected="a struct named 'data'")
     data = mat["data"]
-    if data.dtype.names is None or data.size < 1:
+    if data.dtype.names is None:
         raise InputError("is not a struct", file=path, field="data", expected="a MATLAB struct")
+    if data.size != 1:  # records beyond the first would be dropped without a word
+        what = "an empty struct array" if data.size == 0 else f"a struct array of {data.size} records"
+        raise InputError(f"is {what} ({' × '.join(map(str, data.shape))})", file=path, field="data",
+                         expected="one struct (one phase history per file: save each record to a file of its own)")
     return data.flat[0], tuple(data.dtype.names)
 
 
@@ -136,7 +164,9 @@ def read_afrl_file(path: str | Path) -> dict:
                 "frequencies × pulses)" if freq.size == n else "")
         raise InputError(f"shape {freq.shape} does not match {k} frequency samples of data.fp{hint}", file=path,
                          field="data.freq", expected=f"({k}, 1) frequencies in Hz")
+    stored = freq.dtype
     freq = _row(freq, k, "freq", path)
+    freq = _uniform_axis(freq, stored)
     problem = radar_frequency_problem(freq)
     if problem:
         raise InputError(problem, file=path, field="data.freq", expected=RADAR_FREQUENCY_EXPECTED)
@@ -154,16 +184,44 @@ def read_afrl_file(path: str | Path) -> dict:
         out[key] = None if v is None else _row(v, n, c, path)
     out["r_correct_m"] = out["ph_correct_rad"] = None
     af = _field(rec, names, "af", path, required=False)
+    if af is not None and af.dtype.names and all(np.asarray(af.flat[0][c]).size == 0 for c in af.dtype.names):
+        af = None  # a struct of empty fields: no recorded solution
     if af is not None:
         af = np.asarray(af)
         af_names = af.dtype.names or ()
-        if af.size < 1 or "r_correct" not in af_names or "ph_correct" not in af_names:
+        if af.size != 1 or "r_correct" not in af_names or "ph_correct" not in af_names:
             raise InputError("autofocus struct lacks r_correct/ph_correct", file=path, field="data.af",
                              expected="a struct with r_correct (m) and ph_correct (rad) per pulse")
         a0 = af.flat[0]
         out["r_correct_m"] = _row(a0["r_correct"], n, "af.r_correct", path)
         out["ph_correct_rad"] = _row(a0["ph_correct"], n, "af.ph_correct", path)
     return out
+
+
+#: What a Gotcha file name says of its data: ``data_3dsar_pass1_az001_HH.mat`` is pass 1,
+#: polarisation HH (transmit, receive).
+_NAME_TAGS = (("pass", re.compile(r"(?:^|_)pass(\d+)(?=_|$)", re.IGNORECASE)),
+              ("polarisation", re.compile(r"_(HH|VV|HV|VH)$", re.IGNORECASE)))
+
+
+def _refuse_mixed_names(paths: list[Path]) -> None:
+    """Refuse files whose names say different passes or polarisations (the Gotcha naming,
+    :data:`_NAME_TAGS`): their pulses cannot form one aperture (another polarisation's samples
+    from the next azimuth join the track without a gap, so nothing else would tell). Names
+    without the tag are not compared."""
+    for what, pattern in _NAME_TAGS:
+        first = None
+        for p in paths:
+            m = pattern.search(p.stem)
+            if m is None:
+                continue
+            tag = m.group(1).upper().lstrip("0") or "0"
+            if first is None:
+                first = (p, tag)
+            elif tag != first[1]:
+                raise InputError(f"its name says {what} {tag}, that of {first[0].name} says {first[1]}: the pulses "
+                                 f"of one image come from one pass and one polarisation", file=p, field="FILE",
+                                 expected="files of one pass and one polarisation, in aperture order")
 
 
 def name_order(names):
@@ -257,8 +315,9 @@ def read_afrl(paths) -> PhaseHistory:
     The files must share the frequency axis (to 1 Hz), be given once each and in aperture order:
     a track that goes back between two files is refused, naming them (and the order of their
     azimuth ``th`` when they have one); each aperture gap (a step > 1.5 × the median pulse
-    spacing: a file or pulses missing) gets a note. The recorded autofocus solution is kept only
-    when every file has one (a note says when it was dropped)."""
+    spacing: a file or pulses missing) gets a note. Files whose Gotcha names say different passes
+    or polarisations are refused (:func:`_refuse_mixed_names`). The recorded autofocus solution is
+    kept only when every file has one (a note says when it was dropped)."""
     paths = [Path(p) for p in ([paths] if isinstance(paths, (str, Path)) else list(paths))]
     if not paths:
         raise InputError("no phase-history file given", field="FILE", expected="one or more .mat files")
@@ -282,7 +341,8 @@ def read_afrl(paths) -> PhaseHistory:
         if f.size != f0.size or np.max(np.abs(f - f0)) > 1.0:
             raise InputError(f"frequency axis differs from that of {paths[0].name}", file=p, field="data.freq",
                              expected=f"the same {f0.size} frequencies in every file")
-    notes = _track_notes(paths, parts)
+    notes = _track_notes(paths, parts)  # first: two files of one azimuth are named as such
+    _refuse_mixed_names(paths)
     notes += _zero_pulse_notes(paths, parts)
     has_af = all(part["r_correct_m"] is not None for part in parts)
     if not has_af and any(part["r_correct_m"] is not None for part in parts):
