@@ -350,6 +350,19 @@ def _apply_rotation(bmat: np.ndarray, pmat: np.ndarray, scen: Sequence[Scenario]
     return tuple(out)
 
 
+def check_scenario_keys(mode: str = "paper", platform_motion=None) -> tuple[str, ...]:
+    """The defaulted scenario keys (:data:`budget.scenario.DEFAULTED_KEYS`) a check in ``mode``
+    rests on: its bounds' (:func:`budget.bounds.scenario_keys`), the line of sight and lever arm
+    of the PGA-limited verdict, and the turn rate an ``oscillation`` platform motion flies."""
+    from .bounds import scenario_keys
+
+    keys = scenario_keys(mode) + ("depression_deg", "lever_arm_m")
+    kind = getattr(platform_motion, "kind", platform_motion)
+    if kind == "oscillation":
+        keys += ("platform_rate_deg_s",)
+    return tuple(dict.fromkeys(keys))
+
+
 def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scenario,
                 mode: str = "paper", assumptions=None, platform_motion=None) -> CheckResult:
     """Check parts against each scenario's bounds (Tc and δr from the scenario).

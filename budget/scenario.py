@@ -180,6 +180,36 @@ def name_scenario_file(err: InputError, source) -> InputError:
     return err
 
 
+#: Scenario keys with a default that feed a result (Tc, the bounds, the check, the simulation):
+#: a result computed with one the user did not write states it (:meth:`Scenario.defaults_note`).
+#: Each command passes the subset it uses (:data:`TC_KEYS` and what its mode adds).
+DEFAULTED_KEYS = ("medium", "propagation_speed_m_s", "squint_deg", "window_broadening", "depression_deg",
+                  "lever_arm_m", "platform_accel_m_s2", "platform_rate_deg_s", "imu_rate_hz")
+#: The defaulted keys Tc = a_w λ R / (2 δℓ V sin θ) depends on (λ = c/f0, c from the medium).
+TC_KEYS = ("medium", "propagation_speed_m_s", "squint_deg", "window_broadening")
+
+
+def _default_text(key: str, value, scenario: "Scenario") -> str:
+    """A default value with its unit and, where the bare number says little, its meaning."""
+    if key == "propagation_speed_m_s":
+        return f"{value:g} m/s ({scenario.medium})"
+    if key == "squint_deg":
+        return f"{value:g} (broadside)"
+    if key == "depression_deg":
+        return f"{value:g} (line of sight {value:g}° below horizontal)"
+    if key == "window_broadening":
+        return f"{value:g} (unweighted azimuth main lobe)"
+    if key == "lever_arm_m":
+        return "[" + ", ".join(f"{v:g}" for v in value) + "] m (IMU at the antenna phase centre)"
+    if key == "platform_accel_m_s2":
+        return f"{value:.6g} m/s² (g, level flight)"
+    if key == "platform_rate_deg_s":
+        return f"{value:g} deg/s (no turn)"
+    if key == "imu_rate_hz":
+        return f"{value:g} Hz"
+    return str(value)
+
+
 class Scenario(BaseModel):
     """A synthetic-aperture imaging geometry and its resolution requirement.
 
@@ -339,6 +369,29 @@ class Scenario(BaseModel):
                        "antenna on any platform the presets describe; it is in metres (a lever arm "
                        f"written in cm, e.g. 50 for 0.5 m, reads as {d:.4g} m): check its unit")
         return out
+
+    def defaults_taken(self, keys=DEFAULTED_KEYS) -> dict[str, object]:
+        """The scenario keys of ``keys`` that the file (or mapping, or constructor call) did not
+        set, with the value used in their place (``propagation_speed_m_s``: sound's 1500 m/s for
+        sonar; radar's speed of light is not listed). A scenario rebuilt from a full dump (every
+        key written) has none."""
+        out: dict[str, object] = {}
+        for key in keys:
+            if key in self.model_fields_set:
+                continue
+            if key == "propagation_speed_m_s" and self.medium == "radar":
+                continue  # the speed of light: a constant, not an assumption (sound's 1500 m/s is)
+            out[key] = self.c_m_s if key == "propagation_speed_m_s" else getattr(self, key)
+        return out
+
+    def defaults_note(self, keys=DEFAULTED_KEYS) -> str:
+        """:meth:`defaults_taken` in words ('' if every key of ``keys`` was set): what a result
+        computed from those keys rests on without the user having written it."""
+        taken = self.defaults_taken(keys)
+        if not taken:
+            return ""
+        text = ", ".join(f"{k} = {_default_text(k, v, self)}" for k, v in taken.items())
+        return f"{self.name}: not in the scenario, taken at their defaults: {text}"
 
     # --- derived -----------------------------------------------------------------
     @property

@@ -23,8 +23,8 @@ __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", 
            "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
            "fast_phase_residual", "FastPhaseResidual",
            "random_walk_constants", "compute_bounds", "LeverArmAssumptions", "lever_arm_bounds",
-           "lever_arm_terms", "MODES", "scenario_assumptions", "RotationExcursion", "motion_excursion",
-           "rotation_excursion"]
+           "lever_arm_terms", "MODES", "scenario_assumptions", "scenario_keys", "RotationExcursion",
+           "motion_excursion", "rotation_excursion"]
 
 #: Bound modes of :func:`compute_bounds` (and ``sar-budget bounds --mode``).
 MODES = ("paper", "derived", "no-autofocus", "lever-arm")
@@ -49,6 +49,18 @@ def scenario_assumptions(mode: str, scenario, assumptions=None):
                          expected="> 0 m/s² (g = 9.80665 in level flight)")
     cls = DerivedAssumptions if mode == "derived" else NoAutofocusAssumptions
     return cls(accel_level_m_s2=a)
+
+
+def scenario_keys(mode: str) -> tuple[str, ...]:
+    """The defaulted scenario keys (:data:`budget.scenario.DEFAULTED_KEYS`) the bounds of ``mode``
+    are computed from: those of Tc, and what :func:`scenario_assumptions` takes from the scenario."""
+    from ..scenario import TC_KEYS
+
+    if mode in ("derived", "no-autofocus", "no_autofocus"):
+        return TC_KEYS + ("platform_accel_m_s2",)
+    if mode in ("lever-arm", "lever_arm"):
+        return TC_KEYS + ("lever_arm_m", "platform_rate_deg_s")
+    return TC_KEYS
 
 
 def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_m=None,

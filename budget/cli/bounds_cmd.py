@@ -6,7 +6,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..bounds import LeverArmAssumptions, compute_bounds, fast_phase_limits, lever_arm_terms, scenario_assumptions
+from ..bounds import (LeverArmAssumptions, compute_bounds, fast_phase_limits, lever_arm_terms, scenario_assumptions,
+                      scenario_keys)
 from ..errors import InputError
 from .common import add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
@@ -113,7 +114,8 @@ def run(args) -> int:
         out = {"mode": args.mode, "scenario": None if args.tc else s.model_dump(mode="json"),
                "tc_s": np.atleast_1d(tc).tolist(), "range_resolution_m": float(dr),
                "wavelength_m": None if lam is None else float(lam), "bounds": table.to_dict(),
-               "fast_phase": None if fast is None else fast.to_dict()}
+               "fast_phase": None if fast is None else fast.to_dict(),
+               "scenario_defaults": None if args.tc else s.defaults_taken(scenario_keys(args.mode))}
         if lever is not None:
             out["lever_arm"] = {"assumptions": lever.model_dump(mode="json"),
                                 "terms": {f"{t:.6g}": lever_arm_terms(float(t), dr, lam, lever).to_dict(orient="records")
@@ -127,4 +129,6 @@ def run(args) -> int:
             print(lever_arm_terms(float(t), dr, lam, lever).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if fast is not None:
         print(fast.summary())
+    if not args.tc and s.defaults_note(scenario_keys(args.mode)):
+        print(s.defaults_note(scenario_keys(args.mode)))
     return 0

@@ -6,7 +6,7 @@ from ..api import load_parts
 from ..bounds import scenario_assumptions
 from ..bounds.lever_arm import pga_limited_bounds
 from ..catalog.io import load_catalog, load_grades, user_catalog_path
-from ..check import check_parts, recommend_grade
+from ..check import check_parts, check_scenario_keys, recommend_grade
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
 from .mc_cmd import add_platform_motion_options, platform_motion_from_args
 from .output import add_json_option, write_json
@@ -35,6 +35,7 @@ def run(args) -> int:
                           wavelength_m=scen.wavelength_m, assumptions=scenario_assumptions(args.mode, scen))
     limited, _ = pga_limited_bounds(scen)
     rec_limited = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, bounds=limited)
+    keys = check_scenario_keys(args.mode, getattr(args, "platform_motion", None))
     if args.json:
         # the user catalog merged over the shipped one: --catalog, else $SAR_BUDGET_CATALOG
         user = user_catalog_path(args.catalog)
@@ -43,7 +44,8 @@ def run(args) -> int:
                     "catalog": str(user) if user else "shipped",
                     "assumptions": res.assumptions, "parts": res.to_dict()["scenarios"][0]["parts"],
                     "rotation": res.rotation[0] if res.rotation else None,
-                    "lowest_sufficient_grade": {args.mode: rec.grade[0], "pga_limited": rec_limited.grade[0]}},
+                    "lowest_sufficient_grade": {args.mode: rec.grade[0], "pga_limited": rec_limited.grade[0]},
+                    "scenario_defaults": scen.defaults_taken(keys)},
                    args.json)
         return 0
     print(f"scenario {scen.name}: Tc = {scen.tc_s:.3g} s, δr = {scen.range_resolution_m:g} m, "
@@ -51,4 +53,6 @@ def run(args) -> int:
     print(res.summary())
     print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {rec.grade[0] or 'none'}")
     print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {rec_limited.grade[0] or 'none'}")
+    if scen.defaults_note(keys):
+        print(scen.defaults_note(keys))
     return 0

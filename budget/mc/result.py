@@ -127,7 +127,7 @@ class McResult:
             line += j["imu_rate"] + "\n"
         if j.get("platform_motion"):
             line += j["platform_motion"] + "\n"
-        for key in ("lever_arm", "acceptance"):
+        for key in ("lever_arm", "scenario_defaults", "acceptance"):
             if j.get(key):
                 line += j[key] + "\n"
         if j.get("earth_model"):

@@ -36,7 +36,7 @@ from ..errors import InputError, whole_number
 from ..imu.noise_model import as_noise_model_si
 from ..motion.flat_earth import earth_model
 from ..nav.manoeuvre import PlatformMotion
-from ..scenario import Scenario
+from ..scenario import TC_KEYS, Scenario
 from ..units import G0
 from .aggregate import Aggregate
 from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
@@ -215,6 +215,8 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     judged["imu_rate"] = imu_rate_note(scenario, getattr(model, "rate_hz", None))
     judged["platform_motion"] = platform_motion_note(scenario, options.platform_motion)
     judged["lever_arm"] = lever_arm_note(scenario)
+    if scenario.defaults_note(SIMULATED_DEFAULT_KEYS):
+        judged["scenario_defaults"] = scenario.defaults_note(SIMULATED_DEFAULT_KEYS)
     judged["acceptance"] = acceptance_note(options)
     judged["earth_model"] = earth_model_line(scenario, model)
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
@@ -222,10 +224,18 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
                     options=options, scenario=scenario, judged_on=judged, model_spec=model_spec(model))
 
 
+#: The defaulted scenario keys a trial is simulated with that no other note of the verdict states
+#: (the IMU rate and the lever arm have their own: :func:`imu_rate_note`, :func:`lever_arm_note`).
+SIMULATED_DEFAULT_KEYS = TC_KEYS + ("depression_deg",)
+
+
 def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
     """The rate the IMU is simulated at (the scenario's ``imu_rate_hz``) and, when the part states
     another output rate, that it is not used and why that is harmless for the catalog's terms."""
-    text = f"IMU simulated at the scenario's imu_rate_hz = {scenario.imu_rate_hz:g} Hz"
+    text = (f"IMU simulated at the scenario's imu_rate_hz = {scenario.imu_rate_hz:g} Hz"
+            if "imu_rate_hz" in scenario.model_fields_set else
+            f"IMU simulated at imu_rate_hz = {scenario.imu_rate_hz:g} Hz, the default (the scenario gives "
+            "no imu_rate_hz)")
     if part_rate_hz is not None and abs(part_rate_hz - scenario.imu_rate_hz) > 1e-9 * scenario.imu_rate_hz:
         text += (f" (the part's own output rate, {part_rate_hz:g} Hz, is not used: noise densities and "
                  "bias terms are per √Hz and per second, so the motion error they make over Tc does not "

@@ -129,6 +129,7 @@ class Report:
 
     def to_dict(self) -> dict:
         return {"scenario": self.scenario.model_dump(mode="json"), "derived": self.scenario.derived(),
+                "scenario_defaults": self.scenario.defaults_taken(),
                 "mode": self.mode, "bounds": self.bounds.to_dict(orient="records"),
                 "check": self.check.to_dict()["scenarios"][0]["parts"],
                 "mc": {pid: mc_dict(r) for pid, r in self.mc.items()},

@@ -73,15 +73,27 @@ def _comparisons(rep) -> str:
     return "".join(out)
 
 
+def _set_by(scenario, key: str) -> str:
+    """'scenario' for a key the scenario wrote, 'default' for one it left (the propagation speed
+    with the medium's value it stands for)."""
+    if key in scenario.model_fields_set:
+        return "scenario"
+    if key == "propagation_speed_m_s":
+        return f"default ({scenario.c_m_s:g} m/s, {scenario.medium})"
+    return "default"
+
+
 def render_html(rep) -> str:
     """The whole report as one HTML document."""
     from ..plots.export import plotly_js
 
     s = rep.scenario
     title = f"IMU budget report — {s.name}"
-    scen = pd.DataFrame({"key": list(s.model_dump(mode="json")), "value":
-                         [json.dumps(v) if isinstance(v, (list, dict)) else v
-                          for v in s.model_dump(mode="json").values()]})
+    # each key says whether the scenario set it or its default stood in
+    dump = s.model_dump(mode="json")
+    scen = pd.DataFrame({"key": list(dump), "value":
+                         [json.dumps(v) if isinstance(v, (list, dict)) else v for v in dump.values()],
+                         "set by": [_set_by(s, k) for k in dump]})
     derived = pd.DataFrame({"quantity": list(s.derived()), "value": list(s.derived().values())})
     bounds = rep.bounds.drop(columns=["key"])
     parts = [f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
