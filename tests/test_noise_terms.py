@@ -222,6 +222,6 @@ def test_any_table_with_a_tau_column_is_read_as_a_table_not_a_log(tmp_path):
     not to the log reader (which would misread it as a 24-sample log)."""
     from budget.noise.measurement import read_measurement
     p = tmp_path / "other.csv"
-    p.write_text("tau_s,adev,n\n0.01,1,1\n")
+    p.write_text("tau_s,adev,weight\n0.01,1,1\n")  # (n is read: allantools writes it)
     with pytest.raises(InputError, match="not an Allan table layout"):
         read_measurement(p, rate_hz=RATE, samples=100_000)

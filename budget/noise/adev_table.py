@@ -22,7 +22,12 @@ splits the header into a τ column), ``#`` comment lines before the header (rows
 the file's lines), quoted header names, trailing delimiters, τ in ms or µs (``tau_ms``,
 ``tau_us``), compressed under any name (gzip, bzip2, xz, zip found by content), UTF-8 with or
 without a byte-order mark or UTF-16/32 with one (:func:`budget.fileio.text_encoding`, as for
-logs). A decimal comma is refused with its row and said to be one.
+logs). A decimal comma is refused with its row and said to be one. The ADEV column may be named
+``sigma`` (datasheets: ``tau (s), sigma (deg/h)``), ``oadev`` or ``Allan deviation``; a variance
+column (``avar``, ``allan_variance``, ``sigma^2``, MATLAB's ``allanvar`` output) is read as a
+variance. allantools' ``oadev`` saved with pandas (``,taus,adev,adev_err,n``) is read: the row
+index pandas writes first is dropped, ``adev_err`` (adev/√n) is not used for the interval (a note
+says so), and ``n`` must agree with ``samples`` (n = samples + 1 − 2m at the shortest τ).
 
 Units written in brackets after a header name are read through :mod:`budget.units`: ``tau [s]``,
 ``tau (ms)``; ``adev (deg/h)`` (with ``lci``/``uci`` in the same unit, an ``avar`` as its square,
@@ -65,9 +70,17 @@ _TAU_UNITS = {"tau_s": 1.0, "tau_ms": 1e-3, "tau_us": 1e-6}
 _DELIMITERS = (",", ";", "\t")
 
 #: Header names read as each column of a table (compared lower-case, without spaces): other
-#: tools write ``Tau``, ``tau (s)``, ``ADEV``, or the Allan variance instead of the deviation.
+#: tools write ``Tau``, ``tau (s)``, ``ADEV``, ``sigma (deg/h)`` (datasheets), ``Allan deviation``,
+#: or the Allan variance instead of the deviation (MATLAB's ``allanvar``: ``avar``,
+#: ``allan_variance``, ``sigma^2`` — read as a variance, its square root taken, never as a
+#: deviation). allantools' ``oadev`` written with pandas adds ``adev_err`` (its adev/√n) and ``n``
+#: (the number of overlapping differences): read by :func:`_pairs_check` and :data:`ERR_NOTE`.
 _ALIASES = {"tau_s": ("tau", "taus") + tuple(_TAU_UNITS), "channel": ("channel",),
-            "adev": ("adev",), "avar": ("avar",), "lci": ("lci",), "uci": ("uci",)}
+            "adev": ("adev", "oadev", "sigma", "allandeviation", "allan_deviation", "allan_dev"),
+            "avar": ("avar", "oavar", "allanvar", "allanvariance", "allan_variance", "allan_var",
+                     "sigma2", "sigma^2", "sigma²"),
+            "lci": ("lci",), "uci": ("uci",),
+            "adev_err": ("adev_err", "adev_error", "ade"), "n": ("n", "ns", "n_pairs")}
 _CANON = {a: c for c, names in _ALIASES.items() for a in names}
 
 
@@ -192,6 +205,41 @@ def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1,
                 df[col] = np.sqrt(v.where(v >= 0))  # a negative variance stays NaN: refused below
         df = df.rename(columns={"avar": "adev"})
     return df, np.arange(len(df)), False
+
+
+def _is_row_index(df: pd.DataFrame, col: str) -> bool:
+    """True for the column pandas' ``to_csv`` writes first by default: no header name
+    (``Unnamed: 0``) and the row numbers 0, 1, 2 … (allantools' curves saved with pandas)."""
+    if not (col == "" or col.startswith("Unnamed:")):
+        return False
+    v = pd.to_numeric(df[col], errors="coerce").to_numpy(float)
+    return bool(v.size) and np.array_equal(v, np.arange(v.size))
+
+
+#: What a table's ``adev_err`` column (allantools: adev/√n) is left for, said once per channel.
+ERR_NOTE = ("column adev_err not used: it is adev/√n (n overlapping differences taken as independent, "
+            "far too small at long τ); the confidence interval comes from the record length and the "
+            "curve's slope (EDF), as for a table without lci/uci")
+#: Largest relative difference between ``--samples`` and the record length a table's ``n`` column
+#: implies (n = samples + 1 − 2m for the overlapping ADEV of a rate record, at the shortest τ).
+PAIRS_TOLERANCE = 0.01
+
+
+def _pairs_check(n: np.ndarray, m: np.ndarray, samples: int, rows: np.ndarray, path: Path) -> None:
+    """Refuse a ``samples`` the table's own ``n`` column contradicts: at the shortest τ (m samples)
+    the overlapping ADEV of N rate samples averages n = N + 1 − 2m differences (allantools' ``n``;
+    the non-overlapping ADEV's N/m − 1 agrees there within a sample), so N = n + 2m − 1. The EDF
+    and the confidence intervals of every row follow from N."""
+    bad = np.flatnonzero(~np.isfinite(n) | (n < 1))
+    if bad.size:
+        i = int(bad[0])
+        raise InputError("not a positive count", file=path, row=int(rows[i]) + 2, field="n", value=n[i],
+                         expected="the number of differences averaged at this τ (allantools' n)")
+    implied = int(round(n[0] + 2 * m[0] - 1))
+    if abs(implied - samples) > max(2.0, PAIRS_TOLERANCE * samples):
+        raise InputError(f"the table's n = {n[0]:.10g} at m = {int(m[0])} says the record had {implied} "
+                         f"samples, not the {samples} given", file=path, row=int(rows[0]) + 2, field="n",
+                         value=n[0], expected=f"--samples {implied} (the record the curve came from)")
 
 
 def _only_channel(channels: list[str] | None, path: Path, header_row: int) -> str:
@@ -358,6 +406,8 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
     df.columns = [str(c).strip().strip("\"'") for c in df.columns]
     # trailing delimiters (``1,2,3,``) make unnamed empty columns: they hold nothing
     df = df.drop(columns=[c for c in df.columns if c.startswith("Unnamed:") and df[c].isna().all()])
+    if len(df.columns) and _is_row_index(df, df.columns[0]):  # pandas' to_csv writes its index first
+        df = df.drop(columns=[df.columns[0]])
     tau_factor = _tau_factor(df.columns, path, 1 + pre)
     written, written_col = _value_unit(df.columns, path, 1 + pre)
     wanted = None if channels is None else [str(c).strip() for c in channels]
@@ -444,6 +494,10 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
                  f"number of samples and the ADEV moved along the curve's local slope (by up to "
                  f"{np.max(np.abs(shift - 1)):.2%})",)
     m = np.rint(m).astype(np.int64)
+    if "n" in df.columns:
+        _pairs_check(pd.to_numeric(df["n"], errors="coerce").to_numpy(float), m, samples, rows, path)
+    if "adev_err" in df.columns:
+        notes += (f"{ch}: {ERR_NOTE}",)
     n_phase = samples + 1
     too_long = np.flatnonzero(n_phase - 2 * m < 2)
     if too_long.size:
