@@ -340,6 +340,14 @@ def _build_focus():
     return focus(_phase_history(), _focus_options(), "pga"), {"autofocus": "pga", "options.spacing_m": 0.5}
 
 
+def _build_acquisition():
+    from budget.sar.acquisition import describe_acquisition
+    from budget.sar.focus import ground_grid
+    ph = _phase_history()
+    return describe_acquisition(ph, ground_grid(ph, _focus_options())), \
+        {"pulses": 96, "frequency_samples": 64, "pixel_spacing_m": 0.5}
+
+
 def _build_sar_image():
     return _sar()[2], {"method": "rda"}
 
@@ -469,6 +477,7 @@ BUILDERS = {
     "budget.sar.phase_history:PhaseHistory": _build_phase_history,
     "budget.sar.focus:GroundImage": _build_ground_image,
     "budget.sar.focus_pga:FocusResult": _build_focus,
+    "budget.sar.acquisition:Acquisition": _build_acquisition,
     "budget.sar.image:SarImage": _build_sar_image,
     "budget.sar.metrics:TargetMetricsTable": _build_target_metrics,
     "budget.sar.acceptance:Evaluation": _build_evaluation,

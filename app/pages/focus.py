@@ -1,5 +1,6 @@
 """Page: real SAR data — focus a recorded phase history (AFRL format) on a ground grid, autofocus
-it, and show the image before/after and the estimated vs recorded phase error. Every number from
+it, and show the image before/after, the estimated vs recorded phase error and what the data are
+(band, aperture, resolutions: ``FocusResult.acquisition``). Every number from
 ``budget.sar.focus_pga``; this page only collects the inputs and draws."""
 
 from __future__ import annotations
@@ -149,6 +150,12 @@ def render() -> None:
     st.plotly_chart(phase_figure(result), key="focus_phase")
     if result.comparison:
         st.dataframe(_comparison_rows(result.comparison), hide_index=True, key="focus_comparison")
+    st.subheader("What the data are")
+    st.caption("Band and aperture from the files' own fields; resolutions and unambiguous extents in closed "
+               "form (c/(2B), c/(2B cos ψ), λ/(2Δθ); c/(2Δf), λ/(2δθ)) beside the image's pixel spacing.")
+    st.dataframe(result.acquisition.to_frame()[["quantity", "shown"]], hide_index=True, key="focus_acquisition")
+    for note in result.acquisition.notes:
+        st.warning(note)
     if result.pga:
         st.caption(f"PGA: {result.pga.get('reason')}")
     for note in result.notes:

@@ -1,6 +1,7 @@
 """``sar-budget focus``: form a ground image from recorded phase-history files (AFRL format),
-autofocus it (PGA, the recorded solution, or none) and report the per-pulse phase estimate,
-entropy before/after and the rms difference from the recorded autofocus solution."""
+autofocus it (PGA, the recorded solution, or none) and report what the data are (band, aperture,
+closed-form resolutions beside the pixel spacing: :mod:`budget.sar.acquisition`), the per-pulse
+phase estimate, entropy before/after and the rms difference from the recorded autofocus solution."""
 
 from __future__ import annotations
 
@@ -78,6 +79,7 @@ def run(args) -> int:
         return 0
     s, c = result.scalars(), result.comparison
     g = result.before.grid
+    print(result.acquisition.summary())
     print(f"{ph.n_pulses} pulses × {ph.n_frequencies} frequencies from {len(args.files)} file(s); "
           f"image {g.v_m.size} × {g.u_m.size} at {g.spacing_m:g} m "
           f"({', '.join(f'{k} {v:.2f} s' for k, v in result.timings_s.items())})")

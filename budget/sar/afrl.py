@@ -204,11 +204,13 @@ _NAME_TAGS = (("pass", re.compile(r"(?:^|_)pass(\d+)(?=_|$)", re.IGNORECASE)),
               ("polarisation", re.compile(r"_(HH|VV|HV|VH)$", re.IGNORECASE)))
 
 
-def _refuse_mixed_names(paths: list[Path]) -> None:
+def _refuse_mixed_names(paths: list[Path]) -> dict[str, str]:
     """Refuse files whose names say different passes or polarisations (the Gotcha naming,
     :data:`_NAME_TAGS`): their pulses cannot form one aperture (another polarisation's samples
     from the next azimuth join the track without a gap, so nothing else would tell). Names
-    without the tag are not compared."""
+    without the tag are not compared. Returns what the names agree on, e.g. ``{"pass": "1",
+    "polarisation": "HH"}`` (a tag no name carries is left out)."""
+    tags: dict[str, str] = {}
     for what, pattern in _NAME_TAGS:
         first = None
         for p in paths:
@@ -222,6 +224,9 @@ def _refuse_mixed_names(paths: list[Path]) -> None:
                 raise InputError(f"its name says {what} {tag}, that of {first[0].name} says {first[1]}: the pulses "
                                  f"of one image come from one pass and one polarisation", file=p, field="FILE",
                                  expected="files of one pass and one polarisation, in aperture order")
+        if first is not None:
+            tags[what] = first[1]
+    return tags
 
 
 def name_order(names):
@@ -316,7 +321,8 @@ def read_afrl(paths) -> PhaseHistory:
     a track that goes back between two files is refused, naming them (and the order of their
     azimuth ``th`` when they have one); each aperture gap (a step > 1.5 × the median pulse
     spacing: a file or pulses missing) gets a note. Files whose Gotcha names say different passes
-    or polarisations are refused (:func:`_refuse_mixed_names`). The recorded autofocus solution is
+    or polarisations are refused (:func:`_refuse_mixed_names`); what they agree on is kept as
+    :attr:`~budget.sar.phase_history.PhaseHistory.name_tags`. The recorded autofocus solution is
     kept only when every file has one (a note says when it was dropped)."""
     paths = [Path(p) for p in ([paths] if isinstance(paths, (str, Path)) else list(paths))]
     if not paths:
@@ -342,7 +348,7 @@ def read_afrl(paths) -> PhaseHistory:
             raise InputError(f"frequency axis differs from that of {paths[0].name}", file=p, field="data.freq",
                              expected=f"the same {f0.size} frequencies in every file")
     notes = _track_notes(paths, parts)  # first: two files of one azimuth are named as such
-    _refuse_mixed_names(paths)
+    name_tags = _refuse_mixed_names(paths)
     notes += _zero_pulse_notes(paths, parts)
     has_af = all(part["r_correct_m"] is not None for part in parts)
     if not has_af and any(part["r_correct_m"] is not None for part in parts):
@@ -361,7 +367,7 @@ def read_afrl(paths) -> PhaseHistory:
             pulse_source=np.concatenate([[p.name] * part["samples"].shape[0] for p, part in zip(paths, parts)]),
             recorded_range_correction_m=cat("r_correct_m") if has_af else None,
             recorded_phase_correction_rad=cat("ph_correct_rad") if has_af else None,
-            azimuth_deg=cat("azimuth_deg"), elevation_deg=cat("elevation_deg"), notes=notes)
+            azimuth_deg=cat("azimuth_deg"), elevation_deg=cat("elevation_deg"), name_tags=name_tags, notes=notes)
     except InputError as err:
         raise err.rename_file(paths[0] if len(paths) == 1 else ", ".join(p.name for p in paths)) from None
     return ph

@@ -41,6 +41,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from .acquisition import Acquisition, describe_acquisition
 from .focus import FocusOptions, GroundImage, form_ground_image
 from .sharpness import image_contrast, image_entropy
 from .pga import pga
@@ -111,6 +112,8 @@ class FocusResult:
     timings_s: dict = field(default_factory=dict)
     options: dict = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    #: What the data are (band, aperture, closed-form resolutions) beside the image grid.
+    acquisition: Acquisition | None = None
 
     @property
     def pulses(self) -> int:
@@ -129,11 +132,12 @@ class FocusResult:
         return self.comparison.get("rms_diff_rad")
 
     def summary(self) -> str:
-        """A few lines: autofocus, entropy and contrast before → after, PGA outcome, difference
-        from the recorded solution."""
+        """A few lines: what the data are (:meth:`Acquisition.summary`), autofocus, entropy and
+        contrast before → after, PGA outcome, difference from the recorded solution."""
         s = self.scalars()
         diff = s["recorded_af_rms_diff_rad"]
-        lines = [f"autofocus {s['autofocus']} on {s['pulses']} pulses: entropy {s['entropy_before']:.5g} → "
+        lines = [] if self.acquisition is None else [self.acquisition.summary()]
+        lines += [f"autofocus {s['autofocus']} on {s['pulses']} pulses: entropy {s['entropy_before']:.5g} → "
                  f"{s['entropy_after']:.5g}, contrast {s['contrast_before']:.4g} → {s['contrast_after']:.4g}"]
         if self.pga:
             lines.append(f"PGA: {self.pga.get('reason')}; {self.pga.get('usable_lines')} usable lines")
@@ -167,8 +171,10 @@ class FocusResult:
         return df
 
     def to_dict(self) -> dict:
-        """JSON-ready: :meth:`scalars`, the estimate per pulse, the image grid and the ``options``."""
+        """JSON-ready: :meth:`scalars`, what the data are (``acquisition``, :meth:`Acquisition.to_dict`),
+        the estimate per pulse, the image grid and the ``options``."""
         out = self.scalars()
+        out["acquisition"] = None if self.acquisition is None else self.acquisition.to_dict()
         out.update({"phase_estimate_rad": self.phase_estimate_rad.tolist(),
                     "estimated_pulses": self.estimated_pulses.tolist(),
                     "recorded_phase_error_rad": (None if self.recorded_phase_error_rad is None
@@ -255,4 +261,5 @@ def focus(ph: PhaseHistory, options: FocusOptions | None = None, autofocus: str 
     return FocusResult(autofocus=autofocus, before=before, after=after, phase_estimate_rad=est,
                        estimated_pulses=mask, recorded_phase_error_rad=rec_out, known_phase_error_rad=known_out,
                        comparison=comparison,
-                       pga=pga_info, timings_s=timings, options=options.model_dump(), notes=notes)
+                       pga=pga_info, timings_s=timings, options=options.model_dump(), notes=notes,
+                       acquisition=describe_acquisition(ph, before.grid))

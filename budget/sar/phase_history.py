@@ -70,6 +70,12 @@ class PhaseHistory:
     #: Phase error per pulse (rad) added by :meth:`with_phase_error` (an injection experiment):
     #: known, so that an autofocus estimate can be scored against it.
     injected_phase_rad: np.ndarray | None = field(default=None, repr=False)
+    #: Time of each pulse, s (optional; the AFRL Gotcha files carry none): gives the platform
+    #: speed in :func:`budget.sar.acquisition.describe_acquisition`.
+    pulse_time_s: np.ndarray | None = field(default=None, repr=False)
+    #: What the file names say of the data (:func:`budget.sar.afrl.read_afrl`: the Gotcha names'
+    #: ``pass`` and ``polarisation``), empty when they say nothing.
+    name_tags: dict = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
@@ -104,13 +110,16 @@ class PhaseHistory:
         if self.pulse_source.size != n:
             raise InputError("one source name per pulse expected", field="pulse_source")
         for name in ("recorded_range_correction_m", "recorded_phase_correction_rad", "azimuth_deg",
-                     "elevation_deg", "injected_phase_rad"):
+                     "elevation_deg", "injected_phase_rad", "pulse_time_s"):
             v = getattr(self, name)
             if v is not None:
                 v = np.asarray(v, dtype=float).ravel()
                 if v.size != n or not np.all(np.isfinite(v)):
                     raise InputError("must be finite, one value per pulse", field=name)
                 setattr(self, name, v)
+        if self.pulse_time_s is not None and np.any(np.diff(self.pulse_time_s) <= 0):
+            raise InputError("pulse times must increase", field="pulse_time_s", expected="one time per pulse, s")
+        self.name_tags = {str(k): str(v) for k, v in dict(self.name_tags or {}).items()}
 
     # --- axes -------------------------------------------------------------------------------
     @property
