@@ -178,7 +178,12 @@ CHANNEL_UNIT_TO_SI: dict[str, float] = {
     "mps2": 1.0,
     "g": G0,
     "mg": 1e-3 * G0,
+    "ug": 1e-6 * G0,
+    "mdps": 1e-3 * DEG,
 }
+#: The tags of :data:`CHANNEL_UNIT_TO_SI` a gyro and an accelerometer channel may carry.
+CHANNEL_UNIT_TAGS: dict[str, tuple[str, ...]] = {"gyro": ("dps", "rps", "dph", "mdps"),
+                                                 "accel": ("mps2", "g", "mg", "ug")}
 
 #: The package's own unit-suffix spelling (``gyro_arw_deg_rt_h``, ``accel_vrw_m_s_rt_h``) for the
 #: same units: a column ``gyro_x_rad_s`` or ``accel_z_m_s2`` reads as ``gyro_x_rps``/``accel_z_mps2``.
@@ -219,18 +224,14 @@ def _split_tagged(name: str) -> tuple[str, str]:
         if name.startswith(ch + "_"):
             unit = name[len(ch) + 1 :]
             unit = CHANNEL_UNIT_ALIASES.get(unit, unit)
-            if unit in CHANNEL_UNIT_TO_SI:
-                if ch.startswith("gyro") and unit not in ("dps", "rps", "dph"):
-                    break
-                if ch.startswith("accel") and unit not in ("mps2", "g", "mg"):
-                    break
+            if unit in CHANNEL_UNIT_TAGS["gyro" if ch.startswith("gyro") else "accel"]:
                 return ch, unit
             break
     raise ValueError(
         f"channel column {name!r} not understood: expected <channel>_<unit> with channel in "
-        f"{', '.join(CHANNELS)} and unit dps|rps|dph (or deg_s|rad_s|deg_h) for a gyro, "
-        "mps2|g|mg (or m_s2) for an accelerometer, or <channel> [unit] (gyro_x [deg/s], "
-        "accel_z (m/s^2))"
+        f"{', '.join(CHANNELS)} and unit {'|'.join(CHANNEL_UNIT_TAGS['gyro'])} (or deg_s|rad_s|deg_h) "
+        f"for a gyro, {'|'.join(CHANNEL_UNIT_TAGS['accel'])} (or m_s2) for an accelerometer, or "
+        "<channel> [unit] (gyro_x [deg/s], accel_z (m/s^2))"
     )
 
 
@@ -242,9 +243,12 @@ def _split_tagged(name: str) -> tuple[str, str]:
 HEADER_CHANNEL_UNITS: dict[str, dict[str, str]] = {
     "gyro": {"deg/s": "dps", "°/s": "dps", "deg/sec": "dps", "dps": "dps", "degs^-1": "dps",
              "rad/s": "rps", "rad/sec": "rps", "rps": "rps", "rads^-1": "rps", "rad·s⁻¹": "rps",
-             "deg/h": "dph", "deg/hr": "dph", "°/h": "dph", "°/hr": "dph", "dph": "dph"},
+             "deg/h": "dph", "deg/hr": "dph", "°/h": "dph", "°/hr": "dph", "dph": "dph",
+             "mdps": "mdps", "mdeg/s": "mdps", "m°/s": "mdps", "mdeg/sec": "mdps"},
     "accel": {"m/s^2": "mps2", "m/s²": "mps2", "m/s2": "mps2", "m/s/s": "mps2", "mps2": "mps2",
-              "ms^-2": "mps2", "m·s⁻²": "mps2", "g": "g", "mg": "mg"},
+              "ms^-2": "mps2", "m·s⁻²": "mps2", "g": "g", "mg": "mg",
+              # micro-g with the micro sign (U+00B5), the Greek mu (U+03BC) or a u
+              "ug": "ug", "µg": "ug", "μg": "ug"},
 }
 #: Other spellings of a channel before a bracketed unit (``acc_z [m/s^2]``).
 CHANNEL_NAME_ALIASES: dict[str, str] = {f"acc_{a}": f"accel_{a}" for a in "xyz"}
@@ -271,12 +275,22 @@ def header_channel_unit(channel: str, written: str, column: str | None = None) -
     (``'deg/h'`` on ``gyro_z`` → ``'dph'``); ``ValueError`` listing the accepted units when it is
     none of them (an accelerometer unit on a gyro included)."""
     kind = "gyro" if channel.startswith("gyro") else "accel"
-    tag = HEADER_CHANNEL_UNITS[kind].get(_unit_key(written))
+    key = _unit_key(written)
+    tag = HEADER_CHANNEL_UNITS[kind].get(key)
     if tag is None:
         where = f"column {column!r}" if column else channel
-        raise ValueError(f"{where}: unit {written!r} not understood for {channel}; accepted: "
+        density = ("; a noise density (per √Hz, √h) is no sample's unit: the column holds samples"
+                   if is_density_unit(key) else "")
+        raise ValueError(f"{where}: unit {written!r} not understood for {channel}{density}; accepted: "
                          + ", ".join(HEADER_CHANNEL_UNITS[kind]))
     return tag
+
+
+def is_density_unit(written: str) -> bool:
+    """True when the unit ``written`` is a noise density or random walk (``µg/√Hz``,
+    ``deg/√h``, ``mg/rtHz``, ``deg/s/sqrt(Hz)``): a datasheet figure, never the unit of a sample."""
+    key = _unit_key(written)
+    return any(mark in key for mark in ("√", "sqrt", "rthz", "rt-hz", "/rth", "hz^", "hz**", "/hz"))
 
 
 def header_time_factor(written: str, column: str | None = None) -> float:

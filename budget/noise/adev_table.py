@@ -324,7 +324,7 @@ def _channel_unit(name, written: str | None, column: str | None, path: Path, row
     if written is None:
         if bare in u.CHANNELS:
             kind = "gyro" if bare.startswith("gyro") else "accel"
-            tags = "dps|rps|dph" if kind == "gyro" else "mps2|g|mg"
+            tags = "|".join(u.CHANNEL_UNIT_TAGS[kind])
             raise InputError(f"no unit for {bare}: the table writes it neither in the channel name "
                              f"({bare}_{tags}) nor in brackets after the ADEV column's name", file=path,
                              row=at, field=field, value=None if named else name,

@@ -6,8 +6,11 @@ the time column may be ``time_ms``, ``time_us`` or ``time_ns``. A unit written i
 the channel or the time is read too (``gyro_x [deg/s]``, ``acc_z (m/s^2)``, ``time [ms]``,
 :func:`budget.units.split_channel_column`); an unknown one is an error listing the accepted units,
 and one that disagrees with a mapping's target (``"GyrX [deg/s]": "gyro_x_rps"``) is refused.
-Other layouts are read through an explicit :class:`LogMapping` (source column → canonical name);
-nothing is guessed.
+A time column of clock text (``Time (UTC)``: ``2026-03-01T12:00:00.005Z``, ``12:00:00.005``) is
+read by :mod:`budget.noise.log_clock` when the file's first cells show it (:func:`clock_candidates`).
+Other layouts are read through an explicit :class:`LogMapping` (source column → canonical name;
+a time column may be mapped to ``time``, its unit then the header's own, ``"t [ms]": "time"``,
+or its clock text); nothing is guessed.
 """
 
 from __future__ import annotations
@@ -24,14 +27,22 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from .. import units as u
 from ..errors import LOG_NAMES_WAY, InputError, from_validation_error, refuse_bool_numbers
 from ..fileio import read_structured
+from .log_clock import is_clock_name
 
 #: Time column name → factor to seconds.
 TIME_COLUMNS = {"time_s": 1.0, "time_ms": 1e-3, "time_us": 1e-6, "time_ns": 1e-9}
 TEMP_COLUMN = "temp_c"
+#: A mapping's target for the time column whose unit is the source header's own (``"t [ms]": "time"``)
+#: or that holds clock text (``"Zeit (UTC)": "time"``).
+TIME_TARGET = "time"
 
 
 def _check_target(name: str) -> str:
-    if name in TIME_COLUMNS or name == TEMP_COLUMN:
+    if name in TIME_COLUMNS or name in (TEMP_COLUMN, TIME_TARGET):
+        return name
+    base, written = u.split_header_unit(name)
+    if written is not None and base.lower() in TIME_NAMES:  # "time [ms]": its unit must be one
+        u.header_time_factor(written, name)
         return name
     u.split_channel_column(name)  # raises ValueError naming what is expected
     return name
@@ -85,7 +96,7 @@ class LogMapping(BaseModel):
                 _check_target(dst)
             except ValueError as err:
                 raise ValueError(f"mapping for column {src!r}: {err}; or time_s|time_ms|time_us|"
-                                 f"time_ns|temp_c") from None
+                                 "time_ns|time (the header's unit or clock text)|time [unit]|temp_c") from None
         return v
 
     @classmethod
@@ -114,9 +125,9 @@ def is_channel_column(name: str) -> bool:
 
 def _time_column(name: str, path) -> float | None:
     """Factor to seconds when ``name`` is a time column (``time_s``, ``time_ms`` …, or ``time``
-    with a time unit in brackets, ``time [s]``), else None. ``Time (UTC)`` (clock text some
-    loggers add) is no time column: left out, and named by :func:`time_unit_hint` when the log
-    then lacks one."""
+    with a time unit in brackets, ``time [s]``), else None. ``Time (UTC)`` has no unit: it is the
+    time column only when it holds clock text (:func:`clock_candidates`), else left out and named
+    by :func:`time_unit_hint` when the log then lacks one."""
     if name in TIME_COLUMNS:
         return TIME_COLUMNS[name]
     base, written = u.split_header_unit(name)
@@ -202,8 +213,57 @@ def suggest_mapping(header: list[str]) -> dict[str, str]:
         factor = 1e-9 if base.strip().lower() in _NS_STAMPS else 1.0
         if written is not None and (said := _written_seconds(written)) is not None:
             factor = said
+        elif written is not None:  # Time (UTC): clock text, read through the target time
+            return {col: TIME_TARGET} | found
         if factor in _TIME_TAGS:
             return {col: _TIME_TAGS[factor]} | found
+    return found
+
+
+def mapped_columns(header: list[str], keys) -> dict[str, str]:
+    """Each mapping key of ``keys`` → the header column it names: the column of that name, or the
+    one column whose name it is without the unit written after it (``"t"`` names ``t [ms]``, whose
+    unit is then read and checked against the target); a key naming none is kept as it is (the
+    plan refuses it, naming the header)."""
+    out = {}
+    for key in keys:
+        if key in header:
+            out[key] = key
+            continue
+        split = {h: u.split_header_unit(h) for h in header}
+        bare = [h for h, (base, written) in split.items() if written is not None and base == key]
+        out[key] = bare[0] if len(bare) == 1 else key
+    return out
+
+
+def mapping_by_column(header: list[str],
+                      mapping: LogMapping | None) -> tuple[dict[str, str], dict[str, float]]:
+    """The mapping's ``columns`` and ``scale`` keyed by the header's columns (:func:`mapped_columns`)."""
+    if mapping is None:
+        return {}, {}
+    cols = mapped_columns(header, [*mapping.columns, *mapping.scale])
+    return ({cols[k]: v for k, v in mapping.columns.items()}, {cols[k]: v for k, v in mapping.scale.items()})
+
+
+def clock_candidates(header: list[str], mapping: LogMapping | None) -> list[str]:
+    """The columns of ``header`` that may hold clock text, to be looked at in the file: those a
+    mapping sends to ``time`` without a time unit in their header, and, unmapped, those named
+    like a time (:data:`budget.noise.log_clock.CLOCK_NAMES`: ``Time``, ``Time (UTC)``,
+    ``timestamp [local]``) whose bracket, if any, is no time unit."""
+    rename = mapping_by_column(header, mapping)[0]
+    found = []
+    for col in header:
+        name = rename.get(col, col)
+        if col in rename and name != TIME_TARGET:
+            continue
+        _, col_written = u.split_header_unit(col)
+        if name == TIME_TARGET and (col_written is None or _written_seconds(col_written) is None):
+            found.append(col)
+            continue
+        base, written = u.split_header_unit(name)
+        if name not in TIME_COLUMNS and is_clock_name(base) \
+                and (written is None or _written_seconds(written) is None):
+            found.append(col)
     return found
 
 
@@ -246,9 +306,16 @@ def _check_mapped_unit(col: str, target: str, path, row: int) -> None:
     seconds = _written_seconds(written)
     if said is None and seconds is None:
         return
-    if target in TIME_COLUMNS:
-        agree = seconds is not None and math.isclose(seconds, TIME_COLUMNS[target])
-        expected = "the mapping's time column in the header's unit (time_s, time_ms, time_us, time_ns)"
+    if target == TIME_TARGET:
+        return  # the header's unit is the one read
+    target_seconds = TIME_COLUMNS.get(target)
+    if target_seconds is None and (t_written := u.split_header_unit(target)[1]) is not None \
+            and u.split_header_unit(target)[0].lower() in TIME_NAMES:
+        target_seconds = _written_seconds(t_written)  # "time [ms]"
+    if target_seconds is not None:
+        agree = seconds is not None and math.isclose(seconds, target_seconds)
+        expected = ("the mapping's time column in the header's unit (time_s, time_ms, time_us, time_ns), "
+                    "or time: the header's own unit")
     elif is_channel_column(target):
         try:
             ch, tag = u.split_channel_column(target)
@@ -280,15 +347,22 @@ class ColumnPlan:
     ignored: tuple[str, ...]          # source columns not read
     temp_offset_c: float = 0.0        # added after the factor: °C = factor·value + offset (K, °F)
     temp_notes: tuple[str, ...] = ()  # what the reader chose about temperature (said in the log's notes)
+    time_clock: str | None = None     # the time column when it holds clock text (read by log_clock)
 
 
-def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> ColumnPlan:
-    """Resolve the header against the mapping; raise :class:`InputError` on any ambiguity."""
-    rename = dict(mapping.columns) if mapping else {}
+def plan_columns(header: list[str], mapping: LogMapping | None, path: str,
+                 clock: str | None = None) -> ColumnPlan:
+    """Resolve the header against the mapping; raise :class:`InputError` on any ambiguity.
+    ``clock``: the column of :func:`clock_candidates` whose first cells are clock text — the time
+    column when the log has no numeric one (or a mapping sends it to ``time``)."""
+    rename, scale = mapping_by_column(header, mapping)
     missing = [src for src in rename if src not in header]
-    missing += [src for src in (mapping.scale if mapping else {}) if src not in header and src not in missing]
+    missing += [src for src in scale if src not in header and src not in missing]
     if missing:
-        raise InputError(f"mapped column(s) not in the file: {', '.join(map(repr, missing))}",
+        full = [h for h in header if u.split_header_unit(h)[0] == missing[0]]
+        said = (f"; {missing[0]!r} is the name of {len(full)} columns with a unit after it "
+                f"({', '.join(map(repr, full))}): map the full name" if full else "")
+        raise InputError(f"mapped column(s) not in the file: {', '.join(map(repr, missing))}{said}",
                          file=path, expected=f"one of the header columns {header}")
     dup = sorted({h for h in header if header.count(h) > 1})
     if dup:
@@ -312,11 +386,27 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
         temp_notes.append(f"temperature read from {chosen!r}; not read: "
                           + ", ".join(repr(c) for c in temps if c != chosen)
                           + " (a mapping to temp_c chooses another)")
+    clock_unmapped = None
     for col in header:
         name = rename.get(col, col)
         if col in rename:
             _check_mapped_unit(col, name, path, 1 + (mapping.skip_rows if mapping else 0))
-        time_factor = _time_column(name, path)
+        if name == TIME_TARGET and col in rename:
+            _, written = u.split_header_unit(col)
+            time_factor = _written_seconds(written) if written is not None else None
+            if time_factor is None and col != clock:
+                raise InputError(f"column {col!r} is mapped to time but its header writes no time unit "
+                                 "and its first cells are no clock text", file=path, row=header_row,
+                                 field=col, expected="a time unit in its header (t [ms]), a mapping to "
+                                 "time_s|time_ms|time_us|time_ns, or clock text (2026-03-01T12:00:00Z, "
+                                 "12:00:00.005)")
+        elif col == clock:
+            clock_unmapped = col  # the time column unless another one is numeric
+            continue
+        else:
+            time_factor = _time_column(name, path)
+        if time_factor is None and col == clock:
+            time_factor = 1.0  # log_clock reads seconds
         if time_factor is not None:
             if time_index is not None:
                 raise InputError("more than one time column", file=path, row=1, field=col)
@@ -342,7 +432,17 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
             continue
         sources.append(col)
         targets.append(name)
-        factors.append(factor * (mapping.scale.get(col, 1.0) if mapping else 1.0))
+        factors.append(factor * scale.get(col, 1.0))
+    time_clock = clock if clock is not None and time_index is not None and sources[time_index] == clock \
+        else None
+    if clock_unmapped is not None:
+        if time_index is None:
+            time_index, time_clock = len(sources), clock_unmapped
+            sources.append(clock_unmapped)
+            targets.append(TIME_TARGET)
+            factors.append(1.0)
+        else:
+            ignored.append(clock_unmapped)
     if not channel_index:
         shown = ", ".join(repr(h) for h in header[:4]) + (", …" if len(header) > 4 else "")
         hint = ""
@@ -363,4 +463,5 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str) -> Co
                          file=path, row=1 + (mapping.skip_rows if mapping else 0),
                          expected=f"columns like gyro_x_dps … accel_z_mps2, {LOG_NAMES_WAY.cli}")
     return ColumnPlan(tuple(sources), tuple(targets), tuple(factors), time_index, temp_index,
-                      channel_index, source_units, tuple(ignored), temp_offset, tuple(temp_notes))
+                      channel_index, source_units, tuple(ignored), temp_offset, tuple(temp_notes),
+                      time_clock)

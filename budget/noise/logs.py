@@ -30,7 +30,9 @@ from ..fileio import check_input_file, compression_of, input_encoding, open_inpu
 from ..units import CHANNELS
 from . import log_checks as lc
 from . import log_values as lv
-from .log_mapping import ColumnPlan, LogMapping, plan_columns, time_unit_hint
+from .log_clock import ClockColumn, clock_kind, is_clock_text
+from .log_mapping import (ColumnPlan, LogMapping, clock_candidates, mapping_by_column, plan_columns,
+                          time_unit_hint)
 
 CHUNK_ROWS = 250_000
 
@@ -148,7 +150,10 @@ def _bad_cell(series: pd.Series, base_row: int, path: Path, col: str) -> None:
     if bad.any():
         i = int(np.flatnonzero(bad.to_numpy())[0])
         expected = "a decimal number"
-        if decimal_comma(series.iloc[i]):
+        if clock_kind(series.iloc[i]) is not None:
+            expected = ("a number in the column's unit; clock text is read from a time column whose "
+                        "header writes no unit (Time, Time (UTC)) or that a mapping sends to \"time\"")
+        elif decimal_comma(series.iloc[i]):
             expected = ("a number with a decimal point; a log written with decimal commas is read "
                         "with a mapping's \"decimal\": \",\" (and its \"delimiter\", e.g. \";\")")
         raise InputError("not a number", file=path, row=base_row + i + 2, field=col,
@@ -210,8 +215,34 @@ def _row_with_extra_fields(path: Path, mapping: LogMapping | None,
     return None
 
 
+def _clock_column(path: Path, header: list[str], mapping: LogMapping | None, fmt: dict) -> str | None:
+    """The column of :func:`~budget.noise.log_mapping.clock_candidates` whose first cells are
+    clock text (``Time (UTC)``: ``2026-03-01T12:00:00.005Z``), or None; two are refused unless a
+    mapping sends one to ``time``."""
+    candidates = clock_candidates(header, mapping)
+    if not candidates:
+        return None
+    try:
+        head = pd.read_csv(path, sep=mapping.delimiter if mapping else ",", nrows=50, dtype=str,
+                           comment=mapping.comment if mapping else None, skipinitialspace=True,
+                           skiprows=mapping.skip_rows if mapping else 0, index_col=False, **fmt)
+    except (ValueError, OSError, pd.errors.ParserError, EOFError):
+        return None  # the full read names what is wrong
+    head.columns = [str(c).strip() for c in head.columns]
+    found = [c for c in candidates if c in head.columns and is_clock_text(head[c].tolist())]
+    targets = mapping_by_column(header, mapping)[0]
+    mapped = [c for c in found if targets.get(c) == "time"]
+    if len(found) > 1 and not mapped:
+        raise InputError(f"columns {', '.join(map(repr, found))} all hold clock text: which is the time?",
+                         file=path, row=1 + (mapping.skip_rows if mapping else 0), field=found[1],
+                         expected='a mapping sending one of them to "time" ({"columns": {"'
+                                  + found[0] + '": "time"}})')
+    return (mapped or found or [None])[0]
+
+
 def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
-                 max_rows: int | None, chunk_rows: int, kind: str | None, fmt: dict) -> np.ndarray:
+                 max_rows: int | None, chunk_rows: int, kind: str | None, fmt: dict,
+                 clock: ClockColumn | None = None) -> np.ndarray:
     est = _estimate_rows(path, kind)
     cap = int(est * 1.02) + chunk_rows if est else 4 * chunk_rows
     if max_rows is not None:
@@ -234,6 +265,9 @@ def _read_chunks(path: Path, plan: ColumnPlan, mapping: LogMapping | None,
                 data = grown
             for j, (col, factor) in enumerate(zip(plan.sources, plan.factors)):
                 s = chunk[col]
+                if clock is not None and col == clock.column:
+                    data[n:n + m, j] = clock.seconds(s, n) * factor
+                    continue
                 if not pd.api.types.is_numeric_dtype(s.dtype):
                     _bad_cell(s, n, path, col)
                     s = pd.to_numeric(s, errors="coerce")
@@ -270,7 +304,9 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     fmt = _text_format(path, kind)
     if max_rows is not None and max_rows < 1:
         raise InputError("max_rows must be ≥ 1", field="max_rows", value=max_rows)
-    plan = plan_columns(_header(path, mapping, fmt), mapping, str(path))
+    header = _header(path, mapping, fmt)
+    plan = plan_columns(header, mapping, str(path), _clock_column(path, header, mapping, fmt))
+    clock = ClockColumn(plan.time_clock, path) if plan.time_clock is not None else None
     if channels is not None:
         plan = _restrict(plan, list(channels), path)
     rate_given = rate_hz if rate_hz is not None else (mapping.rate_hz if mapping else None)
@@ -279,14 +315,16 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
                          expected=f"a time_s column (or time [s], time [ms]){LOG_RATE_WAY.cli}")
     if rate_given is not None and not (math.isfinite(rate_given) and rate_given > 0):
         raise InputError("sampling rate must be a positive number", field="rate_hz", value=rate_given)
-    data = _read_chunks(path, plan, mapping, max_rows, chunk_rows, kind, fmt)
+    data = _read_chunks(path, plan, mapping, max_rows, chunk_rows, kind, fmt, clock)
     if data.shape[0] == 0:
         raise InputError("no data rows after the header", file=path)
     report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "column not read: not a "
                                               "canonical name (time_s, gyro_x_dps, accel_x_mps2, temp_c, "
                                               f"…) {LOG_MAPPING_WAY.cli}", 0, (), c)
                                   for c in plan.ignored]
-                          + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes])
+                          + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes]
+                          + ([lc.LogIssue("clock_time", "info", clock.note(), 0, (), clock.column)]
+                             if clock is not None else []))
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
     slip = lv.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
     if slip is not None:
@@ -343,7 +381,8 @@ def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
         pos.get(plan.time_index) if plan.time_index is not None else None,
         pos.get(plan.temp_index) if plan.temp_index is not None else None,
         {c: pos[plan.channel_index[c]] for c in wanted},
-        {c: plan.source_units[c] for c in wanted}, plan.ignored, plan.temp_offset_c, plan.temp_notes)
+        {c: plan.source_units[c] for c in wanted}, plan.ignored, plan.temp_offset_c, plan.temp_notes,
+        plan.time_clock)
 
 
 #: Below this rate (Hz) derived from the time stamps, the log says it may be a time unit slip.
