@@ -266,6 +266,16 @@ class Scenario(BaseModel):
                              "feedforward | smoothed (aiding_smoother: rts is aiding_mode: smoothed)")
         return data
 
+    @field_validator("lever_arm_m", mode="before")
+    @classmethod
+    def _three_components(cls, value):
+        # pydantic's own message for [0.5, 0.3] is "lever_arm_m.2: Field required"
+        if isinstance(value, (list, tuple)) and len(value) != 3:
+            raise InputError(f"lever_arm_m has {len(value)} component{'' if len(value) == 1 else 's'}",
+                             field="lever_arm_m", value=list(value),
+                             expected="three numbers [x, y, z] in m (IMU → antenna phase centre, body frame)")
+        return value
+
     @field_validator("aiding", mode="before")
     @classmethod
     def _parse_aiding(cls, value, info: ValidationInfo):

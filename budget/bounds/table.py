@@ -63,12 +63,35 @@ class BoundsTable:
         frame.attrs.update({"mode": self.mode, "assumptions": self.assumptions, "scenario": self.scenario})
         return frame
 
+    def limit_notes(self) -> tuple[str, ...]:
+        """Where a bound stops constraining: the misalignment bound's arcsin argument reached 1
+        (seed 004 (7), and its derived and no-autofocus forms: the bound is capped at 90°, so any
+        misalignment meets it) and scale-factor bounds of 100 % or more (a ratio no sensor
+        approaches). Empty when every bound constrains."""
+        tc = np.ravel(self.tc_s)
+        out = []
+
+        def at(mask) -> str:
+            return ", ".join(f"{t:.4g}" for t in tc[np.ravel(mask)])
+
+        capped = np.broadcast_to(np.asarray(self.misalignment_rad) >= np.pi / 2 * (1 - 1e-12), np.shape(self.tc_s))
+        if np.any(capped):
+            out.append(f"misalignment bound capped at 90° (Tc = {at(capped)} s): its arcsin argument "
+                       "reaches 1 there, so any misalignment meets it — the bound does not constrain")
+        for name in ("accel_scale_factor", "gyro_scale_factor"):
+            big = np.broadcast_to(np.asarray(getattr(self, name)) >= 1.0, np.shape(self.tc_s))
+            if np.any(big):
+                out.append(f"{name.replace('_', ' ')} bound ≥ 100 % (Tc = {at(big)} s): it does not "
+                           "constrain any real sensor")
+        return tuple(out)
+
     def to_dict(self) -> dict:
-        """JSON-ready: the ``mode``, its ``assumptions`` and ``notes``, and under ``rows`` one dict per
-        Tc with ``tc_s`` and the datasheet-unit keys (the CLI JSON list); ``scenario`` (in full)
-        when the bounds were computed for one."""
+        """JSON-ready: the ``mode``, its ``assumptions`` and ``notes`` (with :meth:`limit_notes`),
+        and under ``rows`` one dict per Tc with ``tc_s`` and the datasheet-unit keys (the CLI JSON
+        list); ``scenario`` (in full) when the bounds were computed for one."""
         frame = self.to_frame().drop(columns="range_resolution_m")
-        out = {"mode": self.mode, "assumptions": self.assumptions, "notes": list(self.notes),
+        out = {"mode": self.mode, "assumptions": self.assumptions,
+               "notes": list(self.notes) + list(self.limit_notes()),
                "range_resolution_m": np.ravel(self.range_resolution_m).tolist(),
                "rows": frame.to_dict(orient="records")}
         if self.scenario is not None:
@@ -84,4 +107,5 @@ class BoundsTable:
             if arm is not None:
                 head += (", lever arm [" + ", ".join(f"{v:.3g}" for v in arm) + "] m, platform rate "
                          f"{self.assumptions.get('platform_rate_deg_s'):g} deg/s")
-        return head + "\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}")
+        text = head + "\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}")
+        return "\n".join([text, *self.limit_notes()])

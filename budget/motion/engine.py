@@ -314,9 +314,11 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     frame, earth_note = earth_model(scenario, aiding, si, initial_errors, latitude_deg, heading_deg)
     span = (n - 1) / scenario.imu_rate_hz
     if abs(span - scenario.tc_s) > APERTURE_ROUNDING_NOTE * scenario.tc_s:
+        off = 100 * (span / scenario.tc_s - 1)
         warnings.warn(f"{scenario.name}: the aperture is simulated over {n - 1} IMU intervals = "
-                      f"{span:.4g} s, {100 * (span / scenario.tc_s - 1):+.1f} % of Tc = {scenario.tc_s:.4g} s "
-                      "(a bias's quadratic phase scales with its square): raise imu_rate_hz",
+                      f"{span:.4g} s, {abs(off):.1f} % {'shorter' if off < 0 else 'longer'} than Tc = "
+                      f"{scenario.tc_s:.4g} s (a bias's quadratic phase scales with its square): raise "
+                      "imu_rate_hz",
                       UserWarning, stacklevel=2)
     warm = round(aiding.warmup_s * scenario.imu_rate_hz) if aided else 0
     if n + warm > MAX_SAMPLES:
