@@ -15,7 +15,8 @@ from budget.catalog.io import get_part, load_catalog
 from budget.errors import InputError
 from budget.imu.noise_model import NoiseModel
 from budget.mc import McOptions, run_mc
-from budget.mc.chain import ChainSetup, receiver_noise_echoes, run_chunk, run_trial_errors
+from budget.mc.chain import ChainSetup, run_chunk, run_trial_errors
+from budget.mc.receiver_noise import receiver_noise_echoes
 from budget.mc.consistency import probit_crossing, single_term_model
 from budget.mc.sweep import cheapest_passing
 from budget.presets import get_preset

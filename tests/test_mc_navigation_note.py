@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from budget.catalog.io import get_part
 from budget.mc import run_mc
-from budget.mc.chain import navigation_note
+from budget.mc.notes import navigation_note
 from budget.presets import get_preset
 from budget.scenario import Scenario
 

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from budget.mc.chain import WIDEBAND_NOTE_FRACTION, wideband_note
+from budget.mc.notes import WIDEBAND_NOTE_FRACTION, wideband_note
 from budget.presets import get_preset
 from budget.sar import SarGeometry
 

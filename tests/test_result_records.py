@@ -98,7 +98,7 @@ def test_an_image_pga_did_not_finish_is_never_scored_as_focused():
 
 def test_a_range_ambiguous_aperture_is_said_in_the_verdict():
     from budget.catalog.io import get_part
-    from budget.mc.chain import range_ambiguity_note
+    from budget.mc.notes import range_ambiguity_note
     from budget.sar import SarGeometry
 
     for name, ambiguous in (("sas_100khz", True), ("airborne_xband", False)):

@@ -49,7 +49,6 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.fft as sfft
 
-from ..aiding_spec import AidingPlan
 from ..errors import InputError
 from ..motion import simulate_motion
 from ..nav.platform import Disturbance
@@ -63,7 +62,9 @@ from ..sar.metrics import TargetMeter
 from ..sar.residual import pga_bandwidth_cycles, pga_residual_rms_rad
 from ..scenario import Scenario
 from .noise_kernels import add_band_noise
+from .notes import navigation_note, range_ambiguity_note, wideband_note
 from .options import REALISTIC_SNR_DB, McOptions
+from .receiver_noise import receiver_noise_draws, receiver_noise_echoes, receiver_noise_scale
 from .reference import REFERENCE_DRAWS, SceneReference, reference_from_outcomes
 
 SAR_STREAM = STREAMS["sar_receiver_noise"]
@@ -181,87 +182,6 @@ class ChainSetup:
                 "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image",
                 **({"reference": ref.to_dict(), "reference_summary": ref.summary()}
                    if (ref := scene_reference(self)) is not None else {})}
-
-
-def navigation_note(scenario: Scenario) -> str:
-    """How the track the image is formed with was navigated (:mod:`budget.motion.engine`): free
-    inertial from an alignment at the aperture start (seed 004's assumption: every bias and
-    scale-factor term then grows over Tc unchecked), or aided by the scenario's sensors."""
-    plan = AidingPlan.from_scenario(scenario)
-    if not plan.aiding:
-        return (f"free inertial over the aperture (Tc = {scenario.tc_s:.3g} s), aligned at its start; "
-                "no aiding sensor in the scenario (its aiding section bounds the drift)")
-    return f"aided: {plan.label()}"
-
-
-# fractional bandwidth above which the result states what image-domain PGA leaves across the band
-WIDEBAND_NOTE_FRACTION = 0.10
-
-
-def wideband_note(geom: SarGeometry) -> str:
-    """What image-domain PGA cannot remove at this fractional bandwidth b = B_r/f0, or '' when
-    b ≤ :data:`WIDEBAND_NOTE_FRACTION`. The echoes carry the residual line-of-sight error Δr as
-    4π (f0 + f) Δr / c at every range frequency (:mod:`budget.sar.echoes`), while PGA estimates
-    one phase per azimuth bin, the band centre's; it leaves (f/f0 − 1)·φ, of rms b/√12 · φ over a
-    uniform band, as range-dependent defocus. The verdict after PGA is therefore that of an
-    image-domain autofocus; a wavenumber-domain autofocus, estimating Δr itself, would remove it."""
-    b = geom.range_bandwidth_hz / geom.carrier_frequency_hz
-    if b <= WIDEBAND_NOTE_FRACTION:
-        return ""
-    return (f"fractional bandwidth {100 * b:.0f} %: PGA corrects one phase per azimuth bin (the band centre's) "
-            f"and leaves {100 * b / math.sqrt(12):.1f} % rms of the phase error across the band (range-dependent "
-            "defocus), which the verdict after PGA includes; a wavenumber-domain autofocus would remove it")
-
-
-def range_ambiguity_note(geom: SarGeometry) -> str:
-    """What the simulation leaves out when one pulse in flight cannot sample the aperture, or ''.
-    The pulses must sample a target's Doppler band, PRF ≥ B_a = 2V²T/(λR) (:mod:`budget.sar.geometry`),
-    while an echo from range R returns only after 2R/c, so one pulse in flight allows
-    PRF ≤ c/(2R). When B_a > c/(2R) (a synthetic-aperture sonar at 100 m, a radar at very long
-    range) a real system flies several pulses in flight or a multi-element receiver; the
-    simulation forms the image from every pulse at its own PRF and models neither range
-    ambiguities nor the receiver array."""
-    limit = geom.c_m_s / (2.0 * geom.ref_range_m)
-    if geom.doppler_bandwidth_hz <= limit:
-        return ""
-    return (f"one pulse in flight cannot sample this aperture: its Doppler band needs a PRF ≥ "
-            f"{geom.doppler_bandwidth_hz:.3g} Hz, the range {geom.ref_range_m:.4g} m allows ≤ c/(2R) = "
-            f"{limit:.3g} Hz; a real system uses several pulses in flight or a multi-element receiver, "
-            f"which the simulation (one receiver at PRF {geom.prf_hz:.3g} Hz) does not model, nor range "
-            "ambiguities")
-
-
-def receiver_noise_scale(geom: SarGeometry, snr_db: float) -> np.ndarray:
-    """Scale of the unit normal draws of :func:`receiver_noise_spectrum` on each in-band range
-    bin (``geom.range_band_index``), for the real and the imaginary part alike: the noise level
-    at ``snr_db`` with the range window."""
-    w_r = geom.window_range.samples(geom.band_bins)
-    w_a = geom.window_azimuth.samples(geom.n_pulses)
-    var_rc = (w_a.sum() ** 2 / (w_a ** 2).sum()) / 10.0 ** (snr_db / 10.0)
-    s2 = var_rc * w_r.sum() ** 2 / (w_r ** 2).sum()
-    return np.sqrt(s2 / 2.0) * w_r * (geom.n_range / w_r.sum())
-
-
-def receiver_noise_draws(geom: SarGeometry, rng: np.random.Generator) -> np.ndarray:
-    """The unit normal draws of one trial's receiver noise, (n_pulses, band_bins, 2): real and
-    imaginary part of each in-band range bin of each pulse."""
-    return rng.standard_normal((geom.n_pulses, geom.band_bins, 2))
-
-
-def receiver_noise_spectrum(geom: SarGeometry, snr_db: float, rng: np.random.Generator) -> np.ndarray:
-    """Range spectrum (DFT along range, (n_pulses, n_range)) of :func:`receiver_noise_echoes`: the
-    same draws, for image formers that take range spectra."""
-    noise = receiver_noise_draws(geom, rng).view(complex)[..., 0]  # re, im pairs
-    full = np.zeros((geom.n_pulses, geom.n_range), dtype=complex)
-    full[:, geom.range_band_index] = noise * receiver_noise_scale(geom, snr_db)[None, :]
-    return full
-
-
-def receiver_noise_echoes(geom: SarGeometry, snr_db: float, rng: np.random.Generator) -> np.ndarray:
-    """Range-compressed receiver noise (n_pulses, n_range) at ``snr_db`` — the noise term of
-    :func:`budget.sar.simulate_echoes` alone (same level and range window), so the noise-free
-    echoes of a scene can be computed once and each trial adds only its own noise."""
-    return sfft.ifft(receiver_noise_spectrum(geom, snr_db, rng), axis=1)
 
 
 def apply_phase_estimate(image_data: np.ndarray, phase_rad: np.ndarray) -> np.ndarray:

@@ -1,7 +1,7 @@
 """Compiled loop of the trials' noisy range spectra (:meth:`budget.mc.chain.ChainPlan.form`).
 
 :func:`add_band_noise` computes echoes' spectrum + receiver-noise spectrum
-(:func:`budget.mc.chain.receiver_noise_spectrum`) element by element with the same operations —
+(:func:`budget.mc.receiver_noise.receiver_noise_spectrum`) element by element with the same operations —
 each draw times its bin's real scale, the sum with the echoes' bin, every out-of-band bin plus
 zero — without the zero-filled (n_pulses, n_range) noise array, its scattered assignment and the
 stack of them. Compiled by numba on first use and cached beside this file (``cache=True``).

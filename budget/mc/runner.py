@@ -30,16 +30,12 @@ from typing import Callable
 
 from threadpoolctl import threadpool_limits
 
-from ..aiding_spec import AidingPlan
 from ..catalog.fill import resolve_unspecified
 from ..errors import InputError, whole_number
-from ..imu.noise_model import as_noise_model_si
-from ..motion.flat_earth import earth_model
-from ..nav.manoeuvre import PlatformMotion
-from ..scenario import TC_KEYS, Scenario
-from ..units import G0
+from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
+from .notes import run_notes
 from .options import McOptions
 from .result import McResult
 
@@ -212,95 +208,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     extra = {"prefilter": options.prefilter} if options.prefilter != "none" else {}
     extra["unspecified_terms"] = resolution.to_dict()
     judged = _cached_setup(scen_json, opt_json).describe()
-    judged["imu_rate"] = imu_rate_note(scenario, getattr(model, "rate_hz", None))
-    judged["platform_motion"] = platform_motion_note(scenario, options.platform_motion)
-    judged["lever_arm"] = lever_arm_note(scenario)
-    if scenario.defaults_note(SIMULATED_DEFAULT_KEYS):
-        judged["scenario_defaults"] = scenario.defaults_note(SIMULATED_DEFAULT_KEYS)
-    judged["acceptance"] = acceptance_note(options)
-    judged["earth_model"] = earth_model_line(scenario, model)
+    judged.update(run_notes(scenario, options, model))
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
                     tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
                     options=options, scenario=scenario, judged_on=judged, model_spec=model_spec(model))
-
-
-#: The defaulted scenario keys a trial is simulated with that no other note of the verdict states
-#: (the IMU rate and the lever arm have their own: :func:`imu_rate_note`, :func:`lever_arm_note`).
-SIMULATED_DEFAULT_KEYS = TC_KEYS + ("depression_deg",)
-
-
-def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
-    """The rate the IMU is simulated at (the scenario's ``imu_rate_hz``) and, when the part states
-    another output rate, that it is not used and why that is harmless for the catalog's terms."""
-    text = (f"IMU simulated at the scenario's imu_rate_hz = {scenario.imu_rate_hz:g} Hz"
-            if "imu_rate_hz" in scenario.model_fields_set else
-            f"IMU simulated at imu_rate_hz = {scenario.imu_rate_hz:g} Hz, the default (the scenario gives "
-            "no imu_rate_hz)")
-    if part_rate_hz is not None and abs(part_rate_hz - scenario.imu_rate_hz) > 1e-9 * scenario.imu_rate_hz:
-        text += (f" (the part's own output rate, {part_rate_hz:g} Hz, is not used: noise densities and "
-                 "bias terms are per √Hz and per second, so the motion error they make over Tc does not "
-                 "depend on the sampling rate; quantization, tones and a pre-filter do — set imu_rate_hz "
-                 "to the part's rate to simulate it at that rate)")
-    return text
-
-
-def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = None) -> str:
-    """What the simulated platform does (:meth:`PlatformMotion.describe`; default straight, level,
-    unrotated flight, where the IMU's gyro scale factor and misalignment act on a zero rate) and,
-    in straight flight, the scenario's manoeuvre levels (``platform_rate_deg_s``,
-    ``platform_accel_m_s2``) that the analytic bounds use and the simulation does not fly."""
-    motion = motion or PlatformMotion()
-    text = motion.describe(scenario)
-    if motion.kind != "straight":
-        return text
-    extra = []
-    if scenario.platform_rate_deg_s > 0:
-        extra.append(f"platform_rate_deg_s = {scenario.platform_rate_deg_s:g}")
-    if abs(scenario.platform_accel_m_s2 - G0) > 1e-6 * G0:
-        extra.append(f"platform_accel_m_s2 = {scenario.platform_accel_m_s2:g}")
-    if extra:
-        text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) is not simulated "
-                 "(McOptions.platform_motion, --platform-motion: oscillation or attitude_change flies a rotation)")
-    return text
-
-
-
-def lever_arm_note(scenario: Scenario) -> str:
-    """The lever arm d (m, body frame, IMU → antenna phase centre) the trials were flown with,
-    and whether the scenario gave it or it is the default 0 (seed 004's IMU at the antenna: no
-    attitude error × lever arm in the verdict)."""
-    d = [float(v) for v in scenario.lever_arm_m]
-    arm = "[" + ", ".join(f"{v:g}" for v in d) + "] m"
-    if "lever_arm_m" not in scenario.model_fields_set:
-        return (f"lever arm IMU → antenna {arm}: the default (the scenario gives no lever_arm_m), seed "
-                "004's IMU at the antenna phase centre; attitude error × lever arm is not in this verdict")
-    return (f"lever arm IMU → antenna {arm} (|d| = {math.sqrt(sum(v * v for v in d)):.3g} m, "
-            "the scenario's lever_arm_m)")
-
-
-def acceptance_note(options: McOptions) -> str:
-    """The limits a trial is judged against (:class:`McOptions`), in words: what "pass" meant."""
-    a = options.acceptance
-    pslr = f"PSLR ≤ {a.max_pslr_db:g} dB" if a.max_pslr_db is not None else \
-        f"PSLR ≤ the window's ideal + {a.pslr_margin_db:g} dB"
-    islr = f"ISLR ≤ {a.max_islr_db:g} dB" if a.max_islr_db is not None else \
-        f"ISLR ≤ the window's ideal + {a.islr_margin_db:g} dB"
-    parts = [f"3 dB broadening ≤ {100 * a.max_broadening:g} %", pslr, islr,
-             f"peak loss ≤ {a.max_peak_loss_db:g} dB ({' and '.join(a.axes)} cuts)"]
-    parts.append("peak shift not judged" if a.max_peak_shift_cells >= 1000.0 else
-                 f"peak shift ≤ {a.max_peak_shift_cells:g} cells")
-    cells = options.max_range_migration_cells
-    parts.append("range migration not judged" if cells is None else f"range migration ≤ {cells:g} range cell(s)")
-    deg = options.max_residual_phase_rms_deg
-    parts.append("what PGA cannot remove not judged" if deg is None else
-                 f"what PGA cannot remove ≤ {deg:g}° rms")
-    return "acceptance: " + ", ".join(parts)
-
-
-def earth_model_line(scenario: Scenario, model) -> str:
-    """The navigation model's note for this run (:func:`budget.motion.flat_earth.earth_model_note`,
-    as the motion engine writes it for the trials): flat-earth propagation with the size of what
-    it leaves out over Tc, and the latitude and heading — the defaults, which the verdict does not
-    let a user set — at which the Earth and transport rate turn an aided run's initial attitude
-    error."""
-    return earth_model(scenario, AidingPlan.from_scenario(scenario), as_noise_model_si(model), say_frame=True)[1]

@@ -1,0 +1,164 @@
+"""What a Monte Carlo verdict was judged on, in words: the notes of ``McResult.judged_on``.
+
+Everything the user could not know from their inputs is stated beside the numbers: how the track
+was navigated, what image-domain PGA leaves on a wideband radar or sonar, what the single-receiver
+simulation leaves out, the IMU rate, the platform motion and the lever arm flown, the scenario
+keys taken at their defaults, the acceptance applied, and the Earth model. The setup's own notes
+are :meth:`budget.mc.chain.ChainSetup.describe`; :func:`run_notes` adds the run's.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..aiding_spec import AidingPlan
+from ..imu.noise_model import as_noise_model_si
+from ..motion.flat_earth import earth_model
+from ..nav.manoeuvre import PlatformMotion
+from ..sar import SarGeometry
+from ..scenario import TC_KEYS, Scenario
+from ..units import G0
+from .options import McOptions
+
+
+def navigation_note(scenario: Scenario) -> str:
+    """How the track the image is formed with was navigated (:mod:`budget.motion.engine`): free
+    inertial from an alignment at the aperture start (seed 004's assumption: every bias and
+    scale-factor term then grows over Tc unchecked), or aided by the scenario's sensors."""
+    plan = AidingPlan.from_scenario(scenario)
+    if not plan.aiding:
+        return (f"free inertial over the aperture (Tc = {scenario.tc_s:.3g} s), aligned at its start; "
+                "no aiding sensor in the scenario (its aiding section bounds the drift)")
+    return f"aided: {plan.label()}"
+
+
+# fractional bandwidth above which the result states what image-domain PGA leaves across the band
+WIDEBAND_NOTE_FRACTION = 0.10
+
+
+def wideband_note(geom: SarGeometry) -> str:
+    """What image-domain PGA cannot remove at this fractional bandwidth b = B_r/f0, or '' when
+    b ≤ :data:`WIDEBAND_NOTE_FRACTION`. The echoes carry the residual line-of-sight error Δr as
+    4π (f0 + f) Δr / c at every range frequency (:mod:`budget.sar.echoes`), while PGA estimates
+    one phase per azimuth bin, the band centre's; it leaves (f/f0 − 1)·φ, of rms b/√12 · φ over a
+    uniform band, as range-dependent defocus. The verdict after PGA is therefore that of an
+    image-domain autofocus; a wavenumber-domain autofocus, estimating Δr itself, would remove it."""
+    b = geom.range_bandwidth_hz / geom.carrier_frequency_hz
+    if b <= WIDEBAND_NOTE_FRACTION:
+        return ""
+    return (f"fractional bandwidth {100 * b:.0f} %: PGA corrects one phase per azimuth bin (the band centre's) "
+            f"and leaves {100 * b / math.sqrt(12):.1f} % rms of the phase error across the band (range-dependent "
+            "defocus), which the verdict after PGA includes; a wavenumber-domain autofocus would remove it")
+
+
+def range_ambiguity_note(geom: SarGeometry) -> str:
+    """What the simulation leaves out when one pulse in flight cannot sample the aperture, or ''.
+    The pulses must sample a target's Doppler band, PRF ≥ B_a = 2V²T/(λR) (:mod:`budget.sar.geometry`),
+    while an echo from range R returns only after 2R/c, so one pulse in flight allows
+    PRF ≤ c/(2R). When B_a > c/(2R) (a synthetic-aperture sonar at 100 m, a radar at very long
+    range) a real system flies several pulses in flight or a multi-element receiver; the
+    simulation forms the image from every pulse at its own PRF and models neither range
+    ambiguities nor the receiver array."""
+    limit = geom.c_m_s / (2.0 * geom.ref_range_m)
+    if geom.doppler_bandwidth_hz <= limit:
+        return ""
+    return (f"one pulse in flight cannot sample this aperture: its Doppler band needs a PRF ≥ "
+            f"{geom.doppler_bandwidth_hz:.3g} Hz, the range {geom.ref_range_m:.4g} m allows ≤ c/(2R) = "
+            f"{limit:.3g} Hz; a real system uses several pulses in flight or a multi-element receiver, "
+            f"which the simulation (one receiver at PRF {geom.prf_hz:.3g} Hz) does not model, nor range "
+            "ambiguities")
+
+
+#: The defaulted scenario keys a trial is simulated with that no other note of the verdict states
+#: (the IMU rate and the lever arm have their own: :func:`imu_rate_note`, :func:`lever_arm_note`).
+SIMULATED_DEFAULT_KEYS = TC_KEYS + ("depression_deg",)
+
+
+def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
+    """The rate the IMU is simulated at (the scenario's ``imu_rate_hz``) and, when the part states
+    another output rate, that it is not used and why that is harmless for the catalog's terms."""
+    text = (f"IMU simulated at the scenario's imu_rate_hz = {scenario.imu_rate_hz:g} Hz"
+            if "imu_rate_hz" in scenario.model_fields_set else
+            f"IMU simulated at imu_rate_hz = {scenario.imu_rate_hz:g} Hz, the default (the scenario gives "
+            "no imu_rate_hz)")
+    if part_rate_hz is not None and abs(part_rate_hz - scenario.imu_rate_hz) > 1e-9 * scenario.imu_rate_hz:
+        text += (f" (the part's own output rate, {part_rate_hz:g} Hz, is not used: noise densities and "
+                 "bias terms are per √Hz and per second, so the motion error they make over Tc does not "
+                 "depend on the sampling rate; quantization, tones and a pre-filter do — set imu_rate_hz "
+                 "to the part's rate to simulate it at that rate)")
+    return text
+
+
+def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = None) -> str:
+    """What the simulated platform does (:meth:`PlatformMotion.describe`; default straight, level,
+    unrotated flight, where the IMU's gyro scale factor and misalignment act on a zero rate) and,
+    in straight flight, the scenario's manoeuvre levels (``platform_rate_deg_s``,
+    ``platform_accel_m_s2``) that the analytic bounds use and the simulation does not fly."""
+    motion = motion or PlatformMotion()
+    text = motion.describe(scenario)
+    if motion.kind != "straight":
+        return text
+    extra = []
+    if scenario.platform_rate_deg_s > 0:
+        extra.append(f"platform_rate_deg_s = {scenario.platform_rate_deg_s:g}")
+    if abs(scenario.platform_accel_m_s2 - G0) > 1e-6 * G0:
+        extra.append(f"platform_accel_m_s2 = {scenario.platform_accel_m_s2:g}")
+    if extra:
+        text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) is not simulated "
+                 "(McOptions.platform_motion, --platform-motion: oscillation or attitude_change flies a rotation)")
+    return text
+
+
+
+def lever_arm_note(scenario: Scenario) -> str:
+    """The lever arm d (m, body frame, IMU → antenna phase centre) the trials were flown with,
+    and whether the scenario gave it or it is the default 0 (seed 004's IMU at the antenna: no
+    attitude error × lever arm in the verdict)."""
+    d = [float(v) for v in scenario.lever_arm_m]
+    arm = "[" + ", ".join(f"{v:g}" for v in d) + "] m"
+    if "lever_arm_m" not in scenario.model_fields_set:
+        return (f"lever arm IMU → antenna {arm}: the default (the scenario gives no lever_arm_m), seed "
+                "004's IMU at the antenna phase centre; attitude error × lever arm is not in this verdict")
+    return (f"lever arm IMU → antenna {arm} (|d| = {math.sqrt(sum(v * v for v in d)):.3g} m, "
+            "the scenario's lever_arm_m)")
+
+
+def acceptance_note(options: McOptions) -> str:
+    """The limits a trial is judged against (:class:`McOptions`), in words: what "pass" meant."""
+    a = options.acceptance
+    pslr = f"PSLR ≤ {a.max_pslr_db:g} dB" if a.max_pslr_db is not None else \
+        f"PSLR ≤ the window's ideal + {a.pslr_margin_db:g} dB"
+    islr = f"ISLR ≤ {a.max_islr_db:g} dB" if a.max_islr_db is not None else \
+        f"ISLR ≤ the window's ideal + {a.islr_margin_db:g} dB"
+    parts = [f"3 dB broadening ≤ {100 * a.max_broadening:g} %", pslr, islr,
+             f"peak loss ≤ {a.max_peak_loss_db:g} dB ({' and '.join(a.axes)} cuts)"]
+    parts.append("peak shift not judged" if a.max_peak_shift_cells >= 1000.0 else
+                 f"peak shift ≤ {a.max_peak_shift_cells:g} cells")
+    cells = options.max_range_migration_cells
+    parts.append("range migration not judged" if cells is None else f"range migration ≤ {cells:g} range cell(s)")
+    deg = options.max_residual_phase_rms_deg
+    parts.append("what PGA cannot remove not judged" if deg is None else
+                 f"what PGA cannot remove ≤ {deg:g}° rms")
+    return "acceptance: " + ", ".join(parts)
+
+
+def earth_model_line(scenario: Scenario, model) -> str:
+    """The navigation model's note for this run (:func:`budget.motion.flat_earth.earth_model_note`,
+    as the motion engine writes it for the trials): flat-earth propagation with the size of what
+    it leaves out over Tc, and the latitude and heading — the defaults, which the verdict does not
+    let a user set — at which the Earth and transport rate turn an aided run's initial attitude
+    error."""
+    return earth_model(scenario, AidingPlan.from_scenario(scenario), as_noise_model_si(model), say_frame=True)[1]
+
+
+def run_notes(scenario: Scenario, options: McOptions, model) -> dict[str, str]:
+    """The notes of one run beside the setup's (:meth:`~budget.mc.chain.ChainSetup.describe`):
+    IMU rate, platform motion, lever arm, scenario defaults (when any), acceptance, Earth model."""
+    notes = {"imu_rate": imu_rate_note(scenario, getattr(model, "rate_hz", None)),
+             "platform_motion": platform_motion_note(scenario, options.platform_motion),
+             "lever_arm": lever_arm_note(scenario)}
+    if defaults := scenario.defaults_note(SIMULATED_DEFAULT_KEYS):
+        notes["scenario_defaults"] = defaults
+    notes["acceptance"] = acceptance_note(options)
+    notes["earth_model"] = earth_model_line(scenario, model)
+    return notes
