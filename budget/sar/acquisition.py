@@ -16,7 +16,10 @@ SI throughout:
   scene centre R0_n; the grazing angle ψ is the mean over the pulses of the antenna's elevation
   seen from the scene centre, atan2(z_n, √(x_n² + y_n²)) (flat ground z = 0); the mean platform
   speed is the aperture length over the time from the first to the last pulse, when pulse times
-  exist (the AFRL files carry none, and the summary says so);
+  exist (the AFRL files carry none — the provider's README documents no time field — and the
+  summary says so). Everything here comes from the positions; the files' own angles ``th``/``phi``
+  are checked against them by the reader (:mod:`budget.sar.geometry_check`: a note naming the
+  likely cause, e.g. radians or swapped axes, on the phase history, which the focus result shows);
 * the closed-form resolutions (Jakowatz et al. 1996, "Spotlight-Mode Synthetic Aperture Radar:
   A Signal Processing Approach", ch. 2; Carrara et al. 1995, "Spotlight Synthetic Aperture
   Radar: Signal Processing Algorithms", ch. 2): slant range ρ_r = c / (2B), ground range
@@ -46,10 +49,6 @@ from .phase_history import C_M_S, PhaseHistory
 
 #: A pixel spacing above this fraction of a resolution undersamples the image (spacing > ρ / 1.0).
 UNDERSAMPLED_FRACTION = 1.0
-
-#: Largest difference between the track's elevation and the files' own ``phi`` (deg) that goes
-#: without a note.
-ELEVATION_TOLERANCE_DEG = 0.1
 
 #: How each aperture quantity is measured (in :meth:`Acquisition.to_dict`).
 METHODS = {
@@ -204,12 +203,6 @@ def describe_acquisition(ph: PhaseHistory, grid=None) -> Acquisition:
         speed = length / float(ph.pulse_time_s[-1] - ph.pulse_time_s[0])
     cos_psi = np.cos(psi)
     notes = []
-    if ph.elevation_deg is not None:
-        diff = float(np.degrees(psi) - ph.elevation_deg.mean())
-        if abs(diff) > ELEVATION_TOLERANCE_DEG:
-            notes.append(f"the grazing angle from the track, {np.degrees(psi):.4g}°, differs from the files' own "
-                         f"elevation (phi, mean {ph.elevation_deg.mean():.4g}°) by {diff:+.3g}°: another frame or "
-                         "scene centre?")
     inf = float("inf")
     rho_g = C_M_S / (2.0 * b * cos_psi) if cos_psi > 0 else inf
     rho_x = lam / (2.0 * d_theta) if d_theta > 0 else inf

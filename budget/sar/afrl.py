@@ -20,6 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import require_file
+from .geometry_check import angle_notes, range_notes
 from .phase_history import RADAR_FREQUENCY_EXPECTED, PhaseHistory, radar_frequency_problem, track_order
 
 _REQUIRED = ("fp", "freq", "x", "y", "z", "r0")
@@ -182,6 +183,7 @@ def read_afrl_file(path: str | Path) -> dict:
     for c, key in (("th", "azimuth_deg"), ("phi", "elevation_deg")):
         v = _field(rec, names, c, path, required=False)
         out[key] = None if v is None else _row(v, n, c, path)
+    out["square"] = k == n  # frequencies × pulses or pulses × frequencies: the shape cannot tell
     out["r_correct_m"] = out["ph_correct_rad"] = None
     af = _field(rec, names, "af", path, required=False)
     if af is not None and af.dtype.names and all(np.asarray(af.flat[0][c]).size == 0 for c in af.dtype.names):
@@ -307,6 +309,32 @@ def _zero_pulse_notes(paths: list[Path], parts: list[dict]) -> list[str]:
             "signal, and the azimuth window and PGA still count them as pulses"]
 
 
+def _geometry_notes(paths: list[Path], parts: list[dict]) -> list[str]:
+    """Notes where a file's own fields contradict each other (:mod:`budget.sar.geometry_check`:
+    th/phi against the angles of the positions, r0 against their distance to the scene centre) or
+    its ``fp`` is square (which axis holds the pulses cannot be told). Files with the same kind of
+    disagreement share one note: the first such file's, naming the others."""
+    found: dict[str, list] = {}
+    for p, part in zip(paths, parts):
+        f = part["frequency_hz"]
+        step = float((f[-1] - f[0]) / (f.size - 1))
+        items = angle_notes(part["antenna_m"], part["azimuth_deg"], part["elevation_deg"])
+        items += range_notes(part["antenna_m"], part["r0_m"], step, step * f.size)
+        if part["square"]:
+            k = f.size
+            items.append(("fp: square", f"data.fp is square ({k} × {k}): whether its rows are frequencies and its "
+                          "columns pulses (the AFRL layout, read so here) cannot be told from its shape, and no cheap "
+                          "property of the samples tells it either; a smeared image may mean it was stored "
+                          "transposed"))
+        for kind, text in items:
+            found.setdefault(kind, [text, []])[1].append(p.name)
+    out = []
+    for text, names in found.values():
+        also = f" (also in {', '.join(names[1:])})" if len(names) > 1 else ""
+        out.append(f"{names[0]}: {text}{also}")
+    return out
+
+
 def _same_aperture(parts: list[dict], i: int, j: int) -> bool:
     """Whether files i and j start at the same antenna position (within a tenth of a pulse step)."""
     a, b = parts[i]["antenna_m"], parts[j]["antenna_m"]
@@ -350,6 +378,7 @@ def read_afrl(paths) -> PhaseHistory:
     notes = _track_notes(paths, parts)  # first: two files of one azimuth are named as such
     name_tags = _refuse_mixed_names(paths)
     notes += _zero_pulse_notes(paths, parts)
+    notes += _geometry_notes(paths, parts)
     has_af = all(part["r_correct_m"] is not None for part in parts)
     if not has_af and any(part["r_correct_m"] is not None for part in parts):
         notes.append("recorded autofocus dropped: not every file has one")
