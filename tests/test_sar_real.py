@@ -87,18 +87,24 @@ def test_entropy_of_a_single_pixel_is_zero_and_of_a_flat_image_is_log_n():
 
 def _write_mat(path: Path, n=12, k=16, y0=0.0, **override):
     """An AFRL-layout file of ``n`` pulses along y from ``y0`` at 10/11 m per pulse (a following
-    file continues the track from y0 = 10/11 × the pulses before it)."""
+    file continues the track from y0 = 10/11 × the pulses before it); th and phi are the angles of
+    the positions written, as in the Gotcha files (the reader notes angles that contradict them)."""
     rng = np.random.default_rng(3)
     data = {"fp": (rng.standard_normal((k, n)) + 1j * rng.standard_normal((k, n))).astype(np.complex64),
             "freq": (9.3e9 + 1.5e6 * np.arange(k)).reshape(k, 1), "x": np.full((1, n), 7000.0),
             "y": (y0 + 10.0 / 11.0 * np.arange(n)).reshape(1, n), "z": np.full((1, n), 7000.0),
-            "r0": np.full((1, n), 9900.0), "th": np.zeros((1, n)), "phi": np.full((1, n), 45.0),
+            "r0": np.full((1, n), 9900.0),
             "af": {"r_correct": np.zeros((1, n)), "ph_correct": np.zeros((1, n))}}
     for key, value in override.items():
-        if value is None:
-            data.pop(key)
-        else:
+        if value is not None:
             data[key] = value
+    x, y, z = (np.asarray(data[c], float) for c in "xyz")
+    if x.shape == y.shape == z.shape:
+        data.setdefault("th", np.degrees(np.arctan2(y, x)))
+        data.setdefault("phi", np.degrees(np.arctan2(z, np.hypot(x, y))))
+    for key, value in override.items():
+        if value is None:
+            data.pop(key, None)
     sio.savemat(path, {"data": data})
     return path
 
@@ -142,11 +148,10 @@ def test_reader_refuses_files_out_of_aperture_order_and_names_the_order(tmp_path
     """A track that jumps back between files (given out of order, e.g. az10 before az2 in a
     lexical listing) is refused, naming both files and the order of their azimuths; a file given
     twice is refused; pulses out of order inside a file are refused with their index."""
-    step = 10.0 / 11.0
-    th = lambda lo, n: (lo + 0.01 * np.arange(n)).reshape(1, n)  # noqa: E731 — azimuth rising along y
-    a = _write_mat(tmp_path / "az1.mat", n=12, th=th(0.0, 12))
-    b = _write_mat(tmp_path / "az2.mat", n=12, y0=12 * step, th=th(0.12, 12))
-    c = _write_mat(tmp_path / "az10.mat", n=12, y0=24 * step, th=th(0.24, 12))
+    step = 10.0 / 11.0  # the azimuth th, written from the positions, rises along y
+    a = _write_mat(tmp_path / "az1.mat", n=12)
+    b = _write_mat(tmp_path / "az2.mat", n=12, y0=12 * step)
+    c = _write_mat(tmp_path / "az10.mat", n=12, y0=24 * step)
     assert read_afrl([a, b, c]).notes == []
     with pytest.raises(InputError, match=r"az2\.mat.*FILE.*jumps back.*last pulse of az10\.mat.*first of az2\.mat"
                                          r".*by their azimuth: az1\.mat az2\.mat az10\.mat"):
