@@ -180,14 +180,16 @@ CHANNEL_UNIT_TO_SI: dict[str, float] = {
     "mg": 1e-3 * G0,
     "ug": 1e-6 * G0,
     "mdps": 1e-3 * DEG,
+    "mrps": 1e-3,
 }
 #: The tags of :data:`CHANNEL_UNIT_TO_SI` a gyro and an accelerometer channel may carry.
-CHANNEL_UNIT_TAGS: dict[str, tuple[str, ...]] = {"gyro": ("dps", "rps", "dph", "mdps"),
+CHANNEL_UNIT_TAGS: dict[str, tuple[str, ...]] = {"gyro": ("dps", "rps", "dph", "mdps", "mrps"),
                                                  "accel": ("mps2", "g", "mg", "ug")}
 
 #: The package's own unit-suffix spelling (``gyro_arw_deg_rt_h``, ``accel_vrw_m_s_rt_h``) for the
 #: same units: a column ``gyro_x_rad_s`` or ``accel_z_m_s2`` reads as ``gyro_x_rps``/``accel_z_mps2``.
-CHANNEL_UNIT_ALIASES: dict[str, str] = {"rad_s": "rps", "deg_s": "dps", "deg_h": "dph", "m_s2": "mps2"}
+CHANNEL_UNIT_ALIASES: dict[str, str] = {"rad_s": "rps", "deg_s": "dps", "deg_h": "dph", "m_s2": "mps2",
+                                        "mrad_s": "mrps"}
 
 GYRO_CHANNELS = ("gyro_x", "gyro_y", "gyro_z")
 ACCEL_CHANNELS = ("accel_x", "accel_y", "accel_z")
@@ -244,7 +246,10 @@ HEADER_CHANNEL_UNITS: dict[str, dict[str, str]] = {
     "gyro": {"deg/s": "dps", "°/s": "dps", "deg/sec": "dps", "dps": "dps", "degs^-1": "dps",
              "rad/s": "rps", "rad/sec": "rps", "rps": "rps", "rads^-1": "rps", "rad·s⁻¹": "rps",
              "deg/h": "dph", "deg/hr": "dph", "°/h": "dph", "°/hr": "dph", "dph": "dph",
-             "mdps": "mdps", "mdeg/s": "mdps", "m°/s": "mdps", "mdeg/sec": "mdps"},
+             "deg/hour": "dph", "°/hour": "dph", "degree/hour": "dph", "degrees/hour": "dph",
+             "degree/h": "dph", "degrees/h": "dph",
+             "mdps": "mdps", "mdeg/s": "mdps", "m°/s": "mdps", "mdeg/sec": "mdps",
+             "mrad/s": "mrps", "mrad/sec": "mrps", "mrps": "mrps", "mrads^-1": "mrps"},
     "accel": {"m/s^2": "mps2", "m/s²": "mps2", "m/s2": "mps2", "m/s/s": "mps2", "mps2": "mps2",
               "ms^-2": "mps2", "m·s⁻²": "mps2", "g": "g", "mg": "mg",
               # micro-g with the micro sign (U+00B5), the Greek mu (U+03BC) or a u

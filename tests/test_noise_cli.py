@@ -63,10 +63,12 @@ def test_characterize_table_and_append(tmp_path, capsys):
 
 
 def test_characterize_table_needs_rate_and_samples(tmp_path, capsys):
+    """Both or neither: a table given neither is a digitised curve (tests/test_adev_limits.py)."""
     table = tmp_path / "adev.csv"
     table.write_text("channel,tau_s,adev\ngyro_z_dps,0.01,0.1\n")
-    assert main(["noise", "characterize", str(table)]) == 2
-    assert "--rate-hz F --samples N" in capsys.readouterr().err
+    assert main(["noise", "characterize", str(table), "--rate-hz", "100"]) == 2
+    err = capsys.readouterr().err
+    assert "--rate-hz F --samples N" in err and "neither for a digitised datasheet curve" in err
 
 
 def test_arma_json_keys(log_csv, capsys):

@@ -30,8 +30,10 @@ def add_parser(sub) -> None:
     c = nsub.add_parser("characterize", help="IMU log or Allan table → IEEE-952 terms → catalog row")
     c.add_argument("input", help="static IMU log CSV (.csv/.csv.gz) or Allan table "
                                  "(channel, tau_s, adev[, lci, uci])")
-    c.add_argument("--rate-hz", type=float, help="sampling rate (required for Allan tables)")
-    c.add_argument("--samples", type=int, help="record length behind an Allan table (required there)")
+    c.add_argument("--rate-hz", type=float, help="sampling rate of the record behind an Allan table (with "
+                                                 "--samples; leave both out for a digitised datasheet curve)")
+    c.add_argument("--samples", type=int, help="record length behind an Allan table (with --rate-hz; "
+                                               "neither for a digitised datasheet curve)")
     c.add_argument("--ci-level", type=float, default=0.95, help="confidence level of an Allan table's lci/uci")
     c.add_argument("--channels", metavar="CH,CH",
                    help="characterise only these channels, e.g. gyro_x,gyro_y,gyro_z (a log's other "
@@ -84,7 +86,7 @@ def run_characterize(args) -> int:
     chans = [c.strip() for c in args.channels.split(",") if c.strip()] if args.channels else None
     data = read_measurement(path, rate_hz=args.rate_hz, samples=args.samples, mapping=_mapping(args),
                             repair=args.repair, max_rows=args.max_rows, ci_level=args.ci_level,
-                            channels=chans)
+                            channels=chans, digitised=True)
     if chans and not isinstance(data, ImuLog):  # an Allan table: keep its tables of those channels
         missing = [c for c in chans if c not in data]
         if missing:

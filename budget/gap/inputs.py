@@ -148,6 +148,10 @@ def _from_log(log: ImuLog) -> Measured:
 
 def _from_tables(tables: dict[str, AllanResult], source: str) -> Measured:
     first = next(iter(tables.values()))
+    if any(not t.samples for t in tables.values()):  # read_adev_table without rate and length
+        raise InputError("a digitised Allan curve (no record behind it) cannot be compared: the model "
+                         "gap needs the record's rate and length", field="measured",
+                         expected="--rate-hz F --samples N of the record the curve came from")
     rates = {t.rate_hz for t in tables.values()}
     lens = {t.samples for t in tables.values()}
     if len(rates) > 1 or len(lens) > 1:

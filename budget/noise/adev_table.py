@@ -2,8 +2,15 @@
 
 CSV columns ``channel, tau_s, adev[, lci, uci]``; the unit rides on the channel name like a log
 column (``gyro_x_dps``, ``gyro_x_rps``, ``accel_x_mps2``, ``accel_x_g`` …). The record's
-sampling rate and length are not in the table and must be given (``rate_hz``, ``samples``):
-they fix the averaging factor m = τ·rate of each row and, with no ``lci/uci``, the EDF.
+sampling rate and length are not in the table and are given (``rate_hz``, ``samples``) for a
+curve computed from a record: they fix the averaging factor m = τ·rate of each row and, with no
+``lci/uci``, the EDF.
+
+Given neither, the table is read as a *digitised curve* (a datasheet figure: a handful of
+log-spaced points, τ multiples of no sample period, no record known): τ is taken as given, the
+EDF comes from ``lci``/``uci`` when the table has them and is otherwise unknown (``edf`` = ∞,
+``lo``/``hi`` NaN: no sample-count-based confidence bounds, the fit's uncertainty unknown), and
+a note says so; ``rate_hz`` is NaN and ``samples`` 0 in the result.
 
 With ``lci``/``uci`` the EDF of each row is recovered by inverting the χ² interval at
 ``ci_level`` (default 0.95, the level of the published curves the tests use), see
@@ -15,7 +22,8 @@ interval is computed at ``ci_level``. Values are converted to SI (rad/s, m/s²).
 τ taken from measured time stamps is rarely a whole number of samples: within
 ``TAU_TOLERANCE`` (15 %) of one, τ is set to the nearest whole m/rate and the ADEV (and its
 bounds) moved along the curve's local log-log slope, ADEV·(m/(τ·rate))^slope, and the result
-carries a note saying so (``AllanResult.notes``); farther off is an error (wrong ``rate_hz``).
+carries a note saying so (``AllanResult.notes``); farther off is an error (wrong ``rate_hz``; the
+message adds that a digitised curve is read without a rate and record length).
 
 Files other tools write are read as they are: delimited by ``,``, ``;`` or a tab (the one that
 splits the header into a τ column), ``#`` comment lines before the header (rows in messages are
@@ -335,7 +343,7 @@ def _channel_unit(name, written: str | None, column: str | None, path: Path, row
             raise InputError(str(err), file=path, row=row, field="channel") from None
     if bare in u.CHANNELS:
         try:
-            return bare, u.header_channel_unit(bare, written, column)
+            return bare, _adev_unit(bare, written, column)
         except ValueError as err:
             raise InputError(str(err), file=path, row=header_row, field=column,
                              expected=f"a unit of {bare} in the ADEV column's header") from None
@@ -344,7 +352,7 @@ def _channel_unit(name, written: str | None, column: str | None, path: Path, row
     except ValueError as err:
         raise InputError(str(err), file=path, row=row, field="channel") from None
     try:
-        said = u.header_channel_unit(ch, written, column)
+        said = _adev_unit(ch, written, column)
     except ValueError as err:
         raise InputError(str(err), file=path, row=header_row, field=column,
                          expected=f"a unit of {ch} in the ADEV column's header") from None
@@ -353,6 +361,21 @@ def _channel_unit(name, written: str | None, column: str | None, path: Path, row
                          "the two units disagree", file=path, row=row, field="channel", value=name,
                          expected="one unit: in the channel name or in the ADEV column's header")
     return ch, tag
+
+
+def _adev_unit(channel: str, written: str, column: str | None) -> str:
+    """:func:`budget.units.header_channel_unit` for an ADEV column: a noise density written there
+    (``mrad/s/√Hz``, ``deg/√h``) is refused as such — an Allan deviation is in the rate unit."""
+    try:
+        return u.header_channel_unit(channel, written, column)
+    except ValueError:
+        if not u.is_density_unit(written):
+            raise
+        rate = re.split(r"/\s*(?:√|sqrt|rt)", written, maxsplit=1, flags=re.I)[0].strip()
+        rate = rate if "/" in rate else ("deg/h" if channel.startswith("gyro") else "µg")  # deg/√h: an ARW
+        raise ValueError(f"column {column!r}: {written!r} is a noise density (ARW/VRW), but an Allan "
+                         f"deviation is in the channel's rate unit ({rate}, …); the density N is what the "
+                         f"fit gives from the curve — write adev [{rate}]") from None
 
 
 def edf_from_interval(adev: np.ndarray, lo: np.ndarray, hi: np.ndarray, ci_level: float) -> np.ndarray:
@@ -380,21 +403,27 @@ def edf_from_interval(adev: np.ndarray, lo: np.ndarray, hi: np.ndarray, ci_level
     return out
 
 
-def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
+def read_adev_table(path: str | Path, rate_hz: float | None = None, samples: int | None = None, *,
                     ci_level: float = 0.95, channels=None) -> dict[str, AllanResult]:
     """Read a measured Allan-deviation table → ``{'gyro_x': AllanResult, …}`` in SI units.
 
-    ``channels``: the channel (one, e.g. ``["gyro_z"]``) whose curve a table without a channel
-    column (``tau_s, adev [deg/h]``) holds; a table that names its channels keeps them all (the
-    caller picks)."""
+    ``rate_hz`` and ``samples``: the record the curve was computed from; neither → a digitised
+    curve (module doc). ``channels``: the channel (one, e.g. ``["gyro_z"]``) whose curve a table
+    without a channel column (``tau_s, adev [deg/h]``) holds; a table that names its channels
+    keeps them all (the caller picks)."""
     path = Path(path)
     require_file(path)
-    if not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
+    digitised = rate_hz is None and samples is None
+    if digitised:
+        pass
+    elif not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
         raise InputError("sampling rate of the record is required", field="rate_hz", value=rate_hz,
-                         expected=f"{TABLE_RATE_WAY.cli} > 0 (the rate of the data the curve came from)")
-    if not (isinstance(samples, (int, np.integer)) and samples >= 3):
+                         expected=f"{TABLE_RATE_WAY.cli} > 0 (the rate of the data the curve came from), "
+                                  f"with --samples; neither for a digitised datasheet curve")
+    if not digitised and not (isinstance(samples, (int, np.integer)) and samples >= 3):
         raise InputError("record length is required", field="samples", value=samples,
-                         expected="--samples N ≥ 3 (number of samples behind the curve)")
+                         expected="--samples N ≥ 3 (number of samples behind the curve), with "
+                                  f"{TABLE_RATE_WAY.cli}; neither for a digitised datasheet curve")
     if not 0 < ci_level < 1:
         raise InputError("confidence level must be in (0, 1)", field="ci_level", value=ci_level)
     delim, pre = table_header(path) or (",", 0)
@@ -441,8 +470,48 @@ def read_adev_table(path: str | Path, rate_hz: float, samples: int, *,
         if ch in out:
             raise InputError(f"channel {ch} appears under two unit tags", file=path,
                              row=int(rows[0]) + 2, field="channel", value=name)
-        out[ch] = _channel(df.iloc[pos], rows, ch, unit, rate_hz, samples, has_ci, ci_level, path)
+        if digitised:
+            out[ch] = _digitised(df.iloc[pos], rows, ch, unit, has_ci, ci_level, path)
+        else:
+            out[ch] = _channel(df.iloc[pos], rows, ch, unit, rate_hz, samples, has_ci, ci_level, path)
     return out
+
+
+#: What a digitised curve's result says (no record behind it).
+DIGITISED_NOTE = ("read as a digitised curve (no --rate-hz/--samples: no record known): τ taken as "
+                  "given, no confidence bounds from a sample count")
+
+
+def _digitised(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, has_ci: bool,
+               ci_level: float, path: Path) -> AllanResult:
+    """A digitised curve's channel: τ as given; EDF from ``lci``/``uci`` or unknown (∞)."""
+    tau = df["tau_s"].to_numpy(float)
+    adev = df["adev"].to_numpy(float)
+    if np.any(np.diff(tau) <= 0):
+        i = int(np.flatnonzero(np.diff(tau) <= 0)[0]) + 1
+        raise InputError("τ must increase within a channel", file=path, row=int(rows[i]) + 2,
+                         field="tau_s", value=tau[i])
+    factor = u.CHANNEL_UNIT_TO_SI[unit]
+    alpha = noise_type_from_slope(tau, adev)
+    if has_ci:
+        lo, hi = df["lci"].to_numpy(float), df["uci"].to_numpy(float)
+        bad = np.flatnonzero((lo > adev) | (hi < adev) | (lo >= hi))
+        if bad.size:
+            i = int(bad[0])
+            raise InputError("need lci ≤ adev ≤ uci and lci < uci", file=path, row=int(rows[i]) + 2,
+                             field="lci", value=(lo[i], adev[i], hi[i]))
+        edf = edf_from_interval(adev, lo, hi, ci_level)
+        note = f"{ch}: {DIGITISED_NOTE}; the EDF of each point from its lci/uci at {ci_level:.3g}"
+        ci = ci_level
+    else:
+        edf = np.full(tau.shape, np.inf)
+        lo = hi = np.full(tau.shape, np.nan)
+        note = (f"{ch}: {DIGITISED_NOTE} (nor lci/uci): the fitted values' uncertainty is unknown and "
+                "a term's upper limit is read off the curve's own values")
+        ci = math.nan
+    notes = (note,) + ((f"{ch}: {ERR_NOTE}",) if "adev_err" in df.columns else ())
+    return AllanResult(tau, adev * factor, lo * factor, hi * factor, edf, np.zeros(tau.size, np.int64),
+                       math.nan, 0, ch, u.channel_si_unit(ch), ci, alpha, f"table {path.name}", notes)
 
 
 def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: float,
@@ -462,7 +531,8 @@ def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: fl
         raise InputError(f"τ·rate = {m_raw[i]:.6g} is not a whole number of samples", file=path,
                          row=int(rows[i]) + 2, field="tau_s", value=tau[i],
                          expected=f"τ within {TAU_TOLERANCE:.0%} of a multiple of 1/rate = "
-                                  f"{1 / rate_hz:.6g} s (check {TABLE_RATE_WAY.cli})")
+                                  f"{1 / rate_hz:.6g} s (check {TABLE_RATE_WAY.cli}; a digitised "
+                                  "datasheet curve is read without a rate and record length)")
     # τ from a clock of another rate: every short-τ row off by the same fraction (measured time
     # stamps scatter row by row instead); at long τ the same error rounds to another whole m
     short = np.flatnonzero(m <= 8)

@@ -72,8 +72,10 @@ class AllanResult:
     def summary(self) -> str:
         name = self.channel or "series"
         i = int(np.argmin(self.adev))
+        record = (f"{self.samples} samples at {self.rate_hz:.6g} Hz" if self.samples
+                  else "digitised curve, no record")
         return (f"{name}: {self.tau_s.size} τ from {self.tau_s[0]:.4g} to {self.tau_s[-1]:.4g} s "
-                f"({self.samples} samples at {self.rate_hz:.6g} Hz, {self.source}); minimum "
+                f"({record}, {self.source}); minimum "
                 f"{self.adev[i]:.4g} {self.unit} at τ = {self.tau_s[i]:.4g} s")
 
 

@@ -9,7 +9,11 @@ Per channel: overlapping Allan deviation (or the measured table) → IEEE-952 fi
 * ``accel_vrw_m_s_rt_h`` = N·60 in m/s/√h; ``accel_bias_instability_ug`` = √(2 ln2/π)·B in µg.
 
 Axes are combined by the **worst axis** rule: each column takes the largest value over the
-axes where the term was found (absent everywhere → empty). Q and R have no catalog column; they
+axes where the term was found (absent everywhere → empty). A term the fit does not resolve gets
+its upper limit from the curve (:func:`~budget.noise.terms.upper_limits`), in the column's unit,
+in the summary, the JSON (``row_limits``, per channel ``limits``) and the row's notes ("RRW not
+resolved: ≤ X deg/h/√h at 95 %"); never as the column's value (an absent term stays empty, a
+fitted but unresolved one keeps its fitted value, said to be unresolved). Q and R have no catalog column; they
 are kept per channel. Grade, unless given: the best grade of the catalog's grades table whose
 upper gyro bias and gyro ARW limits both hold the measured values (gyros decide when present,
 otherwise the accelerometer bias and noise limits).
@@ -34,7 +38,7 @@ from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
 from .spikes import find_spikes
 from .stationarity import check_stationarity, record_rows
-from .terms import TERMS, NoiseTerms, fit_noise_terms
+from .terms import FLICKER, TERMS, NoiseTerms, fit_noise_terms
 
 COMBINE_RULE = ("worst axis: each catalog column is the largest value over the axes where the "
                 "term was found; bias instability as the Allan floor 0.664·B (adev_min)")
@@ -67,6 +71,10 @@ class Characterization:
                 "channel_units": {ch: t.unit for ch, t in self.channels.items()},
                 "uncertainty": {ch: t.sigmas for ch, t in self.channels.items()},
                 "resolved": {ch: t.resolved for ch, t in self.channels.items()},
+                "limits": {ch: dict(t.limits or {}) for ch, t in self.channels.items()},
+                "limit_level": {ch: t.limit_level for ch, t in self.channels.items()},
+                "uncertainty_known": {ch: t.uncertainty_known for ch, t in self.channels.items()},
+                "row_limits": {col: lim for col, (lim, _) in _column_limits(self.part, self.channels).items()},
                 "notes": list(self.notes), "warnings": list(self.warnings),
                 "log_findings": list(self.log_findings), "options": dict(self.options)}
 
@@ -81,13 +89,18 @@ class Characterization:
     def summary(self) -> str:
         p = self.part
         weak = set(_unresolved_columns(self.channels))
+        limits = _column_limits(p, self.channels)
 
-        def v(col, unit):  # 4 significant digits; a term not found or not resolved is said so
-            x = getattr(p, col)
-            return ("not found" if x is None
-                    else f"{x:.4g} {unit}" + (" (not resolved)" if col in weak else ""))
+        def v(col, unit):  # 4 significant digits; a term not found or not resolved is said so,
+            x = getattr(p, col)  # with the largest value the curve allows
+            lim = f"≤ {limits[col][0]:.3g} {unit} {limits[col][1]}" if col in limits else ""
+            if x is None:
+                return f"not resolved ({lim})" if lim else "not found"
+            return (f"{x:.4g} {unit}" + (" (not resolved)" if col in weak else "")
+                    + (f", {lim}" if lim else ""))
 
-        lines = [f"part {p.part_id} ({p.grade}), rate {p.rate_hz:g} Hz",
+        rate = "rate not known" if p.rate_hz is None else f"rate {p.rate_hz:g} Hz"
+        lines = [f"part {p.part_id} ({p.grade}), {rate}",
                  f"  gyro  ARW {v('gyro_arw_deg_rt_h', 'deg/√h')}, bias instability "
                  f"{v('gyro_bias_instability_deg_h', 'deg/h')}, RRW {v('gyro_rrw_deg_h_rt_h', 'deg/h/√h')}",
                  f"  accel VRW {v('accel_vrw_m_s_rt_h', 'm/s/√h')}, bias instability "
@@ -120,6 +133,47 @@ def _unresolved_columns(fits: Mapping[str, NoiseTerms]) -> list[str]:
         if found and not max(found, key=lambda t: t.values[term]).resolved[term]:
             out.append(col)
     return out
+
+
+#: catalog column → (its words in a note, the conversion of the term's SI limit to the column's unit)
+_COLUMN_LIMITS = {
+    "gyro_arw_deg_rt_h": ("ARW", "deg/√h", u.rad_s_rt_hz_to_deg_rt_h),
+    "gyro_bias_instability_deg_h": ("gyro bias instability (floor 0.664·B)", "deg/h",
+                                    lambda b: u.rad_s_to_deg_h(math.sqrt(FLICKER) * b)),
+    "gyro_rrw_deg_h_rt_h": ("RRW", "deg/h/√h", u.rad_s_rt_s_to_deg_h_rt_h),
+    "accel_vrw_m_s_rt_h": ("VRW", "m/s/√h", u.m_s2_rt_hz_to_m_s_rt_h),
+    "accel_bias_instability_ug": ("accel bias instability (floor 0.664·B)", "µg",
+                                  lambda b: u.m_s2_to_ug(math.sqrt(FLICKER) * b)),
+}
+
+
+def _column_limits(part: PartSpec, fits: Mapping[str, NoiseTerms]) -> dict[str, tuple[float, str]]:
+    """{catalog column: (upper limit in the column's unit, its level in words)} for each column
+    whose term some axis does not resolve and whose row value does not already exceed that
+    axis's limit: the largest limit over those axes (the worst axis can be no larger). Levels
+    differ only when a digitised curve is mixed with others (the loosest wording is kept)."""
+    out = {}
+    for col, (sensor, term) in _COLUMN_TERMS.items():
+        axes = [t for c, t in fits.items() if c.startswith(sensor) and (t.limits or {}).get(term) is not None]
+        if not axes:
+            continue
+        conv = _COLUMN_LIMITS[col][2]
+        lim = max(float(conv(t.limits[term])) for t in axes)
+        value = getattr(part, col)
+        resolved_value = value is not None and col not in _unresolved_columns(fits)
+        if resolved_value and value >= lim:
+            continue
+        levels = {t.limit_level for t in axes}
+        level = ("from the digitised curve's values, no confidence level" if None in levels
+                 else f"at {100 * min(levels):.3g} %")
+        out[col] = (lim, level)
+    return out
+
+
+def _limit_notes(part: PartSpec, fits: Mapping[str, NoiseTerms]) -> list[str]:
+    """'RRW not resolved: ≤ 3.2 deg/h/√h at 95 %' for each column of :func:`_column_limits`."""
+    return [f"{_COLUMN_LIMITS[col][0]} not resolved: ≤ {lim:.3g} {_COLUMN_LIMITS[col][1]} {level}"
+            for col, (lim, level) in _column_limits(part, fits).items()]
 
 
 def _row_values(fits: Mapping[str, NoiseTerms]) -> dict[str, float | None]:
@@ -262,7 +316,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
         notes += [f"log: {i.text()}" for i in data.issues.issues if i.severity == "info"]  # e.g. columns not read
     elif isinstance(data, Mapping) and all(isinstance(v, AllanResult) for v in data.values()):
         allan = dict(data)
-        rates = {r.rate_hz for r in allan.values()}
+        rates = {r.rate_hz for r in allan.values() if r.samples}  # a digitised curve has none
         rate = rates.pop() if len(rates) == 1 else None
         origin = ", ".join(sorted({r.source for r in allan.values()}))
     else:
@@ -287,10 +341,18 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     if not fits:
         raise InputError("no channel could be fitted: " + "; ".join(notes), file=src)
     for ch, t in fits.items():
+        if not t.uncertainty_known:
+            notes.append(f"{ch}: digitised curve (no record behind it): the fitted values' uncertainty "
+                         f"is unknown; a term is resolved when it stands out of the {model_error:.0%} model-error "
+                         "floor over an octave of τ, and limits are read off the curve's values")
         weak = [k for k in TERMS if t.values[k] is not None and not t.resolved[k]]
         if weak:
             notes.append(f"{ch}: {', '.join(weak)} fitted but not resolved (its variance "
-                         "coefficient, the value squared, within 2σ of 0)")
+                         "coefficient, the value squared, within 2σ of 0, or above the curve's "
+                         "uncertainty over less than an octave of τ)")
+        lims = [f"{k} {t.limit_text(k)}" for k in TERMS if (t.limits or {}).get(k) is not None]
+        if lims:
+            notes.append(f"{ch}: not resolved, largest values the curve allows: " + "; ".join(lims))
         extra = [f"{k}={t.values[k]:.3g} {ch_unit}" for k, ch_unit in
                  (("Q", t.unit + "·s"), ("R", t.unit + "/s")) if t.values[k] is not None]
         if extra:
@@ -317,10 +379,18 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     weak_cols = _unresolved_columns(fits)
     if weak_cols:
         weak_text = (f"{', '.join(weak_cols)}: fitted but not resolved (variance coefficient within "
-                     "2σ of 0) on the worst axis — "
-                     "the record cannot pin this value down")
+                     "2σ of 0, or above the curve's uncertainty over less than an octave of τ) on "
+                     "the worst axis — the record cannot pin this value down")
         notes.append(weak_text)
         row_notes += f"; {weak_text}"
+    probe = PartSpec.model_construct(**values)  # the row's values, for the limits to compare with
+    limit_notes = _limit_notes(probe, fits)
+    notes += limit_notes
+    row_notes += "".join(f"; {n}" for n in limit_notes)
+    digitised = [ch for ch, t in fits.items() if not t.uncertainty_known]
+    if digitised:
+        row_notes += ("; fitted to a digitised curve (" + ", ".join(digitised)
+                      + "): no record behind it, the values' uncertainty is unknown")
     if regimes:
         row_notes += ("; measured on a log that may not be one stationary regime: "
                       + ", ".join(f"{i.column} {i.kind.replace('_', ' ')}" for i in regimes))

@@ -17,8 +17,31 @@ model that closely (on the published ADIS16405 Allan curves ε = 0 gives bias in
 30–50 % high; any ε in 2–20 % gives nearly the same answer). The weights are iterated three
 times with σ² taken from the model (a low noisy point does not pull the fit). Correlation between overlapping τ is neglected, so the
 quoted uncertainties (from the inverse weighted normal matrix of the active terms, mapped to
-the coefficients by the delta method) are optimistic. A term is *resolved* when its variance
-coefficient exceeds twice its standard error; a term fitted to exactly zero is *absent* (None).
+the coefficients by the delta method) are optimistic.
+
+A term is *resolved* when (1) its variance coefficient exceeds twice its standard error and
+(2) it stands out of the curve's own uncertainty over at least an octave of τ: its share of the
+fitted σ² exceeds :data:`RESOLVE_Z` times the relative standard deviation of σ̂² at that τ,
+√(2/edf + ε²) — the degrees of freedom of each point itself, so a term seen only at the last,
+few-dof points of a curve is not resolved (IEEE 952 Annex C; Lawrence & Lesso). Test (1) alone
+treats overlapping-τ points as independent: on 40 simulated records each (two generators,
+20 seeds each) it called a term the truth lacks resolved on 2/40 white-noise, 3/40 white +
+random-walk and 1/40 white + flicker curves, and a FOG's bias instability (only beyond the
+longest τ) resolved at 1.8–2.4× the truth on 6/40; with (2), none of these
+(``tests/test_adev_limits.py``). A term fitted to exactly zero is
+*absent* (None).
+
+A term not resolved gets an *upper limit* (``limits``) from the curve alone: every term's
+IEEE-952 variance c·f(τ) is ≥ 0, so c·f(τ) ≤ σ²(τ) at every τ and
+c ≤ minτ σ²_up(τ)/f(τ), σ²_up the one-sided upper confidence bound of σ̂² from the point's
+EDF, σ̂²·edf/χ²_a(edf): Q ≤ min σ_up·τ/√3, N ≤ min σ_up·√τ, B ≤ min σ_up/0.664,
+K ≤ min σ_up·√(3/τ), R ≤ min σ_up·√2/τ. Each of the n points is bounded at a = (1 − level)/n
+(Bonferroni), so that all hold together at :data:`LIMIT_LEVEL` and the minimum over τ keeps that
+level: with each point at 95 % the minimum covered a true K at the edge of the curve on only
+37/40 simulated records, with the joint level on 40/40 (limits ~1.3× wider;
+``tests/test_adev_limits.py``). A digitised curve (no record, ``edf`` = ∞)
+has no confidence level: the limits are the curve's own values, and a term is resolved when it
+stands out of the model-error floor ε alone (its uncertainty is unknown: ``sigmas`` None).
 """
 
 from __future__ import annotations
@@ -39,6 +62,12 @@ TERMS = ("Q", "N", "B", "K", "R")
 FLICKER = 2.0 * math.log(2.0) / math.pi
 TERM_NAMES = {"Q": "quantization", "N": "white noise (ARW/VRW)", "B": "bias instability",
               "K": "rate random walk", "R": "rate ramp"}
+#: A term must exceed this many standard deviations of σ̂² (relative, at each τ) … over
+RESOLVE_Z = 2.0
+#: … a τ span of at least this ratio (an octave) to be resolved (module doc).
+RESOLVE_SPAN = 2.0
+#: One-sided confidence level of the upper limit of a term not resolved (module doc).
+LIMIT_LEVEL = 0.95
 
 
 def _design(tau: np.ndarray, terms: tuple[str, ...]) -> np.ndarray:
@@ -72,6 +101,13 @@ class NoiseTerms:
     tau_range_s: tuple[float, float]
     chi2: float
     dof: int
+    #: upper limit of each term not resolved (``None`` for a resolved term), from the curve and
+    #: its one-sided upper confidence bound at ``limit_level`` (module doc)
+    limits: dict[str, float | None] | None = None
+    #: confidence level of ``limits``; ``None`` for a digitised curve (limits from its values)
+    limit_level: float | None = LIMIT_LEVEL
+    #: False for a digitised curve: no record behind it, the fitted values' uncertainty is unknown
+    uncertainty_known: bool = True
 
     Q = property(lambda self: self.values["Q"])
     N = property(lambda self: self.values["N"])
@@ -92,26 +128,42 @@ class NoiseTerms:
         ``values`` with their 1σ and whether each is resolved, and the fit's χ² and dof."""
         return {"channel": self.channel, "unit": self.unit, "tau_range_s": [float(v) for v in self.tau_range_s],
                 "values": dict(self.values), "sigmas": dict(self.sigmas), "resolved": dict(self.resolved),
+                "limits": dict(self.limits or {}), "limit_level": self.limit_level,
+                "uncertainty_known": self.uncertainty_known,
                 "chi2": float(self.chi2), "dof": int(self.dof)}
+
+    def limit_text(self, term: str, value: float | None = None, unit: str | None = None) -> str:
+        """``'≤ 3.1e-06 rad/s/√s at 95 %'`` for a term not resolved (``value``/``unit``: the
+        limit converted by the caller); '' when the term has no limit."""
+        lim = (self.limits or {}).get(term)
+        if lim is None:
+            return ""
+        v = lim if value is None else value
+        level = (f"at {100 * self.limit_level:.3g} %" if self.limit_level is not None
+                 else "from the digitised curve's values, no confidence level")
+        return f"≤ {v:.3g} {unit or term_units(self.unit)[term]} {level}"
 
     def to_frame(self) -> pd.DataFrame:
         units = term_units(self.unit)
         return pd.DataFrame([{"term": t, "name": TERM_NAMES[t], "value": self.values[t],
                               "sigma": self.sigmas[t], "resolved": self.resolved[t],
-                              "unit": units[t]} for t in TERMS])
+                              "upper_limit": (self.limits or {}).get(t), "unit": units[t]} for t in TERMS])
 
     def summary(self) -> str:
         units = term_units(self.unit)
         lines = [f"{self.channel or 'series'}: IEEE-952 fit over τ {self.tau_range_s[0]:.4g}–"
                  f"{self.tau_range_s[1]:.4g} s, χ²/dof = {self.chi2:.3g}/{self.dof}"]
+        if not self.uncertainty_known:
+            lines[0] += " (digitised curve: no record behind it, uncertainty unknown)"
         for t in TERMS:
             v, s = self.values[t], self.sigmas[t]
+            lim = self.limit_text(t)
             if v is None:
-                lines.append(f"  {t} {TERM_NAMES[t]:<24} absent")
+                lines.append(f"  {t} {TERM_NAMES[t]:<24} absent" + (f", not resolved: {lim}" if lim else ""))
             else:
-                # resolved = the fitted variance coefficient (value²) ≥ 2σ from 0; the ± is the
-                # value's own 1σ, so a value within ~4 of its ± can be unresolved
-                flag = "" if self.resolved[t] else "  (not resolved: value² within 2σ of 0)"
+                # resolved = value² ≥ 2σ from 0 and above the curve's uncertainty over an octave
+                # (module doc); the ± is the value's own 1σ
+                flag = "" if self.resolved[t] else f"  (not resolved: {lim})" if lim else "  (not resolved)"
                 err = f" ± {s:.3g}" if s is not None else ""
                 lines.append(f"  {t} {TERM_NAMES[t]:<24} {v:.4g}{err} {units[t]}{flag}")
         return "\n".join(lines)
@@ -135,7 +187,7 @@ def fit_noise_terms(allan: AllanResult, terms: Iterable[str] = TERMS, *,
     if bad or not terms:
         raise InputError(f"unknown noise term(s) {bad}", field="terms", expected="a subset of Q N B K R")
     tau, adev, edf = allan.tau_s, allan.adev, allan.edf
-    keep = np.isfinite(adev) & (adev > 0) & np.isfinite(edf) & (edf > 0)
+    keep = np.isfinite(adev) & (adev > 0) & ~np.isnan(edf) & (edf > 0)  # edf = ∞: digitised
     if tau_range_s is not None:
         try:
             lo, hi = (float(v) for v in tau_range_s)
@@ -170,6 +222,8 @@ def fit_noise_terms(allan: AllanResult, terms: Iterable[str] = TERMS, *,
         inv = np.linalg.pinv(As.T @ As)
         cov[active] = np.diag(inv) / scale[active] ** 2
     resid = (y - A @ c) * sw
+    known = not bool(np.all(np.isinf(edf)))  # a digitised curve: no record, no sampling error
+    rel = np.sqrt(2.0 / edf + model_error ** 2)  # relative standard deviation of σ̂² per τ
     values, sigmas, resolved = {}, {}, {}
     for t in TERMS:
         values[t], sigmas[t], resolved[t] = None, None, False
@@ -177,8 +231,42 @@ def fit_noise_terms(allan: AllanResult, terms: Iterable[str] = TERMS, *,
         if c[j] > 0:
             values[t] = float(math.sqrt(c[j]))
             sd = math.sqrt(cov[j]) if np.isfinite(cov[j]) else float("nan")
-            sigmas[t] = sd / (2.0 * values[t])
-            resolved[t] = bool(c[j] > 2.0 * sd)
+            sigmas[t] = sd / (2.0 * values[t]) if known else None
+            share = c[j] * A[:, j] / np.where(model > 0, model, np.inf)
+            resolved[t] = bool((c[j] > 2.0 * sd or not known)
+                               and _octave_above(tau, share > RESOLVE_Z * rel))
+    level = LIMIT_LEVEL if known else None
+    limits = upper_limits(tau, y, edf, level)
+    limits = {t: (None if resolved[t] else limits[t]) for t in TERMS}
     return NoiseTerms(values, sigmas, resolved, allan.channel, allan.unit,
                       (float(tau[0]), float(tau[-1])), float(resid @ resid),
-                      int(tau.size - active.sum()))
+                      int(tau.size - active.sum()), limits, level, known)
+
+
+def _octave_above(tau: np.ndarray, above: np.ndarray) -> bool:
+    """True when ``above`` holds on consecutive τ spanning at least :data:`RESOLVE_SPAN`."""
+    start = None
+    for i, ok in enumerate(above):
+        if ok and start is None:
+            start = i
+        if ok and tau[i] / tau[start] >= RESOLVE_SPAN * (1 - 1e-9):
+            return True
+        if not ok:
+            start = None
+    return False
+
+
+def upper_limits(tau, var, edf, level: float | None = LIMIT_LEVEL) -> dict[str, float]:
+    """Largest value of each IEEE-952 term the Allan variance ``var`` (σ̂² at ``tau``, with
+    ``edf``) allows: c_t ≤ minτ σ²_up(τ)/f_t(τ), σ²_up = σ̂²·edf/χ²_a(edf) the one-sided upper
+    bound of each point at a = (1 − ``level``)/n, jointly ``level`` over the n points (σ̂² itself
+    for ``level`` None or edf = ∞) — module doc."""
+    from scipy import stats
+
+    tau, var, edf = (np.asarray(v, float) for v in (tau, var, edf))
+    up = var.copy()
+    if level is not None:
+        fin = np.isfinite(edf)
+        up[fin] = var[fin] * edf[fin] / stats.chi2.ppf((1.0 - level) / tau.size, edf[fin])
+    f = _design(tau, TERMS)
+    return {t: float(math.sqrt(np.min(up / f[:, k]))) for k, t in enumerate(TERMS)}
