@@ -12,7 +12,14 @@ level ``gap_before``/``gap_after`` are the overall gaps (mean over channels) of 
 the updated model. Parameters in SI channel units. Further keys (thresholds, localisation,
 null distribution, notes, an effect's ``alternatives``: the effects on its channel that the record
 does not tell apart from it) are additions; ``options`` records the opt-in statistics the run used
-(``{"low_frequency": bool, "decorrelate": bool}``, both false by default).
+(``{"low_frequency": bool, "decorrelate": bool}``, both false by default). ``cross_channel``: pairs
+of channels with a common component the per-channel model cannot express (channels, bands_hz,
+coherence, null_mean, peak, phase_deg, log10_p; :mod:`budget.gap.coherence`); ``slow_shape``: per
+named Gauss–Markov term, the slow part's excess kurtosis against the updated model's
+(``two_valued``: a random telegraph signal's shape; :mod:`budget.gap.two_valued`), and per channel
+with a slow effect named on a log with temperature, the share of its slow part (T − T̄)² explains
+(``curved``; :mod:`budget.gap.temperature_curve`); all worded in
+``notes`` when they find something.
 """
 
 from __future__ import annotations
@@ -171,6 +178,12 @@ class GapReport:
     band_after: EffectSizeBand | None = None
     #: opt-in statistics of the run: ``low_frequency``, ``decorrelate`` (see :func:`run_gap`)
     options: dict = field(default_factory=dict)
+    #: pairs of channels with a common component (:func:`budget.gap.coherence.findings`)
+    cross_channel: list[dict] = field(default_factory=list)
+    #: the slow part's shape where a slow effect was named: its kurtosis under a Gauss–Markov
+    #: term (:mod:`budget.gap.two_valued`), its curve in the temperature
+    #: (:mod:`budget.gap.temperature_curve`)
+    slow_shape: list[dict] = field(default_factory=list)
 
     @property
     def effects(self) -> list[GapStep]:
@@ -250,9 +263,30 @@ class GapReport:
             "gap_definition": GAP_DEFINITION,
             "null_before": self.null_before.to_dict(), "null_after": self.null_after.to_dict(),
             "rejected": self.rejected, "stop_reason": self.stop_reason, "notes": list(self.notes),
+            "cross_channel": [dict(f) for f in self.cross_channel],
+            "slow_shape": [dict(f) for f in self.slow_shape],
             "tolerance_db": self.band_after.tolerance_db if self.band_after else None,
             "units": "parameters in SI channel units: rad/s-based (gyro), m/s^2-based (accel); s; Hz",
         }
+
+    def unexplained_notes(self) -> list[str]:
+        """One note per channel that effects were named on and that is still not ``ok``: the
+        named effects are the nearest the vocabulary has, and where the misfit is left (an effect
+        outside the vocabulary — a fractional spectral slope, say — is named as a chain of the
+        nearest ones and leaves this)."""
+        out = []
+        for ch in self.channels:
+            named = list(dict.fromkeys(s.name for s in self.steps if s.channel == ch))
+            state = self.channel_state(ch)
+            if not named or state == "ok":
+                continue
+            top = localize(self.channels[ch].terms_after)["top"][:3]
+            where = "; ".join(f"{t['statistic']} {t['where']} z={t['z']:+.1f}" for t in top) or \
+                "its effect sizes (peak misfit or kurtosis) beyond the tolerance"
+            out.append(f"{ch}: unexplained misfit ({state}) after {', '.join(named)}: {where} — what is "
+                       "left is beyond what the vocabulary can make smaller; the effects named there are "
+                       "the nearest it has, not a confirmed description of this channel")
+        return out
 
     def options_text(self) -> str:
         """The statistics chosen against their default, in words ("" when none was): the

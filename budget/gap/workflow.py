@@ -64,7 +64,7 @@ from .walk import model_mean as walk_model_mean
 from .inputs import check_compatible, load_measured, load_model
 from .effect_size import (DEFAULT_TOLERANCE_DB, EffectSizeBand, LooSizes, Sizes, db_terms,
                           kurtosis_size, loo_sizes)
-from . import quieter
+from . import coherence, quieter, temperature_curve, two_valued
 from .metric import LINEAR_KINDS, GapTerms, LinearMoments, ModelSummary, NullModel, gap_terms, loo_z
 from .report import ChannelResult, GapReport, GapStep
 from .signatures import Signature, SignatureGrid, series_signature, table_signature
@@ -503,10 +503,35 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                          "as 'a few per record at most'; the magnitude is what the record shows")
     if len(steps) < max_steps and stop.startswith("stopped after max_steps"):
         stop = "every candidate that could be fitted was tried and rejected"
+    cross, shapes = [], []
+    if meas.kind == "log":
+        # what the per-channel vocabulary cannot say: a component common to channels
+        # (:mod:`budget.gap.coherence`), a Gauss–Markov spectrum on a two-valued slow part
+        # (:mod:`budget.gap.two_valued`); findings beside the steps, not steps
+        cross = coherence.findings({ch: meas.series[ch] for ch in chans}, meas.rate_hz, meas.temp_c, alpha)
+        notes += coherence.notes(cross)
+        for s in steps:
+            if s.name == "gauss_markov":
+                got = two_valued.check(current, s.channel, meas.series[s.channel], meas.rate_hz,
+                                       s.params["tau_s"], seed, states[s.channel].true_value, meas.temp_c)
+                if got is not None:
+                    shapes.append(got)
+                    if got["two_valued"]:
+                        notes.append(two_valued.note(got))
+        if meas.temp_c is not None:
+            for ch in chans:
+                named = tuple(dict.fromkeys(s.name for s in steps if s.channel == ch
+                                            and s.name in temperature_curve.SLOW))
+                if named:
+                    got = temperature_curve.check(current, ch, meas.series[ch], meas.rate_hz, meas.temp_c,
+                                                  seed, named, states[ch].true_value)
+                    shapes.append(got)
+                    if got["curved"]:
+                        notes.append(temperature_curve.note(got))
     channels_out = {ch: ChannelResult(ch, st.grid, st.meas, start[ch][0], st.terms, start[ch][1],
                                       st.summary, start[ch][2], st.sizes(band, ch))
                     for ch, st in states.items()}
-    return GapReport(
+    report = GapReport(
         source=meas.source, kind=meas.kind, model_label=label, rate_hz=meas.rate_hz,
         n_samples=meas.n_samples, seed=int(seed), realizations=n_real, alpha=alpha,
         gap_before=overall_before, gap_after=_overall(states), null_before=null_before,
@@ -515,7 +540,10 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         band_before=band_before, band_after=band,
         updated_model=_updated(base, current, steps, meas.rate_hz),
         options={"low_frequency": bool(low_frequency), "decorrelate": bool(decorrelate),
-                 "slow_modes": bool(slow_modes) and meas.kind == "log"})
+                 "slow_modes": bool(slow_modes) and meas.kind == "log"},
+        cross_channel=cross, slow_shape=shapes)
+    report.notes += report.unexplained_notes()
+    return report
 
 
 def _updated(base: NoiseModel, current: NoiseModel, steps, rate_hz: float) -> NoiseModel:
