@@ -18,6 +18,7 @@ from budget.presets import PRESETS, get_preset
 from budget.scenario import Scenario
 
 from components import STORE_KEY, keep, keep_model_state, model_from_state, model_inputs
+from uploads import error_text
 
 DEFAULT_PRESET = "airborne_xband"
 MAX_SCENARIO_BYTES = 1_000_000
@@ -62,14 +63,23 @@ class Context:
 #: Session-state keys: the scenario the fields started from (a preset or an uploaded file), as
 #: JSON, and where it came from; an edit of any field renames the scenario (see :func:`_named`).
 BASE_KEY, BASE_ORIGIN_KEY, UPLOAD_ERROR_KEY = "scn_base_json", "scn_base_origin", "scn_upload_error"
+#: Session-state key: the keys the scenario the fields started from left out (taken at their
+#: defaults, :meth:`budget.scenario.Scenario.defaults_taken`) — stated beside the results that
+#: use them, as the CLI states them, while their fields still hold those defaults.
+BASE_DEFAULTS_KEY = "scn_base_defaults"
+
+
+def _keep_base(s: Scenario, origin: str) -> None:
+    keep(BASE_KEY, s.model_dump_json(), force=True)
+    keep(BASE_ORIGIN_KEY, origin, force=True)
+    keep(BASE_DEFAULTS_KEY, list(s.defaults_taken()), force=True)
 
 
 def _keep_scenario(preset: str, force: bool) -> None:
     s = get_preset(preset)
     keep_model_state(SCENARIO_PREFIX, s, force=force, fallbacks={"propagation_speed_m_s": s.c_m_s})
     if force or BASE_KEY not in st.session_state.get(STORE_KEY, {}):
-        keep(BASE_KEY, s.model_dump_json(), force=True)
-        keep(BASE_ORIGIN_KEY, f"preset {preset}", force=True)
+        _keep_base(s, f"preset {preset}")
 
 
 def _apply_preset() -> None:
@@ -86,11 +96,10 @@ def _apply_upload() -> None:
     try:
         s = scenario_from_upload(up.getvalue(), up.name)
     except InputError as err:
-        keep(UPLOAD_ERROR_KEY, str(err), force=True)
+        keep(UPLOAD_ERROR_KEY, error_text(err), force=True)
         return
     keep_model_state(SCENARIO_PREFIX, s, force=True, fallbacks={"propagation_speed_m_s": s.c_m_s})
-    keep(BASE_KEY, s.model_dump_json(), force=True)
-    keep(BASE_ORIGIN_KEY, f"file {up.name}", force=True)
+    _keep_base(s, f"file {up.name}")
 
 
 def scenario_from_upload(data: bytes, name: str) -> Scenario:
@@ -124,6 +133,19 @@ def _named(s: Scenario) -> Scenario:
     return s.model_copy(update={"name": f"{base.name}_edited"})
 
 
+def _defaults_kept(s: Scenario) -> Scenario:
+    """``s`` with the keys its starting scenario left out (:data:`BASE_DEFAULTS_KEY`) unset again
+    while their fields still hold the defaults, so that ``s.defaults_note(keys)`` states them as
+    the CLI does for the same file; a field the user set (to another value) is the user's."""
+    left_out = st.session_state.get(BASE_DEFAULTS_KEY) or []
+    default = Scenario.model_fields
+    untouched = {k for k in left_out if k in default and getattr(s, k) == default[k].get_default(
+        call_default_factory=True)}
+    if not untouched:
+        return s
+    return Scenario.model_validate(s.model_dump(exclude=untouched))
+
+
 def _reset_assumptions(prefix: str, model) -> None:
     keep_model_state(prefix, model, force=True)
 
@@ -132,7 +154,7 @@ def _build(model_cls, prefix: str, what: str, errors: list[str]):
     try:
         return model_from_state(model_cls, prefix)
     except InputError as err:
-        errors.append(f"{what}: {err}")
+        errors.append(f"{what}: {error_text(err)}")
         return None
 
 
@@ -180,7 +202,7 @@ def render() -> Context:
     notes = tuple(scenario.notes()) if scenario is not None else ()
     for note in notes:
         sb.warning(note, icon=":material/warning:")
-    scenario = _named(scenario) if scenario is not None else None
+    scenario = _defaults_kept(_named(scenario)) if scenario is not None else None
     derived = _build(DerivedAssumptions, DERIVED_PREFIX, "derived assumptions", errors)
     noaf = _build(NoAutofocusAssumptions, NOAF_PREFIX, "no-autofocus assumptions", errors)
     for e in errors:

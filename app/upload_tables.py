@@ -80,11 +80,12 @@ def curve_channel(prefix: str, name: str, container=st) -> str | None:
 
 
 @st.cache_data(show_spinner="Reading the Allan table …", max_entries=4)
-def read_uploaded_adev(data: bytes, name: str, rate_hz: float, samples: int,
+def read_uploaded_adev(data: bytes, name: str, rate_hz: float | None, samples: int | None,
                        ci_level: float = 0.95, channel: str | None = None) -> dict[str, AllanResult]:
     """The uploaded Allan table as ``{channel: AllanResult}`` (SI), as ``sar-budget noise
     characterize TABLE --rate-hz F --samples N [--channels CH]`` reads it (``channel``: the one
-    channel of a table without a channel column, :func:`curve_channel`)."""
+    channel of a table without a channel column, :func:`curve_channel`); ``rate_hz`` and
+    ``samples`` both ``None``: a digitised datasheet curve, as the CLI reads a table given neither."""
     channels = None if channel is None else [channel]
     try:
         tables = read_via_temp_copy(data, name, lambda p: read_adev_table(p, rate_hz, samples, ci_level=ci_level,
@@ -99,15 +100,26 @@ class UploadedTable:
     """An uploaded Allan table read with the record's rate and length the page asked for."""
 
     tables: dict[str, AllanResult]
-    rate_hz: float
-    samples: int
+    rate_hz: float | None  # None (and samples None): a digitised curve, no record behind it
+    samples: int | None
     curve_channel: str | None  # the channel picked for a one-curve table, else None
 
+    @property
+    def digitised(self) -> bool:
+        return self.rate_hz is None and self.samples is None
 
-def uploaded_adev(prefix: str, data: bytes, name: str) -> UploadedTable | None:
-    """Ask for the record's rate and length (:func:`adev_inputs`) and, for a one-curve table, its
-    channel (:func:`curve_channel`), then read the table; ``None`` while the channel is not picked."""
-    rate, samples = adev_inputs(prefix)
+    @property
+    def notes(self) -> list[str]:
+        """What reading the table noted (a digitised curve, an unused ``adev_err`` column …), as
+        the CLI prints them before its result."""
+        return [n for t in self.tables.values() for n in t.notes]
+
+
+def uploaded_adev(prefix: str, data: bytes, name: str, *, digitised: bool = False) -> UploadedTable | None:
+    """Ask for the record's rate and length (:func:`adev_inputs`; with ``digitised``, the choice
+    of no record: a digitised datasheet curve) and, for a one-curve table, its channel
+    (:func:`curve_channel`), then read the table; ``None`` while the channel is not picked."""
+    rate, samples = adev_inputs(prefix, digitised=digitised)
     curve = None
     if needs_channel(data, name):
         curve = curve_channel(prefix, name)
@@ -116,8 +128,25 @@ def uploaded_adev(prefix: str, data: bytes, name: str) -> UploadedTable | None:
     return UploadedTable(read_uploaded_adev(data, name, rate, samples, channel=curve), rate, samples, curve)
 
 
-def adev_inputs(prefix: str, container=st) -> tuple[float, int]:
-    """Rate and record length behind an Allan table (not in the table itself)."""
+#: The choice of the record behind an uploaded Allan table (the noise lab's; the model gap needs
+#: the record, as the library's model gap refuses a digitised curve).
+RECORD_LABEL = "record behind the curve"
+RECORD_CHOICES = ("known: its sampling rate and length",
+                  "not known: a digitised datasheet curve (τ as given)")
+
+
+def adev_inputs(prefix: str, container=st, *, digitised: bool = False) -> tuple[float | None, int | None]:
+    """Rate and record length behind an Allan table (not in the table itself). With
+    ``digitised``, the user may say there is no record (:data:`RECORD_CHOICES`): ``(None, None)``,
+    the table is then read as a digitised datasheet curve."""
+    if digitised:
+        how = container.radio(RECORD_LABEL, RECORD_CHOICES, horizontal=True, key=f"{prefix}_adev_record",
+                              help="a curve computed from a record: its rate and length fix the averaging "
+                                   "factors and, without lci/uci, the confidence intervals; a curve read off "
+                                   "a datasheet figure has no record: τ is taken as given and a term's upper "
+                                   "limit is read off the curve's own values")
+        if how == RECORD_CHOICES[1]:
+            return None, None
     left, right = container.columns(2)
     rate = float(left.number_input("sampling rate of the record (Hz)", min_value=0.001, value=100.0,
                                    format="%g", key=f"{prefix}_adev_rate"))

@@ -271,6 +271,8 @@ CURVE_CHANNEL_WAY = Way("--channels gyro_z on the command line, channels=['gyro_
                         "pick it in 'channel of this curve' below the upload")
 #: The rate of the record an Allan table was computed from (the table does not hold it).
 TABLE_RATE_WAY = Way("--rate-hz of the record", "the sampling rate of the record")
+#: An Allan table read without its record (a digitised datasheet curve): how it was asked for.
+DIGITISED_WAY = Way("no --rate-hz/--samples", "'record behind the curve' set to 'not known'")
 #: A log column that is no canonical name is read through a mapping (uploaded beside the log).
 LOG_MAPPING_WAY = Way("and not mapped (--mapping)", "and not mapped (upload a 'column mapping' beside the log)")
 #: Logger names in the header (GyroX …): the mapping that reads them.
@@ -290,8 +292,9 @@ MOTION_MEMORY_WAY = Way("fewer workers, a lower imu_rate_hz", "a lower imu rate 
 
 #: Every way a library message names, longest first (a way's words never rewrite another's).
 WAYS: tuple[Way, ...] = tuple(sorted((REPAIR_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, LOG_CHANNEL_WAY, LOG_MAPPING_WAY,
-                                      LOG_NAMES_WAY, CURVE_CHANNEL_WAY, TABLE_RATE_WAY, GAP_CHANNELS_WAY,
-                                      GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY, KEEP_SPIKES_WAY, GRADE_WAY),
+                                      LOG_NAMES_WAY, CURVE_CHANNEL_WAY, TABLE_RATE_WAY, DIGITISED_WAY,
+                                      GAP_CHANNELS_WAY, GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY, KEEP_SPIKES_WAY,
+                                      GRADE_WAY),
                                      key=lambda w: -len(w.cli)))
 #: The interfaces a message can be said for.
 INTERFACES = ("cli", "dashboard")

@@ -6,7 +6,7 @@ import streamlit as st
 
 from budget.bounds.lever_arm import pga_limited_bounds
 from budget.catalog.schema import GRADES
-from budget.check import check_parts, recommend_grade, rotation_line
+from budget.check import check_parts, check_scenario_keys, recommend_grade, rotation_line
 from budget.fileio import json_text
 from budget.safe_text import frame_csv_text
 from budget.plots.check import margin_heatmap_figure
@@ -61,6 +61,8 @@ def render() -> None:
     st.markdown(f"Scenario **{s.name}**: Tc = **{s.tc_s:.4g} s**, δr = {s.range_resolution_m:.4g} m, "
                 f"**{ctx.mode}** bounds → <span id='check-summary'>**{n['pass']} pass · {n['fail']} fail · "
                 f"{n['unknown']} unknown**</span>", unsafe_allow_html=True)
+    if defaults := s.defaults_note(check_scenario_keys(ctx.mode, kind)):  # as `sar-budget check` states it
+        st.info(defaults, icon=":material/info:")
     cols = st.columns([1, 1, 1, 2])
     cols[0].metric("pass", n["pass"])
     cols[1].metric("fail", n["fail"])

@@ -15,6 +15,7 @@ from budget.catalog.io import parts_to_csv_text
 from budget.catalog.schema import GRADES
 from budget.errors import InputError, in_words_of
 from budget.fileio import json_text
+from budget.safe_text import printable
 from budget.noise import ImuLog, LogError, allan_deviation, characterize, fit_noise_terms, welch_psd
 from budget.noise.pipeline import analyse_arma
 from budget.noise.synth import imu_noise
@@ -24,7 +25,7 @@ from budget.units import channel_si_unit
 
 from formatting import tidy, value_table
 from page_frame import run_page
-from upload_tables import is_adev_table, upload_log_or_table, uploaded_adev
+from upload_tables import UploadedTable, is_adev_table, upload_log_or_table, uploaded_adev
 from uploads import (INTERFACE, LogLayout, layout_inputs, naming_upload, read_uploaded_log, repair_box, show_error,
                      show_log_findings)
 
@@ -191,19 +192,24 @@ def _channel_sections(log: ImuLog, key: str) -> None:
     st.plotly_chart(psd_figure(psd), key="noise_psd_plot", width="stretch")
 
 
-def _allan_table_sections(data: bytes, name: str) -> dict | None:
+def _allan_table_sections(data: bytes, name: str) -> UploadedTable | None:
     """An uploaded Allan table: its curves, the IEEE-952 fit per channel (no ARMA: no series)."""
-    st.markdown(f"**{name}** is an Allan table. The record's rate and length are not in it; give them "
-                "(they fix the averaging factors and, without lci/uci, the confidence intervals).")
-    table = uploaded_adev("noise", data, name)
+    st.markdown(f"**{name}** is an Allan table. The record's rate and length are not in it: give them "
+                "(they fix the averaging factors and, without lci/uci, the confidence intervals), or, for a "
+                "curve read off a datasheet figure, say there is none.")
+    table = uploaded_adev("noise", data, name, digitised=True)
     if table is None:  # waiting for the channel of a one-curve table
         return None
     tables = table.tables
+    record = ("digitised curve, no record behind it" if table.digitised
+              else f"record of {table.samples} samples at {table.rate_hz:g} Hz")
     st.markdown(f"<span id='noise-loaded'>**{name}**: Allan table, {len(tables)} channel(s): "
-                f"{', '.join(tables)}</span>", unsafe_allow_html=True)
+                f"{', '.join(tables)} ({record})</span>", unsafe_allow_html=True)
+    for note in table.notes:  # how the table was read, as the CLI notes it before its result
+        st.info(f"{name}: {printable(in_words_of(note, INTERFACE), 600)}", icon=":material/info:")
     channel = st.selectbox("channel", list(tables), key="noise_table_channel")
     try:
-        ch = _characterize(f"{name}:{table.rate_hz}:{table.samples}:{table.curve_channel}", "measured_imu", tables)
+        ch = _characterize(_table_key(name, table), "measured_imu", tables)
     except InputError as err:
         raise naming_upload(err, name) from None
     terms = ch.channels.get(channel)
@@ -212,8 +218,13 @@ def _allan_table_sections(data: bytes, name: str) -> dict | None:
                     key="noise_allan_plot", width="stretch")
     if terms is not None:
         _terms_table(terms, "noise_terms_table")
+        st.caption(terms.summary().splitlines()[0])
     st.caption("ARMA modelling and the Kalman filter need the time series; upload the log for them.")
-    return tables
+    return table
+
+
+def _table_key(name: str, table: UploadedTable) -> str:
+    return f"{name}:{table.rate_hz}:{table.samples}:{table.curve_channel}"
 
 
 def _catalog_entry(data, key: str) -> None:
@@ -237,7 +248,7 @@ def _catalog_entry(data, key: str) -> None:
     with st.expander("Per-channel IEEE-952 fits"):
         st.dataframe(tidy(ch.to_frame()), hide_index=True, key="noise_char_table")
         for note in ch.notes:
-            st.caption(f"note: {note}")
+            st.caption(f"note: {in_words_of(note, INTERFACE)}")
     st.download_button("Download the catalog row (CSV)", data=parts_to_csv_text([ch.part]),
                        file_name=f"{part_id}.csv", mime="text/csv", key="noise_part_download")
     st.caption("Upload it on the Catalog page to check it against the scenario.")
@@ -251,11 +262,10 @@ def render() -> None:
     data, name = src
     digest = hashlib.sha256(data).hexdigest()
     if is_adev_table(data, name):
-        tables = _allan_table_sections(data, name)
-        if tables is None:  # waiting for the channel of a one-curve table
+        table = _allan_table_sections(data, name)
+        if table is None:  # waiting for the channel of a one-curve table
             return
-        rate, samples = st.session_state["noise_adev_rate"], st.session_state["noise_adev_samples"]
-        _catalog_entry(tables, f"{digest}:{rate}:{samples}:{st.session_state.get('noise_curve_channel')}")
+        _catalog_entry(table.tables, f"{digest}:{_table_key(name, table)}")
         return
     loaded = _load(data, name)
     if loaded is None:

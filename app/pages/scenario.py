@@ -10,7 +10,7 @@ import streamlit as st
 
 from budget import units as u
 from budget.bounds import (BOUND_FIELDS, DerivedAssumptions, NoAutofocusAssumptions, compute_bounds,
-                           fast_phase_limits)
+                           fast_phase_limits, scenario_keys)
 from budget.check import recommend_grade
 from budget.sar.windows import verdict_window
 from budget.plots.bounds import BOUND_LABELS, bounds_vs_tc_figure
@@ -23,16 +23,34 @@ from page_frame import run_page
 TC_CHOICES = (0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0)
 
 
-def bounds_frame(ctx: sidebar.Context) -> pd.DataFrame:
-    """One row per bound (datasheet unit in the label), one column per mode, at the scenario's Tc."""
+def bounds_tables(ctx: sidebar.Context) -> dict:
+    """The library's bounds table of each mode at the scenario's Tc (as ``sar-budget bounds``)."""
     s = ctx.scenario
+    return {mode: compute_bounds(np.array([s.tc_s]), s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
+                                 assumptions=ctx.assumptions(mode))
+            for mode in sidebar.MODES}
+
+
+def bounds_frame(ctx: sidebar.Context, tables: dict | None = None) -> pd.DataFrame:
+    """One row per bound (datasheet unit in the label), one column per mode, at the scenario's Tc."""
+    tables = tables or bounds_tables(ctx)
     data = {"parameter": [BOUND_LABELS[k] for k in BOUND_FIELDS], "key": list(BOUND_FIELDS)}
-    for mode in sidebar.MODES:
-        table = compute_bounds(np.array([s.tc_s]), s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
-                               assumptions=ctx.assumptions(mode))
+    for mode, table in tables.items():
         ds = table.datasheet()
         data[mode] = [float(np.ravel(ds[k])[0]) for k in BOUND_FIELDS]
     return pd.DataFrame(data)
+
+
+def limit_notes(tables: dict) -> list[str]:
+    """Where a bound stops constraining (:meth:`budget.bounds.BoundsTable.limit_notes`), per mode."""
+    return [f"{mode}: {note}" for mode, table in tables.items() for note in table.limit_notes()]
+
+
+def defaults_note(s) -> str:
+    """The scenario keys the bounds use that its file (or preset) left out, with the defaults
+    taken (:meth:`budget.scenario.Scenario.defaults_note`, as ``sar-budget bounds`` prints it)."""
+    keys = tuple(dict.fromkeys(k for mode in sidebar.MODES for k in scenario_keys(mode)))
+    return s.defaults_note(keys)
 
 
 @st.cache_data(show_spinner="Drawing bounds vs. Tc …", max_entries=64)
@@ -102,11 +120,16 @@ def render() -> None:
                f"R = {s.slant_range_m:.4g} m · V = {s.platform_speed_m_s:.4g} m/s — edit it in the sidebar")
     _metrics(s)
     st.subheader("Maximum allowed IMU errors at this Tc")
-    df = bounds_frame(ctx)
+    tables = bounds_tables(ctx)
+    df = bounds_frame(ctx, tables)
     st.dataframe(df.style.format({m: "{:.4g}" for m in sidebar.MODES}), hide_index=True,
                  column_config={"key": st.column_config.TextColumn("key (JSON/CLI)")}, key="scn_bounds_table")
     st.caption("paper: seed 004 (6)–(11); derived: the same from physics with the sidebar's assumptions; "
                "no-autofocus: phase limits without PGA. Each source alone within one range cell.")
+    for note in limit_notes(tables):  # a bound that does not constrain must not read as a limit
+        st.warning(note, icon=":material/warning:")
+    if note := defaults_note(s):
+        st.info(note, icon=":material/info:")
     _recommendation(ctx)
     _fast_phase(s)
     st.subheader("Bounds vs. aperture time")

@@ -59,7 +59,7 @@ import pandas as pd
 from scipy import optimize, stats
 
 from .. import units as u
-from ..errors import CURVE_CHANNEL_WAY, TABLE_RATE_WAY, InputError
+from ..errors import CURVE_CHANNEL_WAY, DIGITISED_WAY, TABLE_RATE_WAY, InputError
 from ..fileio import open_input, read_text, require_file, text_encoding
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
 from .logs import decimal_comma
@@ -478,7 +478,7 @@ def read_adev_table(path: str | Path, rate_hz: float | None = None, samples: int
 
 
 #: What a digitised curve's result says (no record behind it).
-DIGITISED_NOTE = ("read as a digitised curve (no --rate-hz/--samples: no record known): τ taken as "
+DIGITISED_NOTE = (f"read as a digitised curve ({DIGITISED_WAY.cli}: no record known): τ taken as "
                   "given, no confidence bounds from a sample count")
 
 
