@@ -128,8 +128,9 @@ def uploaded_adev(prefix: str, data: bytes, name: str, *, digitised: bool = Fals
     return UploadedTable(read_uploaded_adev(data, name, rate, samples, channel=curve), rate, samples, curve)
 
 
-#: The choice of the record behind an uploaded Allan table (the noise lab's; the model gap needs
-#: the record, as the library's model gap refuses a digitised curve).
+#: The choice of the record behind an uploaded Allan table (the noise lab and the model gap offer
+#: it; the library's model gap refuses a digitised curve, and the page shows that refusal rather
+#: than reading the curve with a default rate and length).
 RECORD_LABEL = "record behind the curve"
 RECORD_CHOICES = ("known: its sampling rate and length",
                   "not known: a digitised datasheet curve (τ as given)")

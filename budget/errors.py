@@ -283,6 +283,11 @@ LOG_NAMES_WAY = Way("or a --mapping that names them (source column → canonical
 KEEP_SPIKES_WAY = Way("keep_spikes=True, CLI --keep-spikes, keeps them", "tick 'keep spikes' to keep them")
 #: The grade of a characterised part when it cannot be inferred.
 GRADE_WAY = Way("an explicit grade (--grade)", "an explicit grade (pick it in 'grade' beside the part id)")
+#: The record behind an Allan table the model gap compares (a digitised curve has none).
+GAP_RECORD_WAY = Way("--rate-hz F --samples N of the record the curve came from",
+                     "'record behind the curve' set to 'known', with the record's sampling rate and samples")
+#: Characterising a log on its own (a model of the unit rather than of the catalog part).
+NOISE_ALONE_WAY = Way("`sar-budget noise`, `budget.noise`", "the Noise lab page")
 #: The model-gap workflow's τ-range check, which the dashboard always makes.
 GAP_TAU_CHECK_WAY = Way(" (or check_tau_range=False / --no-tau-check)", "")
 #: The channels the model-gap workflow compares (a subset of the measurement's).
@@ -294,7 +299,7 @@ MOTION_MEMORY_WAY = Way("fewer workers, a lower imu_rate_hz", "a lower imu rate 
 WAYS: tuple[Way, ...] = tuple(sorted((REPAIR_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, LOG_CHANNEL_WAY, LOG_MAPPING_WAY,
                                       LOG_NAMES_WAY, CURVE_CHANNEL_WAY, TABLE_RATE_WAY, DIGITISED_WAY,
                                       GAP_CHANNELS_WAY, GAP_TAU_CHECK_WAY, MOTION_MEMORY_WAY, KEEP_SPIKES_WAY,
-                                      GRADE_WAY),
+                                      GRADE_WAY, GAP_RECORD_WAY, NOISE_ALONE_WAY),
                                      key=lambda w: -len(w.cli)))
 #: The interfaces a message can be said for.
 INTERFACES = ("cli", "dashboard")

@@ -126,7 +126,7 @@ def _measured(model: NoiseModel, seed: int):
     data, name = upload
     digest = hashlib.sha256(data).hexdigest()[:16]
     if is_adev_table(data, name):
-        table = uploaded_adev("gap", data, name)
+        table = uploaded_adev("gap", data, name, digitised=True)  # "not known": the library refuses it
         if table is None:  # waiting for the channel of a one-curve table
             return None
         st.caption(f"{name}: Allan table, channels {', '.join(table.tables)} (compared by ADEV only).")

@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ..catalog.schema import FLICKER_FLOOR
-from ..errors import GAP_CHANNELS_WAY, GAP_TAU_CHECK_WAY, InputError
+from ..errors import GAP_CHANNELS_WAY, GAP_RECORD_WAY, GAP_TAU_CHECK_WAY, InputError
 from ..imu import NoiseModel
 from ..imu.registry import DETERMINISTIC_EFFECTS, TEMPERATURE_EFFECTS
 from ..imu.resolve import resolve_noise_model
@@ -151,7 +151,7 @@ def _from_tables(tables: dict[str, AllanResult], source: str) -> Measured:
     if any(not t.samples for t in tables.values()):  # read_adev_table without rate and length
         raise InputError("a digitised Allan curve (no record behind it) cannot be compared: the model "
                          "gap needs the record's rate and length", field="measured",
-                         expected="--rate-hz F --samples N of the record the curve came from")
+                         expected=GAP_RECORD_WAY.cli)
     rates = {t.rate_hz for t in tables.values()}
     lens = {t.samples for t in tables.values()}
     if len(rates) > 1 or len(lens) > 1:

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import NOISE_ALONE_WAY
+
 #: Median misfit (measured − model, dB, over the Allan-deviation τ, PSD bands and line) below
 #: which a channel beyond its null threshold reads as quieter than its model ...
 QUIET_DB = -1.0
@@ -42,4 +44,4 @@ def note(channel: str, median: float) -> str:
             f"{-median:.1f} dB below it): every candidate effect adds noise, so none can close this "
             "gap and none is named on this channel (a filter or a quantizer fitted to pull the "
             "model down would be an artefact) — the model's values are conservative for this unit; "
-            "characterise the log on its own (`sar-budget noise`, `budget.noise`) for a model of it")
+            f"characterise the log on its own ({NOISE_ALONE_WAY.cli}) for a model of it")
