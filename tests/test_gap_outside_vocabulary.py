@@ -180,3 +180,41 @@ def test_run_gap_names_gauss_markov_with_the_telegraph_note():
     assert [(s.name, s.channel) for s in rep.steps][:1] == [("gauss_markov", "gyro_y")]
     assert any("two-valued" in n and "random telegraph" in n for n in rep.notes)
     assert rep.to_dict()["slow_shape"][0]["two_valued"]
+
+
+def test_no_slow_part_below_eight_samples_per_block():
+    """A Gauss–Markov τ_c of 2 samples (a decimation filter, as the real ADIS16405 gyro_z's
+    0.021 s at 100 Hz) leaves one-sample blocks: the 'slow part' would be the samples, whose
+    lattice (a quantized output) is platykurtic without any telegraph — no check is made."""
+    n = 100_000
+    rng = np.random.default_rng(5)
+    lsb = 0.05 * math.pi / 180.0  # a coarse output lattice
+    x = np.round((go.base("gyro_y", n, rng) + 0.5 * lsb * rng.standard_normal(n)) / lsb) * lsb
+    tau_c = 2.0 / go.RATE
+    model = BASE.with_effect({"name": "gauss_markov", "channel": "gyro_y", "params": {"tau_s": tau_c, "sigma": lsb}})
+    assert int(round(0.5 * tau_c * go.RATE)) < two_valued.MIN_BLOCK_SAMPLES
+    assert two_valued.check(model, "gyro_y", x, go.RATE, tau_c, seed=0) is None
+
+
+def test_a_small_two_valued_share_is_not_called_two_valued():
+    """Significance alone is not enough on a long record: a telegraph ±a beside a Gaussian slow
+    part of variance 3a² (block means' white noise s² ≪ a²) has kurtosis ≈ −2a⁴/(4a²)² = −0.125,
+    many standard deviations from 0 over 5·10⁴ blocks but above the −0.5 limit: not called
+    two-valued."""
+    assert -2.0 / 16.0 > two_valued.KURTOSIS_LIMIT
+    n, tau_c = 500_000, 0.2  # 10-sample blocks at 100 Hz
+    rng = np.random.default_rng(9)
+    block = int(round(0.5 * tau_c * go.RATE))
+    s = go.GYRO_N * math.sqrt(go.RATE / block)  # the block means' white noise
+    a = 10.0 * s
+    phi = math.exp(-1.0 / (go.RATE * tau_c))
+    w = rng.standard_normal(n) * math.sqrt(1 - phi * phi)
+    x = (go.base("gyro_y", n, rng) + a * go.telegraph(n, rng, rate=1.0 / (2.0 * tau_c))
+         + math.sqrt(3.0) * a * lfilter([1.0], [1.0, -phi], w))
+    model = BASE.with_effect({"name": "gauss_markov", "channel": "gyro_y",
+                              "params": {"tau_s": tau_c, "sigma": 2.0 * a}})
+    got = two_valued.check(model, "gyro_y", x, go.RATE, tau_c, seed=0)
+    assert got is not None
+    assert got["z"] < -two_valued.Z_LIMIT  # significant …
+    assert two_valued.KURTOSIS_LIMIT < got["kurtosis"] < 0.0  # … but small
+    assert not got["two_valued"]

@@ -13,7 +13,9 @@ and compares it with the same statistic on realizations of the *updated* model (
 the Gauss–Markov term, so the sampling scatter of a correlated slow part with few
 correlation times in the record is the model's own). When the record's value lies below every
 realization and more than :data:`Z_LIMIT` standard deviations below their mean, the report
-says so in a note: the spectrum is explained, the shape is not.
+says so in a note: the spectrum is explained, the shape is not — when the kurtosis is also at or
+below :data:`KURTOSIS_LIMIT` (an effect size, not only a significance) and the blocks hold at
+least :data:`MIN_BLOCK_SAMPLES` samples.
 """
 
 from __future__ import annotations
@@ -30,6 +32,16 @@ REALIZATIONS = 32
 Z_LIMIT = 3.0
 #: Fewest blocks for the statistic to be formed.
 MIN_BLOCKS = 32
+#: Fewest samples per block: below it the "slow part" is the samples themselves, whose
+#: distribution carries the white noise and the output's lattice (quantization), not the
+#: Gauss–Markov term (on the real ADIS16405 gyro_z a τ_c = 0.021 s term — the output's
+#: decimation filter — gave one-sample blocks and a kurtosis of −0.29 from the lattice).
+MIN_BLOCK_SAMPLES = 8
+#: Largest excess kurtosis called two-valued, an effect size beside the significance (on 10⁶
+#: samples a kurtosis of −0.05 is already many standard deviations from 0): a bias switching
+#: between ±a under a Gaussian slow part of variance s² gives −2a⁴/(a² + s²)², so −0.5 means the
+#: two-valued part holds at least half the slow part's variance (a² ≥ s²).
+KURTOSIS_LIMIT = -0.5
 
 
 def slow_kurtosis(x: np.ndarray, block: int) -> float:
@@ -44,10 +56,11 @@ def check(model: NoiseModel, channel: str, x: np.ndarray, rate_hz: float, tau_s:
           true_value: float = 0.0, temp_c=None) -> dict | None:
     """The slow part's kurtosis on ``channel`` against ``model``'s (the updated model, holding the
     Gauss–Markov term of ``tau_s``): a dict (measured, model mean and sd, z, block seconds,
-    realizations, two_valued) or None when the record has fewer than :data:`MIN_BLOCKS` blocks."""
+    realizations, two_valued) or None when the record has fewer than :data:`MIN_BLOCKS` blocks
+    or a block fewer than :data:`MIN_BLOCK_SAMPLES` samples (τ_c too short for a slow part)."""
     block = max(1, int(round(0.5 * tau_s * rate_hz)))
     n = np.asarray(x).size
-    if n // block < MIN_BLOCKS:
+    if n // block < MIN_BLOCKS or block < MIN_BLOCK_SAMPLES:
         return None
     meas = slow_kurtosis(x, block)
     rng = channel_rng(seed + 7919, channel, 0x7E1E)
@@ -58,7 +71,7 @@ def check(model: NoiseModel, channel: str, x: np.ndarray, rate_hz: float, tau_s:
     return {"channel": channel, "tau_s": float(tau_s), "block_s": block / rate_hz,
             "kurtosis": meas, "model_mean": mean, "model_sd": sd, "z": float(z),
             "realizations": REALIZATIONS,
-            "two_valued": bool(z < -Z_LIMIT and meas < float(sims.min()))}
+            "two_valued": bool(z < -Z_LIMIT and meas < float(sims.min()) and meas <= KURTOSIS_LIMIT)}
 
 
 def note(found: dict) -> str:
