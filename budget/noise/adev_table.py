@@ -482,15 +482,21 @@ DIGITISED_NOTE = (f"read as a digitised curve ({DIGITISED_WAY.cli}: no record kn
                   "given, no confidence bounds from a sample count")
 
 
-def _digitised(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, has_ci: bool,
-               ci_level: float, path: Path) -> AllanResult:
-    """A digitised curve's channel: τ as given; EDF from ``lci``/``uci`` or unknown (∞)."""
+def _curve(df: pd.DataFrame, rows: np.ndarray, path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """(τ, adev) of one channel's rows, τ strictly increasing (else refused naming the row)."""
     tau = df["tau_s"].to_numpy(float)
     adev = df["adev"].to_numpy(float)
     if np.any(np.diff(tau) <= 0):
         i = int(np.flatnonzero(np.diff(tau) <= 0)[0]) + 1
         raise InputError("τ must increase within a channel", file=path, row=int(rows[i]) + 2,
                          field="tau_s", value=tau[i])
+    return tau, adev
+
+
+def _digitised(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, has_ci: bool,
+               ci_level: float, path: Path) -> AllanResult:
+    """A digitised curve's channel: τ as given; EDF from ``lci``/``uci`` or unknown (∞)."""
+    tau, adev = _curve(df, rows, path)
     factor = u.CHANNEL_UNIT_TO_SI[unit]
     alpha = noise_type_from_slope(tau, adev)
     if has_ci:
@@ -516,12 +522,7 @@ def _digitised(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, has_ci: b
 
 def _channel(df: pd.DataFrame, rows: np.ndarray, ch: str, unit: str, rate_hz: float,
              samples: int, has_ci: bool, ci_level: float, path: Path) -> AllanResult:
-    tau = df["tau_s"].to_numpy(float)
-    adev = df["adev"].to_numpy(float)
-    if np.any(np.diff(tau) <= 0):
-        i = int(np.flatnonzero(np.diff(tau) <= 0)[0]) + 1
-        raise InputError("τ must increase within a channel", file=path, row=int(rows[i]) + 2,
-                         field="tau_s", value=tau[i])
+    tau, adev = _curve(df, rows, path)
     m_raw = tau * rate_hz
     m = np.maximum(np.rint(m_raw), 1.0)
     rel = np.abs(m_raw - m) / m
