@@ -8,8 +8,10 @@ Library functions take a ``numpy.random.Generator``; engines that loop over tria
 :func:`trial_generator` to build one per trial (or per block of trials).
 
 Streams of the model-gap workflow are keyed differently — ``spawn_key=(channel index, digest of
-the channel model's term names)`` (:mod:`budget.gap.simulate`) — and seed-paper cases and tests
-take a ``Generator`` from their caller.
+the channel model's term names)`` (:mod:`budget.gap.simulate`); the report's shape checks after a
+run draw the updated model's realizations from ``spawn_key=(channel index, 0, id)`` with the id in
+:data:`GAP_CHECK_STREAMS` (a third key element, so never a realization of the gap itself) — and
+seed-paper cases and tests take a ``Generator`` from their caller.
 """
 
 from __future__ import annotations
@@ -28,6 +30,14 @@ STREAMS = MappingProxyType({
     "sar_scene": 23,                # layout and clutter of the realistic scene (budget.mc.chain)
     "sar_reference": 24,            # receiver noise of the perfect-IMU reference (budget.mc.reference)
     "prefilter_calibration": 22,    # static record the ARMA pre-filter is fitted on
+})
+
+
+#: The model-gap report's shape checks (budget.gap.two_valued, budget.gap.temperature_curve):
+#: the third spawn-key element of their channel streams (:func:`budget.gap.simulate.check_rng`).
+GAP_CHECK_STREAMS = MappingProxyType({
+    "gap_two_valued": 1,            # slow-part kurtosis of the updated model (budget.gap.two_valued)
+    "gap_temperature_curve": 2,     # curved temperature share of the updated model (budget.gap.temperature_curve)
 })
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from budget.rng import STREAMS, stream_id, trial_generator
+from budget.rng import GAP_CHECK_STREAMS, STREAMS, stream_id, trial_generator
 
 #: The pinned table: changing an id changes every result drawn from it — do it on purpose.
 PINNED = {"motion_imu": 11, "motion_disturbance": 12, "motion_initial": 13, "motion_aiding": 14,
@@ -15,8 +15,14 @@ PINNED = {"motion_imu": 11, "motion_disturbance": 12, "motion_initial": 13, "mot
           "sar_reference": 24}
 
 
+#: The model-gap report checks' streams (third spawn-key element), pinned likewise.
+PINNED_GAP_CHECKS = {"gap_two_valued": 1, "gap_temperature_curve": 2}
+
+
 def test_the_table_is_pinned_and_ids_are_unique():
     assert dict(STREAMS) == PINNED
+    assert dict(GAP_CHECK_STREAMS) == PINNED_GAP_CHECKS
+    assert len(set(GAP_CHECK_STREAMS.values())) == len(GAP_CHECK_STREAMS)
     assert len(set(STREAMS.values())) == len(STREAMS)
     with pytest.raises(TypeError):
         STREAMS["new"] = 99  # read-only

@@ -24,6 +24,7 @@ import hashlib
 import numpy as np
 
 from ..imu import NoiseModel, generate_imu_errors
+from ..rng import GAP_CHECK_STREAMS
 from ..units import ACCEL_CHANNELS, CHANNELS, GYRO_CHANNELS
 from .signatures import Signature, SignatureGrid, overlapping_avar, series_signature
 
@@ -45,6 +46,14 @@ def structure_key(model: NoiseModel, channel: str) -> int:
 
 def channel_rng(seed: int, channel: str, key: int) -> np.random.Generator:
     ss = np.random.SeedSequence(int(seed), spawn_key=(CHANNELS.index(channel), int(key)))
+    return np.random.default_rng(ss)
+
+
+def check_rng(seed: int, channel: str, check: str) -> np.random.Generator:
+    """The stream of a report check's realizations on ``channel``: ``spawn_key=(channel index, 0,
+    id)``, ``id`` = :data:`budget.rng.GAP_CHECK_STREAMS` [``check``] (three key elements: never
+    the stream of a realization of the gap itself)."""
+    ss = np.random.SeedSequence(int(seed), spawn_key=(CHANNELS.index(channel), 0, GAP_CHECK_STREAMS[check]))
     return np.random.default_rng(ss)
 
 

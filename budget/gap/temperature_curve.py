@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..imu import NoiseModel
-from .simulate import channel_rng, simulate_series
+from .simulate import check_rng, simulate_series
 
 #: Effects whose slow excursion a curved temperature response can pass for.
 SLOW = ("rate_random_walk", "gauss_markov", "bias_instability", "rate_ramp", "warmup_transient",
@@ -53,7 +53,7 @@ def check(model: NoiseModel, channel: str, x: np.ndarray, rate_hz: float, temp_c
     """The measured curved share on ``channel`` against ``model``'s realizations (dict with
     ``curved``: True when it is beyond them)."""
     meas = curved_share(x, temp_c)
-    rng = channel_rng(seed + 104729, channel, 0x7C0D)
+    rng = check_rng(seed, channel, "gap_temperature_curve")
     sims = np.array([curved_share(s, temp_c) for s in simulate_series(
         model, channel, REALIZATIONS, np.asarray(x).size, rate_hz, rng, true_value=true_value, temp_c=temp_c)])
     mean, sd = float(sims.mean()), float(sims.std(ddof=1))

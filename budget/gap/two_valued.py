@@ -24,7 +24,7 @@ import numpy as np
 from scipy import signal, stats
 
 from ..imu import NoiseModel
-from .simulate import channel_rng, simulate_series
+from .simulate import check_rng, simulate_series
 
 #: Realizations of the updated model behind the null of the slow part's kurtosis.
 REALIZATIONS = 32
@@ -63,7 +63,7 @@ def check(model: NoiseModel, channel: str, x: np.ndarray, rate_hz: float, tau_s:
     if n // block < MIN_BLOCKS or block < MIN_BLOCK_SAMPLES:
         return None
     meas = slow_kurtosis(x, block)
-    rng = channel_rng(seed + 7919, channel, 0x7E1E)
+    rng = check_rng(seed, channel, "gap_two_valued")
     sims = np.array([slow_kurtosis(s, block) for s in simulate_series(
         model, channel, REALIZATIONS, n, rate_hz, rng, true_value=true_value, temp_c=temp_c)])
     mean, sd = float(sims.mean()), float(sims.std(ddof=1))
