@@ -49,7 +49,8 @@ Randomness
     Library functions take a :class:`numpy.random.Generator`; trial engines draw trial ``i``
     from ``SeedSequence(seed, spawn_key=(i, stream))`` with the stream ids of
     :data:`budget.rng.STREAMS`, so the same seed gives the same numbers for any chunking,
-    worker count or backend.
+    worker count or backend; the model-gap workflow keys its channel streams by channel and model
+    structure, its report checks by :data:`budget.rng.GAP_CHECK_STREAMS` (:mod:`budget.rng`).
 Errors
     Bad input raises :class:`budget.errors.InputError` naming file, row, field and what was
     expected; the CLI and the dashboard turn every failure into such a message.
