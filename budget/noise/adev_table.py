@@ -413,10 +413,8 @@ def read_adev_table(path: str | Path, rate_hz: float | None = None, samples: int
     keeps them all (the caller picks)."""
     path = Path(path)
     require_file(path)
-    digitised = rate_hz is None and samples is None
-    if digitised:
-        pass
-    elif not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
+    digitised = rate_hz is None and samples is None  # no record behind the curve
+    if not digitised and not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz) and rate_hz > 0):
         raise InputError("sampling rate of the record is required", field="rate_hz", value=rate_hz,
                          expected=f"{TABLE_RATE_WAY.cli} > 0 (the rate of the data the curve came from), "
                                   f"with --samples; neither for a digitised datasheet curve")
