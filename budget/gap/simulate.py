@@ -57,6 +57,18 @@ def check_rng(seed: int, channel: str, check: str) -> np.random.Generator:
     return np.random.default_rng(ss)
 
 
+def model_statistic(model: NoiseModel, channel: str, statistic, n_samples: int, rate_hz: float, seed: int,
+                    check: str, realizations: int, *, true_value: float = 0.0,
+                    temp_c: np.ndarray | None = None) -> tuple[np.ndarray, float, float]:
+    """A report check's null: ``statistic(series)`` on ``realizations`` series of ``channel`` under
+    ``model`` (the updated model) from the check's own stream (:func:`check_rng`); returns the
+    values, their mean and their standard deviation."""
+    sims = np.array([statistic(s) for s in simulate_series(
+        model, channel, realizations, n_samples, rate_hz, check_rng(seed, channel, check),
+        true_value=true_value, temp_c=temp_c)])
+    return sims, float(sims.mean()), float(sims.std(ddof=1))
+
+
 def simulate_series(model: NoiseModel, channel: str, n_real: int, n_samples: int, rate_hz: float,
                     rng: np.random.Generator, *, true_value: float = 0.0,
                     temp_c: np.ndarray | None = None):

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..imu import NoiseModel
-from .simulate import check_rng, simulate_series
+from .simulate import model_statistic
 
 #: Effects whose slow excursion a curved temperature response can pass for.
 SLOW = ("rate_random_walk", "gauss_markov", "bias_instability", "rate_ramp", "warmup_transient",
@@ -53,10 +53,9 @@ def check(model: NoiseModel, channel: str, x: np.ndarray, rate_hz: float, temp_c
     """The measured curved share on ``channel`` against ``model``'s realizations (dict with
     ``curved``: True when it is beyond them)."""
     meas = curved_share(x, temp_c)
-    rng = check_rng(seed, channel, "gap_temperature_curve")
-    sims = np.array([curved_share(s, temp_c) for s in simulate_series(
-        model, channel, REALIZATIONS, np.asarray(x).size, rate_hz, rng, true_value=true_value, temp_c=temp_c)])
-    mean, sd = float(sims.mean()), float(sims.std(ddof=1))
+    sims, mean, sd = model_statistic(model, channel, lambda s: curved_share(s, temp_c), np.asarray(x).size,
+                                     rate_hz, seed, "gap_temperature_curve", REALIZATIONS,
+                                     true_value=true_value, temp_c=temp_c)
     z = (meas - mean) / sd if sd > 0 else 0.0
     return {"channel": channel, "named": list(named), "share": meas, "model_mean": mean, "model_sd": sd,
             "z": float(z), "realizations": REALIZATIONS,

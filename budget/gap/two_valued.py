@@ -24,7 +24,7 @@ import numpy as np
 from scipy import signal, stats
 
 from ..imu import NoiseModel
-from .simulate import check_rng, simulate_series
+from .simulate import model_statistic
 
 #: Realizations of the updated model behind the null of the slow part's kurtosis.
 REALIZATIONS = 32
@@ -63,10 +63,8 @@ def check(model: NoiseModel, channel: str, x: np.ndarray, rate_hz: float, tau_s:
     if n // block < MIN_BLOCKS or block < MIN_BLOCK_SAMPLES:
         return None
     meas = slow_kurtosis(x, block)
-    rng = check_rng(seed, channel, "gap_two_valued")
-    sims = np.array([slow_kurtosis(s, block) for s in simulate_series(
-        model, channel, REALIZATIONS, n, rate_hz, rng, true_value=true_value, temp_c=temp_c)])
-    mean, sd = float(sims.mean()), float(sims.std(ddof=1))
+    sims, mean, sd = model_statistic(model, channel, lambda s: slow_kurtosis(s, block), n, rate_hz, seed,
+                                     "gap_two_valued", REALIZATIONS, true_value=true_value, temp_c=temp_c)
     z = (meas - mean) / sd if sd > 0 else 0.0
     return {"channel": channel, "tau_s": float(tau_s), "block_s": block / rate_hz,
             "kurtosis": meas, "model_mean": mean, "model_sd": sd, "z": float(z),
