@@ -219,7 +219,8 @@ def vary_scenario(base, field: str, values) -> list:
         if isinstance(v, bool) or not isinstance(v, numbers.Real):
             raise InputError(f"not a number for {field}", field="values", value=v,
                              expected=f"numbers of {field} (SI unit in its name)")
-        data = {**s.model_dump(), field: float(v), "name": f"{s.name}@{field}={float(v):g}"}
+        # the keys the base left out stay out, so each copy still states the defaults it takes
+        data = {**s.model_dump(exclude_unset=True), field: float(v), "name": f"{s.name}@{field}={float(v):g}"}
         out.append(Scenario.from_dict(data, source=f"{field}={v}"))
     return out
 

@@ -126,3 +126,17 @@ def test_the_report_marks_each_scenario_key_as_written_or_defaulted(tmp_path):
     assert set(d["scenario_defaults"]) == {"propagation_speed_m_s", "squint_deg", "window_broadening",
                                            "platform_accel_m_s2", "platform_rate_deg_s"}
     assert math.isclose(d["scenario_defaults"]["propagation_speed_m_s"], 1500.0)
+
+
+def test_copies_varied_over_a_field_still_state_the_defaults_their_base_took(tmp_path):
+    """budget.vary_scenario (sweep_over's copies) rebuilt each copy from the base's full dump, so
+    every key looked written and the copies stated no default; the keys the file left out stay
+    out of the copies."""
+    from budget.api import vary_scenario
+
+    base = load_scenario(_write(tmp_path, "sas300.yaml", SAS_300K))
+    taken = base.defaults_taken()
+    assert "propagation_speed_m_s" in taken and "window_broadening" in taken
+    for copy in vary_scenario(base, "slant_range_m", [100.0, 200.0]):
+        assert set(copy.defaults_taken()) == set(taken)
+        assert copy.c_m_s == base.c_m_s  # the same default, still used
