@@ -19,7 +19,7 @@ import streamlit as st
 from budget.cli.dashboard_cmd import MAX_UPLOAD_MB as UPLOAD_LIMIT_MB
 from budget.errors import InputError
 from budget.noise import AllanResult, read_adev_table
-from budget.noise.adev_table import looks_like_adev_table, needs_channel_name
+from budget.noise.adev_columns import looks_like_adev_table, needs_channel_name
 from budget.units import CHANNELS
 from uploads import read_via_temp_copy
 

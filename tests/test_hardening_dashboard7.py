@@ -20,7 +20,7 @@ import pytest
 
 from app_harness import AppTest, open_app as _app, page_errors as _errors
 from budget.errors import InputError
-from budget.noise.adev_table import needs_channel_name
+from budget.noise.adev_columns import needs_channel_name
 from budget.units import CHANNELS
 
 UPLOAD = "upload a log or an Allan table"

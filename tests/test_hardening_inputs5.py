@@ -17,7 +17,8 @@ import pytest
 from budget.cli.main import main
 from budget.errors import InputError
 from budget.noise import characterize, read_log
-from budget.noise.adev_table import looks_like_adev_table, read_adev_table
+from budget.noise import read_adev_table
+from budget.noise.adev_columns import looks_like_adev_table
 from budget.noise.log_mapping import LogMapping
 
 HEADER = "time_s,gyro_x_dps,gyro_y_dps,gyro_z_dps,accel_x_mps2,accel_y_mps2,accel_z_mps2"

@@ -21,7 +21,8 @@ from budget.cli.main import main
 from budget.errors import InputError
 from budget.gap.inputs import load_measured
 from budget.noise import read_log
-from budget.noise.adev_table import looks_like_adev_table, read_adev_table
+from budget.noise import read_adev_table
+from budget.noise.adev_columns import looks_like_adev_table
 from budget.noise.log_mapping import LogMapping
 from budget.noise.measurement import read_measurement
 

@@ -51,7 +51,6 @@ from __future__ import annotations
 
 import io
 import math
-import re
 from pathlib import Path
 
 import numpy as np
@@ -59,9 +58,11 @@ import pandas as pd
 from scipy import optimize, stats
 
 from .. import units as u
-from ..errors import CURVE_CHANNEL_WAY, DIGITISED_WAY, TABLE_RATE_WAY, InputError
-from ..fileio import open_input, read_text, require_file, text_encoding
+from ..errors import DIGITISED_WAY, TABLE_RATE_WAY, InputError
+from ..fileio import read_text, require_file
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
+from .adev_columns import (canonical, channel_unit, is_row_index, long_layout, table_header, tau_to_seconds,
+                           value_unit)
 from .logs import decimal_comma
 
 REQUIRED = ("channel", "tau_s", "adev")
@@ -69,159 +70,6 @@ REQUIRED = ("channel", "tau_s", "adev")
 #: that take τ from measured time stamps write τ·rate = 0.999999, 1.04, 1.10 …).
 TAU_TOLERANCE = 0.15
 OPTIONAL = ("lci", "uci")
-
-
-#: τ header names that carry their time unit in the name → factor to seconds (a unit written in
-#: brackets, ``tau [ms]``, is read by :func:`budget.units.header_time_factor`)
-_TAU_UNITS = {"tau_s": 1.0, "tau_ms": 1e-3, "tau_us": 1e-6}
-#: Delimiters an Allan table may use; the one that splits the header into a τ column is taken.
-_DELIMITERS = (",", ";", "\t")
-
-#: Header names read as each column of a table (compared lower-case, without spaces): other
-#: tools write ``Tau``, ``tau (s)``, ``ADEV``, ``sigma (deg/h)`` (datasheets), ``Allan deviation``,
-#: or the Allan variance instead of the deviation (MATLAB's ``allanvar``: ``avar``,
-#: ``allan_variance``, ``sigma^2`` — read as a variance, its square root taken, never as a
-#: deviation). allantools' ``oadev`` written with pandas adds ``adev_err`` (its adev/√n) and ``n``
-#: (the number of overlapping differences): read by :func:`_pairs_check` and :data:`ERR_NOTE`.
-_ALIASES = {"tau_s": ("tau", "taus") + tuple(_TAU_UNITS), "channel": ("channel",),
-            "adev": ("adev", "oadev", "sigma", "allandeviation", "allan_deviation", "allan_dev"),
-            "avar": ("avar", "oavar", "allanvar", "allanvariance", "allan_variance", "allan_var",
-                     "sigma2", "sigma^2", "sigma²"),
-            "lci": ("lci",), "uci": ("uci",),
-            "adev_err": ("adev_err", "adev_error", "ade"), "n": ("n", "ns", "n_pairs")}
-_CANON = {a: c for c, names in _ALIASES.items() for a in names}
-
-
-def _key(col) -> str:
-    """A header cell as compared: lower case, without spaces or surrounding quotes."""
-    return str(col).strip().strip("\"'").lower().replace(" ", "")
-
-
-def _split(col) -> tuple[str, str | None]:
-    """(name, unit written in brackets after it or None): ``'adev (deg/h)'`` → ``('adev', 'deg/h')``."""
-    return u.split_header_unit(str(col).strip().strip("\"'"))
-
-
-def _canonical(col: str) -> str | None:
-    """The column a header cell reads as (:data:`_ALIASES`), a unit in brackets after it
-    left aside (``tau [s]``, ``adev (deg/h)``); None for any other cell."""
-    return _CANON.get(_key(_split(col)[0]))
-
-
-#: Lines read from the top of a file to find an Allan table's header (comment lines first).
-_HEADER_LINES = 50
-
-
-def table_header(path: str | Path) -> tuple[str, int] | None:
-    """(delimiter, lines before the header) when ``path`` is an Allan table — a header line that
-    names a τ column (``tau_s``, ``tau``, ``tau_ms`` …) split by ``,``, ``;`` or a tab, after
-    blank and ``#`` comment lines — else None. The file's compression is found by content
-    (gzip, bzip2, xz, zip, whatever its suffix)."""
-    try:
-        with open_input(path) as fh:
-            raw = fh.read(1 << 16)
-    except InputError:
-        return None
-    lines = raw.decode(text_encoding(raw[:4]), errors="replace").splitlines()
-    for pre, line in enumerate(lines[:_HEADER_LINES]):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        for delim in _DELIMITERS:
-            if any(_canonical(c) == "tau_s" for c in line.split(delim)):
-                return delim, pre
-        return None
-    return None
-
-
-def looks_like_adev_table(path: str | Path) -> bool:
-    """True when ``path``'s header names a τ column (``tau_s``, ``tau``, …) or has the
-    ``channel, tau_s, adev`` columns (:func:`table_header`): an Allan table, in any of the
-    layouts :func:`read_adev_table` reads (or refuses with a message about the layout); a log
-    has no τ."""
-    return table_header(path) is not None
-
-
-def needs_channel_name(path: str | Path) -> bool:
-    """True when ``path`` is an Allan table of one curve without a channel column (``tau_s, adev``,
-    ``tau [s], adev (deg/h)``, with or without ``lci, uci``): :func:`read_adev_table` reads it only
-    with the channel its curve belongs to (``channels=["gyro_z"]``). False for a table that names
-    its channels (a channel column, or one ADEV column per channel) and for anything else; a
-    header that cannot be read is left to :func:`read_adev_table` to refuse."""
-    found = table_header(path)
-    if found is None:
-        return False
-    delim, pre = found
-    try:
-        with open_input(path) as fh:
-            raw = fh.read(1 << 16)
-    except InputError:
-        return False
-    lines = [ln for ln in raw.decode(text_encoding(raw[:4]), errors="replace").splitlines()[pre:] if ln.strip()]
-    if not lines:
-        return False
-    cells = [c for c in lines[0].split(delim) if c.strip().strip("\"'")]  # trailing delimiters: no column
-    names = [_canonical(c) for c in cells]
-    return (None not in names and "tau_s" in names and "channel" not in names
-            and ("adev" in names or "avar" in names))
-
-
-def _long_layout(df: pd.DataFrame, path: Path, header_row: int = 1,
-                 channels: list[str] | None = None) -> tuple[pd.DataFrame, np.ndarray, bool]:
-    """(table in the long layout ``channel, tau_s, adev[, lci, uci]``, the file's 0-based data row
-    of each of its rows, whether it came from the wide layout). Accepted: the long layout with
-    header names as in :data:`_ALIASES` (any case), ``avar`` instead of ``adev`` (its square
-    root is taken, and of ``lci``/``uci`` with it), and the wide layout ``tau_s, <channel>, …``
-    (one ADEV column per channel, named with its unit like a log column, e.g. ``gyro_x_dps``).
-    A long table without a channel column (``tau_s, adev``: one curve) is read as the one
-    channel ``channels`` names, and refused with how to name it when it names none."""
-    expected = ("channel, tau_s, adev[, lci, uci] (one row per channel and τ; avar instead of adev "
-                "is read too), or tau_s and one ADEV column per channel named with its unit (gyro_x_dps, …)")
-    names = {c: _canonical(c) for c in df.columns}
-    dup = [c for c in set(n for n in names.values() if n) if list(names.values()).count(c) > 1]
-    if dup:
-        raise InputError(f"two header names read as {dup[0]}", file=path, row=header_row, expected=expected)
-    known = {c: n for c, n in names.items() if n}
-    rest = [c for c, n in names.items() if not n]
-    if set(known.values()) == {"tau_s"} and rest:  # wide: tau_s + one column per channel
-        for c in rest:
-            try:
-                u.split_channel_column(str(c).strip())
-            except ValueError as err:
-                raise InputError(f"wide Allan table: column {c!r} is not a channel with its unit ({err})",
-                                 file=path, row=header_row, expected=expected) from None
-        tau_col = next(iter(known))
-        rows = np.tile(np.arange(len(df)), len(rest))
-        long = pd.DataFrame({"channel": np.repeat([str(c).strip() for c in rest], len(df)),
-                             "tau_s": np.tile(df[tau_col].to_numpy(), len(rest)),
-                             "adev": np.concatenate([df[c].to_numpy() for c in rest])})
-        return long, rows, True
-    df = df.rename(columns=known)
-    value = "avar" if "avar" in df.columns else "adev"
-    if "channel" not in df.columns and "tau_s" in df.columns and value in df.columns and not rest:
-        df = df.assign(channel=_only_channel(channels, path, header_row))
-    missing = [c for c in ("channel", "tau_s") if c not in df.columns] + ([] if value in df.columns else ["adev"])
-    if missing or rest or ("avar" in df.columns and "adev" in df.columns):
-        what = "; ".join(t for t in (missing and f"missing {missing}", rest and f"unknown {rest}",
-                                     "avar" in df.columns and "adev" in df.columns and "both adev and avar")
-                         if t)
-        raise InputError(f"not an Allan table layout this tool reads: columns {what}", file=path, row=header_row,
-                         expected=expected)
-    if value == "avar":
-        for col in ("avar", "lci", "uci"):
-            if col in df.columns:
-                v = pd.to_numeric(df[col], errors="coerce")
-                df[col] = np.sqrt(v.where(v >= 0))  # a negative variance stays NaN: refused below
-        df = df.rename(columns={"avar": "adev"})
-    return df, np.arange(len(df)), False
-
-
-def _is_row_index(df: pd.DataFrame, col: str) -> bool:
-    """True for the column pandas' ``to_csv`` writes first by default: no header name
-    (``Unnamed: 0``) and the row numbers 0, 1, 2 … (allantools' curves saved with pandas)."""
-    if not (col == "" or col.startswith("Unnamed:")):
-        return False
-    v = pd.to_numeric(df[col], errors="coerce").to_numpy(float)
-    return bool(v.size) and np.array_equal(v, np.arange(v.size))
 
 
 #: What a table's ``adev_err`` column (allantools: adev/√n) is left for, said once per channel.
@@ -248,134 +96,6 @@ def _pairs_check(n: np.ndarray, m: np.ndarray, samples: int, rows: np.ndarray, p
         raise InputError(f"the table's n = {n[0]:.10g} at m = {int(m[0])} says the record had {implied} "
                          f"samples, not the {samples} given", file=path, row=int(rows[0]) + 2, field="n",
                          value=n[0], expected=f"--samples {implied} (the record the curve came from)")
-
-
-def _only_channel(channels: list[str] | None, path: Path, header_row: int) -> str:
-    """The channel of a table with one curve and no channel column: the one ``channels`` names."""
-    how = (f"name its channel: {CURVE_CHANNEL_WAY.cli}; or "
-           "add a channel column (channel, tau_s, adev), or name the ADEV column after its channel "
-           "and unit (tau_s, gyro_z_dps)")
-    if not channels:
-        raise InputError("the table has no channel column: whose curve it is is not said", file=path,
-                         row=header_row, field="channel", expected=how)
-    if len(channels) > 1:
-        raise InputError(f"the table has no channel column, so it holds one curve, but {len(channels)} "
-                         f"channels are named ({', '.join(channels)})", file=path, field="channels",
-                         expected="one channel, e.g. --channels gyro_z")
-    if channels[0] not in u.CHANNELS:
-        raise InputError(f"unknown channel {channels[0]!r}", file=path, field="channels",
-                         expected=f"one of {', '.join(u.CHANNELS)} (the unit goes in the ADEV column's "
-                                  "header: adev [deg/h])")
-    return channels[0]
-
-
-def _tau_factor(columns, path: Path, header_row: int) -> float:
-    """Factor to seconds of the τ column: from its name (``tau_ms``) or the unit in brackets after
-    it (``tau [ms]``, :func:`budget.units.header_time_factor`); both given must agree."""
-    col = next((c for c in columns if _canonical(c) == "tau_s"), None)
-    if col is None:
-        return 1.0
-    base, written = _split(col)
-    named = _TAU_UNITS.get(_key(base))
-    if written is None:
-        return named or 1.0
-    try:
-        factor = u.header_time_factor(written, col)
-    except ValueError as err:
-        raise InputError(str(err), file=path, row=header_row, field=col,
-                         expected="τ in a time unit: tau [s], tau [ms], tau_s") from None
-    if named is not None and not math.isclose(named, factor):
-        raise InputError(f"column {col!r} names two time units, in its name and {written!r} in brackets",
-                         file=path, row=header_row, field=col, expected="one unit: tau [s] or tau_s")
-    return factor
-
-
-#: An Allan variance's unit as written in a header: the square of a rate unit, ``(deg/h)^2``.
-_SQUARED = re.compile(r"\(\s*(.*?)\s*\)\s*(?:\^\s*2|²)")
-
-
-def _value_unit(columns, path: Path, header_row: int) -> tuple[str | None, str | None]:
-    """(the unit written in brackets after the ADEV, AVAR, LCI and UCI columns — one for all, an
-    AVAR's as a square ``avar [(deg/h)^2]`` — and the column it was read from), or (None, None);
-    columns that write different units are refused."""
-    found: dict[str, str] = {}
-    variance = any(_canonical(c) == "avar" for c in columns)  # lci, uci are variances then too
-    for col in columns:
-        name = _canonical(col)
-        written = _split(col)[1] if name in ("adev", "avar", "lci", "uci") else None
-        if written is None:
-            continue
-        if variance:
-            m = _SQUARED.fullmatch(written)
-            if m is None:
-                raise InputError(f"column {col!r}: an Allan variance's unit is a square", file=path,
-                                 row=header_row, field=col, expected="avar [(deg/h)^2], or adev [deg/h]")
-            written = m.group(1)
-        found[col] = written
-    keys = {k.strip().lower().replace(" ", "") for k in found.values()}
-    if len(keys) > 1:
-        shown = ", ".join(f"{c!r}" for c in found)
-        raise InputError(f"columns {shown} write different units", file=path, row=header_row,
-                         field=next(iter(found)), expected="one unit for the ADEV and its bounds")
-    return next(iter(found.values()), None), next(iter(found), None)
-
-
-def _channel_unit(name, written: str | None, column: str | None, path: Path, row: int,
-                  header_row: int, named: bool = False) -> tuple[str, str]:
-    """(channel, unit tag) of a table's channel ``name`` — a cell of the channel column (file row
-    ``row``), or the channel the caller ``named`` for a table without one — its unit from the name
-    (``gyro_x_dps``) or the one ``written`` in the ``column`` header (``adev [deg/h]``, row
-    ``header_row``); two that disagree are refused."""
-    text = str(name).strip()
-    bare = u.CHANNEL_NAME_ALIASES.get(text.lower(), text.lower())
-    at, field = (header_row, column or "adev") if named else (row, "channel")
-    if written is None:
-        if bare in u.CHANNELS:
-            kind = "gyro" if bare.startswith("gyro") else "accel"
-            tags = "|".join(u.CHANNEL_UNIT_TAGS[kind])
-            raise InputError(f"no unit for {bare}: the table writes it neither in the channel name "
-                             f"({bare}_{tags}) nor in brackets after the ADEV column's name", file=path,
-                             row=at, field=field, value=None if named else name,
-                             expected="adev [unit] with unit one of " + ", ".join(u.HEADER_CHANNEL_UNITS[kind]))
-        try:
-            return u.split_channel_column(text)
-        except ValueError as err:
-            raise InputError(str(err), file=path, row=row, field="channel") from None
-    if bare in u.CHANNELS:
-        try:
-            return bare, _adev_unit(bare, written, column)
-        except ValueError as err:
-            raise InputError(str(err), file=path, row=header_row, field=column,
-                             expected=f"a unit of {bare} in the ADEV column's header") from None
-    try:
-        ch, tag = u.split_channel_column(text)
-    except ValueError as err:
-        raise InputError(str(err), file=path, row=row, field="channel") from None
-    try:
-        said = _adev_unit(ch, written, column)
-    except ValueError as err:
-        raise InputError(str(err), file=path, row=header_row, field=column,
-                         expected=f"a unit of {ch} in the ADEV column's header") from None
-    if said != tag:
-        raise InputError(f"channel {text!r} is in {tag} but the column {column!r} says {written!r}: "
-                         "the two units disagree", file=path, row=row, field="channel", value=name,
-                         expected="one unit: in the channel name or in the ADEV column's header")
-    return ch, tag
-
-
-def _adev_unit(channel: str, written: str, column: str | None) -> str:
-    """:func:`budget.units.header_channel_unit` for an ADEV column: a noise density written there
-    (``mrad/s/√Hz``, ``deg/√h``) is refused as such — an Allan deviation is in the rate unit."""
-    try:
-        return u.header_channel_unit(channel, written, column)
-    except ValueError:
-        if not u.is_density_unit(written):
-            raise
-        rate = re.split(r"/\s*(?:√|sqrt|rt)", written, maxsplit=1, flags=re.I)[0].strip()
-        rate = rate if "/" in rate else ("deg/h" if channel.startswith("gyro") else "µg")  # deg/√h: an ARW
-        raise ValueError(f"column {column!r}: {written!r} is a noise density (ARW/VRW), but an Allan "
-                         f"deviation is in the channel's rate unit ({rate}, …); the density N is what the "
-                         f"fit gives from the curve — write adev [{rate}]") from None
 
 
 def edf_from_interval(adev: np.ndarray, lo: np.ndarray, hi: np.ndarray, ci_level: float) -> np.ndarray:
@@ -433,13 +153,13 @@ def read_adev_table(path: str | Path, rate_hz: float | None = None, samples: int
     df.columns = [str(c).strip().strip("\"'") for c in df.columns]
     # trailing delimiters (``1,2,3,``) make unnamed empty columns: they hold nothing
     df = df.drop(columns=[c for c in df.columns if c.startswith("Unnamed:") and df[c].isna().all()])
-    if len(df.columns) and _is_row_index(df, df.columns[0]):  # pandas' to_csv writes its index first
+    if len(df.columns) and is_row_index(df, df.columns[0]):  # pandas' to_csv writes its index first
         df = df.drop(columns=[df.columns[0]])
-    tau_factor = _tau_factor(df.columns, path, 1 + pre)
-    written, written_col = _value_unit(df.columns, path, 1 + pre)
+    tau_factor = tau_to_seconds(df.columns, path, 1 + pre)
+    written, written_col = value_unit(df.columns, path, 1 + pre)
     wanted = None if channels is None else [str(c).strip() for c in channels]
-    has_channel_column = any(_canonical(c) == "channel" for c in df.columns)
-    df, file_rows, wide = _long_layout(df, path, header_row=1 + pre, channels=wanted)
+    has_channel_column = any(canonical(c) == "channel" for c in df.columns)
+    df, file_rows, wide = long_layout(df, path, header_row=1 + pre, channels=wanted)
     file_rows = file_rows + pre
     has_ci = "lci" in df.columns or "uci" in df.columns
     if has_ci and not ("lci" in df.columns and "uci" in df.columns):
@@ -463,7 +183,7 @@ def read_adev_table(path: str | Path, rate_hz: float | None = None, samples: int
     for name in dict.fromkeys(df["channel"]):
         pos = np.flatnonzero((df["channel"] == name).to_numpy())
         rows = file_rows[pos]
-        ch, unit = _channel_unit(name, None if wide else written, written_col, path, int(rows[0]) + 2,
+        ch, unit = channel_unit(name, None if wide else written, written_col, path, int(rows[0]) + 2,
                                  1 + pre, named=not has_channel_column)
         if ch in out:
             raise InputError(f"channel {ch} appears under two unit tags", file=path,

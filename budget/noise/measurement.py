@@ -13,7 +13,8 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..fileio import require_file
-from .adev_table import looks_like_adev_table, read_adev_table
+from .adev_columns import looks_like_adev_table
+from .adev_table import read_adev_table
 from .allan import AllanResult
 from .log_mapping import LogMapping
 from .logs import ImuLog, read_log
