@@ -151,10 +151,10 @@ import scipy.fft as sfft
 
 from ..errors import InputError
 from .pga_fast import _fast_bands
-from .pga_kernels import line_sums, weighted_rows, wrms
+from .pga_kernels import image_power, line_sums, median_all, median_columns, weighted_rows, wrms
 from .sharpness import image_sharpness
 from .pga_lines import (_LN2, _SG_STRETCH_INC, _Lines, _centre, _detrend, _increment, _line_weights, _lowpass,
-                        _predicted_noise, _refine, _window, _window_width)
+                        _predicted_noise, _refine, _window, _window_width, fft_lines, ifft_lines)
 
 # First window on clutter (step 3, "auto"): this many times the measured width, which holds the
 # tails of a blurred response below win_db.
@@ -259,15 +259,21 @@ def apply_phase_correction(image_data, phase_error_rad) -> np.ndarray:
     if not np.all(np.isfinite(phi)):
         raise InputError("phase estimate holds NaN or infinite values", field="phase_error_rad",
                          expected="finite values")
-    return sfft.fft(sfft.ifft(g, axis=0) * np.exp(-1j * np.fft.ifftshift(phi))[:, None], axis=0)
+    if g.dtype != np.complex128:
+        return sfft.fft(sfft.ifft(g, axis=0) * np.exp(-1j * np.fft.ifftshift(phi))[:, None], axis=0)
+    hist = ifft_lines(g)
+    hist *= np.exp(-1j * np.fft.ifftshift(phi))[:, None]
+    return fft_lines(hist, out=hist)
 
 
 def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fraction: float,
-           min_window: int, first_window: str, band_snr: float) -> None:
+           min_window: int, first_window: str, band_snr: float, finite: bool | None = None) -> None:
+    """Raises InputError for a bad image or setting; ``finite``: whether every pixel is finite,
+    when already known."""
     if g.ndim != 2 or g.shape[0] < 16 or g.shape[1] < 1:
         raise InputError(f"image has shape {g.shape}", field="image_data",
                          expected="a 2-D complex array with ≥ 16 azimuth samples")
-    if not np.all(np.isfinite(g)):
+    if not (np.all(np.isfinite(g)) if finite is None else finite):
         raise InputError("image holds NaN or infinite values", field="image_data", expected="finite values")
     if kernel not in ("ml", "lumv"):
         raise InputError("unknown PGA kernel", field="kernel", value=kernel, expected="'ml' or 'lumv'")
@@ -281,15 +287,24 @@ def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fract
 
 
 def _median(x: np.ndarray, axis: int | None = None):
-    """``np.median(x, axis)`` of a finite array (axis None or 0), from one partition: with an even
-    count the lower middle value is the largest of the lower half (exactly np.median's value, at
-    a fraction of its time on the image)."""
+    """``np.median(x, axis)`` of a finite real array (axis None or 0, at most 2-D), exactly
+    (:func:`~budget.sar.pga_kernels.median_all`, :func:`~budget.sar.pga_kernels.median_columns`:
+    selections, at a fraction of np.median's time on the image)."""
+    x = np.ascontiguousarray(x, dtype=float)
+    if x.ndim == 1:
+        x = x[:, None]
     if axis is None:
-        x = x.ravel()
-    n = x.shape[0]
-    k = n // 2
-    part = np.partition(x, k, axis=0)
-    return part[k] if n % 2 else (part[:k].max(axis=0) + part[k]) / 2
+        return median_all(x)
+    return median_columns(x, np.arange(x.shape[1]))
+
+
+def _power_stats(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, bool]:
+    """(|g|² per pixel, its sums over axis 0, its peak, every pixel finite) of a 2-D image: one
+    compiled pass for a C-ordered complex image, NumPy's expressions otherwise."""
+    if g.dtype == np.complex128 and g.flags.c_contiguous and g.shape[1] > 1:  # one column: NumPy sums pairwise
+        return image_power(g)
+    power = g.real ** 2 + g.imag ** 2
+    return power, power.sum(axis=0), float(power.max()), bool(np.all(np.isfinite(g)))
 
 
 def _random_walk_rms(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray, n_bins: int) -> float:
@@ -386,21 +401,27 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
     except ValueError:  # ragged rows: numpy refuses the shape itself
         raise InputError("the image's rows differ in length", field="image_data",
                          expected="a 2-D complex array (azimuth × range)") from None
-    _check(g, kernel, max_iter, tol_rad, line_fraction, min_window, first_window, band_snr)
-    g = g.astype(complex, copy=False)
+    stats = None
+    if g.ndim == 2 and g.shape[0] >= 16 and g.shape[1] >= 1 and g.dtype.kind in "fc":
+        g = g.astype(complex, copy=False)
+        stats = _power_stats(g)  # the finiteness check comes with it
+    _check(g, kernel, max_iter, tol_rad, line_fraction, min_window, first_window, band_snr,
+           None if stats is None else stats[3])
+    if stats is None:
+        g = g.astype(complex, copy=False)
+        stats = _power_stats(g)
+    power, col_energy, peak_all, _ = stats
     n, n_lines = g.shape
     zero = np.zeros(n)
-    power = g.real ** 2 + g.imag ** 2
-    peak_all = float(power.max())
-    clutter = float(_median(power)) / _LN2
+    clutter = float(median_all(np.ascontiguousarray(power))) / _LN2
     if peak_all <= 0:
         return PgaResult(image=g, phase_error_rad=zero, iterations=0, converged=False, usable_lines=0,
                          reason="no usable scatterers: the image is zero")
     floor = max(0.1 * clutter, 1e-12 * peak_all, 1e-300)
     n_cand = min(n_lines, max(min_lines, min(max_lines, int(np.ceil(line_fraction * n_lines)))))
-    lines = np.sort(np.argsort(power.sum(axis=0))[::-1][:n_cand])
-    d = _Lines(hist=sfft.ifft(g[:, lines], axis=0),
-               c_line=np.maximum(_median(power[:, lines], axis=0) / _LN2, floor), kernel=kernel,
+    lines = np.sort(np.argsort(col_energy)[::-1][:n_cand])
+    d = _Lines(hist=ifft_lines(g[:, lines]),
+               c_line=np.maximum(median_columns(power, lines) / _LN2, floor), kernel=kernel,
                tol_rad=tol_rad, win_db=win_db, win_scale=win_scale, shrink=shrink, min_window=min_window,
                band_db=band_db, smooth=smooth)
 
