@@ -47,6 +47,12 @@ RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S = 1e7, 2e4
 #: longer than the installations that carry an IMU for motion compensation (the presets: ≤ 2 m),
 #: and what a lever arm written in cm (50 for 0.5 m) becomes; still simulated as given.
 LONG_LEVER_ARM_M = 20.0
+#: Exact straight-track aperture ÷ seed 004 (5)'s small-angle V·Tc beyond which a scenario carries
+#: a note (:meth:`Scenario.notes`): 1.05 is an angular aperture of about 35° at broadside.
+WIDE_APERTURE_RATIO = 1.05
+#: Centripetal share V²/r_E of g beyond which level flight's specific force is no longer ≈ g
+#: (V ≈ 2.5 km/s) and a scenario carries a note (an orbiting platform is in free fall).
+ORBITAL_SPECIFIC_FORCE_SHARE = 0.1
 #: Wavelength (m) the limits above allow: 1 µm (radar at 10 THz slowed to 10⁷ m/s) … 2 km (sonar
 #: at 10 Hz and 20 km/s); what a wavelength given alone (``bounds --wavelength``) is checked against.
 PLAUSIBLE_WAVELENGTH_M = (
@@ -339,6 +345,14 @@ class Scenario(BaseModel):
             raise InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m is finer than any "
                              f"synthetic aperture gives{unit_hint}", field="azimuth_resolution_m",
                              expected=f"≥ λ/4 = {0.25 * lam:.4g} m (a 180° aperture)")
+        reach = self.straight_track_aperture()
+        if not reach["reachable"]:
+            raise InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m needs an angular "
+                             f"aperture {reach['text']}, which no straight track gives at squint "
+                             f"{self.squint_deg:g}°", field="azimuth_resolution_m",
+                             expected=f"> {reach['finest_m']:.4g} m at this squint, window and wavelength "
+                                      "(δℓ = a_w λ / (4 sin(Δθ/2)), the aperture within 0° … 180° of "
+                                      "the velocity)")
         if any(abs(v) > 1e3 for v in self.lever_arm_m):
             raise InputError("lever arm longer than 1 km", field="lever_arm_m",
                              value=list(self.lever_arm_m), expected="|component| ≤ 1000 m")
@@ -360,7 +374,12 @@ class Scenario(BaseModel):
         Stop-and-go (seed 004's geometry, the simulator's echoes) assumes the platform does not
         cross the whole synthetic aperture while one pulse travels to the scene and back:
         Tc > 2R/c, i.e. V < a_w λ c / (4 δℓ sin θ); only a sonar flown fast misses it. A lever arm
-        longer than :data:`LONG_LEVER_ARM_M` is noted too (a length in cm read as m)."""
+        longer than :data:`LONG_LEVER_ARM_M` is noted too (a length in cm read as m), and so are an
+        angular aperture wide enough that seed 004 (5)'s small-angle Tc is more than
+        :data:`WIDE_APERTURE_RATIO` short of the straight-track aperture
+        (:meth:`straight_track_aperture`) and a speed at which level flight's specific force is no
+        longer ≈ g (V²/r_E > :data:`ORBITAL_SPECIFIC_FORCE_SHARE`·g: a spaceborne or ballistic
+        platform)."""
         out = []
         tc = self.tc_s
         delay = 2.0 * self.slant_range_m / self.c_m_s
@@ -372,6 +391,22 @@ class Scenario(BaseModel):
                        f"the whole {self.aperture_length_m:.3g} m synthetic aperture; the bounds and "
                        "the simulator assume stop-and-go and do not model this (platform_speed_m_s "
                        f"< {v_max:.3g} m/s keeps Tc > 2R/c: check the speed's unit and the medium)")
+        reach = self.straight_track_aperture()
+        if reach["reachable"] and reach["length_ratio"] > WIDE_APERTURE_RATIO:
+            out.append(f"{self.name}: the azimuth resolution asks for an angular aperture of "
+                       f"{math.degrees(reach['angle_rad']):.3g}°; Tc = a_w λ R / (2 δℓ V sin θ) (seed 004 (5)) "
+                       "is its small-angle form, and a straight track needs "
+                       f"{reach['length_m']:.4g} m (Tc = {reach['length_m'] / self.platform_speed_m_s:.4g} s), "
+                       f"{reach['length_ratio']:.3g}× the {self.aperture_length_m:.4g} m the bounds and the "
+                       "simulator use (exact: δℓ = a_w λ / (4 sin(Δθ/2)))")
+        from .nav.earth import EARTH_RADIUS_M
+        centripetal = self.platform_speed_m_s ** 2 / EARTH_RADIUS_M
+        if centripetal > ORBITAL_SPECIFIC_FORCE_SHARE * G0:
+            out.append(f"{self.name}: at {self.platform_speed_m_s:.4g} m/s level flight around the Earth "
+                       f"needs a specific force of only g − V²/r_E = {G0 - centripetal:.3g} m/s² (an orbit: ≈ 0), "
+                       "where the bounds' gyro terms (tilt × g) and the motion engine assume g on "
+                       "a flat Earth and a straight track: for an orbiting or ballistic platform they "
+                       "do not describe its navigation error")
         d = math.sqrt(sum(v * v for v in self.lever_arm_m))
         if d > LONG_LEVER_ARM_M:
             out.append(f"{self.name}: the lever arm lever_arm_m = {list(self.lever_arm_m)} is "
@@ -431,6 +466,34 @@ class Scenario(BaseModel):
     def aperture_length_m(self) -> float:
         """Synthetic-aperture length L = V·Tc (m)."""
         return self.platform_speed_m_s * self.tc_s
+
+    def straight_track_aperture(self) -> dict:
+        """The angular aperture δℓ asks for and the straight-track aperture that gives it, exact.
+
+        δℓ = a_w λ / (4 sin(Δθ/2)) (the two-way wavenumber support 2k·2 sin(Δθ/2)); on a straight
+        track at perpendicular distance h = R sin θ the line of sight sweeps θ ± Δθ/2, so
+        L = h (cot(θ − Δθ/2) − cot(θ + Δθ/2)), which reduces to seed 004 (5)'s R Δθ / sin θ with
+        Δθ = a_w λ / (2 δℓ) for narrow apertures. ``reachable`` is False when no aperture gives δℓ
+        (sin(Δθ/2) > 1) or the sweep would pass 0° or 180° from the velocity (a squinted line of
+        sight cannot turn past the track's direction); ``length_ratio`` is exact L ÷ V·Tc."""
+        x = self.window_broadening * self.wavelength_m / (4.0 * self.azimuth_resolution_m)
+        theta = self.theta_rad
+        # finest δℓ this squint allows: Δθ/2 up to min(θ, π − θ)
+        edge = min(theta, math.pi - theta)
+        finest = self.window_broadening * self.wavelength_m / (4.0 * math.sin(edge))
+        if x >= 1.0:
+            return {"reachable": False, "angle_rad": math.pi, "length_m": math.inf, "length_ratio": math.inf,
+                    "finest_m": finest, "text": "of 180° or more"}
+        half = math.asin(x)
+        if half >= edge:
+            return {"reachable": False, "angle_rad": 2 * half, "length_m": math.inf,
+                    "length_ratio": math.inf, "finest_m": finest,
+                    "text": f"of {math.degrees(2 * half):.3g}° about a line of sight "
+                            f"{math.degrees(theta):.3g}° from the velocity"}
+        h = self.slant_range_m * math.sin(theta)
+        length = h * (1.0 / math.tan(theta - half) - 1.0 / math.tan(theta + half))
+        return {"reachable": True, "angle_rad": 2 * half, "length_m": length,
+                "length_ratio": length / self.aperture_length_m, "finest_m": finest, "text": ""}
 
     def derived(self) -> dict[str, float]:
         """The derived quantities as a dict (for tables and JSON)."""

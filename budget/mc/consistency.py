@@ -76,6 +76,33 @@ def single_term_model(scenario: Scenario, term: str, scale: float) -> NoiseModel
                                   f"{bound * conv:.4g} in the field's unit)") from None
 
 
+#: term → its field of :class:`~budget.bounds.BoundsTable` (SI); None: no PGA-limited rule
+#: tightens it (the lever-arm misalignment rule is the gyro's: attitude error × lever arm)
+_BOUND_FIELD = {"accel_bias": "accel_bias_m_s2", "gyro_bias": "gyro_bias_rad_s",
+                "accel_vrw": "accel_vrw_m_s2_rt_hz", "gyro_arw": "gyro_arw_rad_s_rt_hz",
+                "accel_scale_factor": "accel_scale_factor", "accel_misalignment": None,
+                "gyro_scale_factor": "gyro_scale_factor", "gyro_misalignment": "misalignment_rad"}
+
+
+def pga_limited_scale(scenario: Scenario, term: str) -> tuple[float, str]:
+    """The PGA-limited bound of ``term`` (:func:`budget.bounds.lever_arm.pga_limited_bounds`:
+    seed 004's bound tightened by the lever arm and by what PGA's window cannot see) as a
+    multiple of its paper bound, and the rule that tightens it ('' when the paper bound stands).
+    The analytic prediction of where the table's crossing lies: a crossing well below 1 that
+    this scale also predicts is explained by that rule."""
+    from ..bounds.lever_arm import pga_limited_bounds
+
+    if term not in _BOUND_FIELD:
+        raise InputError("unknown error term", field="terms", value=term, expected=", ".join(TERMS))
+    si = _BOUND_FIELD[term]
+    if si is None:
+        return 1.0, ""
+    table, rules = pga_limited_bounds(scenario)
+    paper = paper_bounds(scenario.tc_s, scenario.range_resolution_m)
+    ratio = float(np.asarray(getattr(table, si))[0] / np.asarray(getattr(paper, si))[0])
+    return ratio, (rules.get(si, "") if ratio < 1.0 else "")
+
+
 #: Default grid: 0.1× … 10× the paper bound, 8 points per decade (17 scales).
 FINE_SCALES = np.logspace(-1.0, 1.0, 17)
 
@@ -87,7 +114,10 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = DEFAULT_TERMS,
     95 % interval ``crossing_lo`` … ``crossing_hi``; see the module docstring). A scale whose
     model no noise model accepts (10× a paper bound on a short aperture can ask for a gyro bias
     above 10⁶ deg/h) is not simulated: its row has ``simulated`` False, P = NaN and a ``note``
-    saying why, and the crossing is fitted over the other scales (``crossing_method`` says so)."""
+    saying why, and the crossing is fitted over the other scales (``crossing_method`` says so).
+    ``pga_limited_scale`` is the analytic PGA-limited bound of the term in multiples of its paper
+    bound and ``pga_limited_rule`` what tightens it (:func:`pga_limited_scale`): where the crossing
+    lies well below 1, a scale there says why (e.g. ARW × the lever arm on ``airborne_xband``)."""
     if not isinstance(scenario, Scenario):
         raise InputError(f"cannot use a {type(scenario).__name__} as the scenario", field="scenario",
                          value=scenario, expected="a Scenario (budget.consistency_table also takes a "
@@ -145,7 +175,9 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = DEFAULT_TERMS,
                {"scale": math.nan, "lo": math.nan, "hi": math.nan, "method": "no scale simulated"})
         if done and len(done) < len(scales):
             fit["method"] += f" (over the {len(done)} of {len(scales)} scales a noise model accepts)"
+        limited, rule = pga_limited_scale(scenario, term)
         for row in rows[-len(scales):]:
+            row["pga_limited_scale"], row["pga_limited_rule"] = limited, rule
             row["crossing_scale"] = fit["scale"]
             row["crossing_lo"], row["crossing_hi"] = fit["lo"], fit["hi"]
             row["crossing_method"] = fit["method"]
