@@ -316,3 +316,11 @@ def test_a_margin_falls_in_proportion_as_the_term_is_scaled_up():
     assert margins[0] == pytest.approx(70.0 / 5.0, rel=1e-6)      # paper (8): 1.4e5·0.05/100 = 70 µg
     assert margins[1] == pytest.approx(margins[0] / 3.0, rel=1e-9)
     assert margins[2] == pytest.approx(margins[0] / 10.0, rel=1e-9)
+
+
+def test_monte_carlo_summary_prints_no_bare_nan():
+    """PGA's own error exists only after PGA: the summary says n/a there, never NaN."""
+    r = budget.run_mc("automotive_24ghz", "STIM300", trials=2, seed=1)
+    text = r.summary()
+    assert "NaN" not in text and "nan" not in text.replace("n/a", "")
+    assert "n/a" in text

@@ -171,4 +171,5 @@ class McResult:
                 f"{', IMU pre-filter: ' + self.extra['prefilter'] if self.extra.get('prefilter') else ''}\n"
                 f"P(pass) before PGA {self.p_pass_before:.3f} [{lb:.3f}, {hb:.3f}], "
                 f"after PGA {self.p_pass_after:.3f} [{lo:.3f}, {hi:.3f}] (95 % Wilson)\n"
-                f"failure reasons: {reasons}\n" + self._judged_line() + self._unspecified_line() + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+                f"failure reasons: {reasons}\n" + self._judged_line() + self._unspecified_line() + self.to_frame().to_string(
+                    index=False, na_rep="n/a", float_format=lambda v: f"{v:.4g}"))  # PGA's error: after only
