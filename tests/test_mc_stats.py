@@ -17,6 +17,17 @@ def test_wilson_textbook_values():
     assert all(math.isnan(v) for v in wilson_interval(0, 0))
 
 
+@pytest.mark.parametrize("n", [1, 7, 64, 128, 1000, 4096])
+def test_wilson_bounds_exact_at_zero_and_all(n):
+    # p̂ = 0 → lower bound exactly 0, p̂ = 1 → upper bound exactly 1 (z²/(n + z²) on the other side),
+    # never a rounding residue such as 2.8e-17 that a summary prints as a probability
+    z2 = 1.959963984540054 ** 2
+    lo, hi = wilson_interval(0, n)
+    assert lo == 0.0 and hi == pytest.approx(z2 / (n + z2), rel=1e-12)
+    lo, hi = wilson_interval(n, n)
+    assert hi == 1.0 and lo == pytest.approx(n / (n + z2), rel=1e-12)
+
+
 def test_wilson_coverage():
     # over many binomial draws the 95 % interval covers p about 95 % of the time
     rng = np.random.default_rng(3)
