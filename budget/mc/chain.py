@@ -289,8 +289,8 @@ class ChainPlan:
         g, opt = setup.geom, setup.options
         noise = [] if setup.snr_db is None else [trial_generator(seed, t, stream) for t in trials]
         if self.former is not None:
-            clean = self.former.form(self.clean_spectrum, measured)
             if setup.snr_db is None and not self.separate:
+                clean = self.former.form(self.clean_spectrum, measured)
                 return clean, clean
             spec = self.pga_spectrum
             if noise:  # image formation is linear: the echoes' spectrum plus each trial's noise
@@ -298,7 +298,9 @@ class ChainPlan:
                 scale, band = self.noise_scale(setup), g.range_band_index
                 for b, r in enumerate(noise):
                     add_band_noise(spec[b], self.pga_spectrum, receiver_noise_draws(g, r), scale, band)
-            return clean, self.former.form(spec, measured)
+            # both images along the same measured tracks: their motion-compensation phases once
+            clean, noisy = self.former.form_groups([self.clean_spectrum, spec], measured)
+            return clean, noisy
         clean = np.stack([form_image(g, setup.clean_echoes, m, method=opt.image_method).data for m in measured])
         if setup.snr_db is None and not self.separate:
             return clean, clean

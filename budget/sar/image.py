@@ -184,11 +184,19 @@ class RdaImageFormer:
         """Image data (B, n_azimuth, n_range) of data with range spectrum ``range_spectrum``
         ((n_pulses, n_range) shared or (B, n_pulses, n_range)) focused with the B measured APC
         offsets ``measured_offset_m`` (B, n_pulses, 3), m."""
+        return self.form_groups([range_spectrum], measured_offset_m)[0]
+
+    def form_groups(self, range_spectra, measured_offset_m: np.ndarray) -> np.ndarray:
+        """:meth:`form` of G data sets along the same B trajectories: (G, B, n_azimuth, n_range),
+        group g from ``range_spectra[g]``; the motion compensation's phases are formed once for
+        the G sets (:meth:`~budget.sar.mocomp.MotionCompensator.apply_groups`), the transforms run
+        on the G·B stack. Every number is that of :meth:`form` on each set alone."""
         off = np.asarray(measured_offset_m, dtype=float)
         if off.ndim != 3 or off.shape[1:] != (self.geom.n_pulses, 3) or not np.all(np.isfinite(off)):
             raise InputError(f"APC offsets have shape {off.shape}", field="measured_offset_m",
                              expected=f"finite (B, {self.geom.n_pulses}, 3) metres")
         # the azimuth window is applied in the motion compensation's pass over the data
-        img = self.rda(self.mocomp.apply(range_spectrum, off, self.rda.window[:, 0]), windowed=True)
+        data = self.mocomp.apply_groups(range_spectra, off, self.rda.window[:, 0])
+        img = self.rda(data.reshape((-1,) + data.shape[2:]), windowed=True)
         img *= self.deramp
-        return img
+        return img.reshape(data.shape[:2] + img.shape[1:])

@@ -26,7 +26,7 @@ import scipy.fft as sfft
 from ..units import range_to_phase, two_way_wavenumber_at_frequency_rad_m
 from .complex_product import FUSED
 from .geometry import SarGeometry
-from .mocomp_kernels import first_order_product, second_order_in_place
+from .mocomp_kernels import first_order_product_into, second_order_in_place
 
 
 def los_range_change_m(geom: SarGeometry, offset_m: np.ndarray, ground_points_m: np.ndarray) -> np.ndarray:
@@ -127,17 +127,28 @@ class MotionCompensator:
         ((n_pulses, n_range), shared, or (B, n_pulses, n_range)) and B measured offsets
         (B, n_pulses, 3) m; with ``pulse_weight`` (n_pulses,) each pulse is then multiplied by
         its weight (an azimuth window), in the same pass."""
+        return self.apply_groups([range_spectrum], offset_m, pulse_weight)[0]
+
+    def apply_groups(self, range_spectra, offset_m: np.ndarray,
+                     pulse_weight: np.ndarray | None = None) -> np.ndarray:
+        """:meth:`apply` to G data sets seen along the same B trajectories (e.g. a scene's echoes
+        and the same echoes with receiver noise): (G, B, n_pulses, n_range), group g that of
+        ``range_spectra[g]``. The phasors and the second-order phase of each trajectory are formed
+        once for the G data sets; every number is that of :meth:`apply` on each alone."""
         off = np.asarray(offset_m, dtype=float)
         dr_c = self.centre_range_change_m(off)  # (B, n_pulses)
         coarse, fine = self._phasors(dr_c)
-        spec = np.asarray(range_spectrum, dtype=complex)
         shape = coarse.shape[:-1] + (self.n_range,)
-        # operand order of the former NumPy product spectrum · phasor: NumPy reused the phasor
-        # temporary for a stacked spectrum of ≥ 256 KiB and then multiplied it first (its
-        # temporary elision); the numbers stay those of that form to the last bit
-        phasor_first = spec.ndim == 3 and spec.nbytes >= _ELIDE_BYTES
-        out = sfft.ifft(first_order_product(np.broadcast_to(spec, shape), coarse, fine, self._a_index, self._b_index,
-                                            FUSED, phasor_first), axis=-1, overwrite_x=True)
+        out = np.empty((len(range_spectra),) + shape, dtype=complex)
+        for g, spectrum in enumerate(range_spectra):
+            spec = np.asarray(spectrum, dtype=complex)
+            # operand order of the former NumPy product spectrum · phasor: NumPy reused the phasor
+            # temporary for a stacked spectrum of ≥ 256 KiB and then multiplied it first (its
+            # temporary elision); the numbers stay those of that form to the last bit
+            phasor_first = spec.ndim == 3 and spec.nbytes >= _ELIDE_BYTES
+            first_order_product_into(out[g], np.broadcast_to(spec, shape), coarse, fine, self._a_index,
+                                     self._b_index, FUSED, phasor_first)
+        out = sfft.ifft(out, axis=-1, overwrite_x=True)
         p = self.nominal_apc_m + off  # reference points lie on x = 0, z = 0 at ground range y_r
         second_order_in_place(out, np.ascontiguousarray(p), np.ascontiguousarray(self.reference_points_m[:, 1]),
                               self.nominal_reference_range_m, np.ascontiguousarray(dr_c), -4.0 * math.pi,

@@ -22,16 +22,15 @@ from .complex_product import cmul
 
 
 @njit(cache=True)
-def first_order_product(spectrum: np.ndarray, coarse: np.ndarray, fine: np.ndarray, a_index: np.ndarray,
-                        b_index: np.ndarray, fused: bool, phasor_first: bool) -> np.ndarray:
-    """spectrum · (coarse[..., a_index] · fine[..., b_index]) for B trajectories: ``spectrum``
-    (B, n_pulses, n_range) (a broadcast view when the trajectories share it), ``coarse`` (B, n_pulses, n_a), ``fine``
-    (B, n_pulses, n_b); returns (B, n_pulses, n_range). ``fused``: the products as NumPy forms them
-    (:data:`budget.sar.complex_product.FUSED`); ``phasor_first``: the operand order of the complex
-    product (the fused form is not symmetric in its operands)."""
+def first_order_product_into(out: np.ndarray, spectrum: np.ndarray, coarse: np.ndarray, fine: np.ndarray,
+                             a_index: np.ndarray, b_index: np.ndarray, fused: bool, phasor_first: bool) -> None:
+    """out (B, n_pulses, n_range) = spectrum · (coarse[..., a_index] · fine[..., b_index]) for B
+    trajectories: ``spectrum`` (B, n_pulses, n_range) (a broadcast view when the trajectories
+    share it), ``coarse`` (B, n_pulses, n_a), ``fine`` (B, n_pulses, n_b). ``fused``: the products
+    as NumPy forms them (:data:`budget.sar.complex_product.FUSED`); ``phasor_first``: the operand
+    order of the complex product (the fused form is not symmetric in its operands)."""
     n_b, n_p, _ = coarse.shape
     n_r = a_index.size
-    out = np.empty((n_b, n_p, n_r), dtype=np.complex128)
     for b in range(n_b):
         for p in range(n_p):
             for k in range(n_r):
@@ -40,20 +39,20 @@ def first_order_product(spectrum: np.ndarray, coarse: np.ndarray, fine: np.ndarr
                     out[b, p, k] = cmul(phasor, spectrum[b, p, k], fused)
                 else:
                     out[b, p, k] = cmul(spectrum[b, p, k], phasor, fused)
-    return out
 
 
 @njit(cache=True)
 def second_order_in_place(data: np.ndarray, apc_m: np.ndarray, ground_y_m: np.ndarray,
                           nominal_range_m: np.ndarray, centre_change_m: np.ndarray, phase_per_m: float,
                           wavelength_m: float, pulse_weight: np.ndarray, fused: bool) -> None:
-    """data (B, n_pulses, n_range) ·= e^{−jψ}, ψ = phase_per_m · dr / λ, dr = (√((x² + (y − y_r)²) + z²)
+    """data (G, B, n_pulses, n_range) ·= e^{−jψ}, the same ψ on each of the G data sets of a
+    trajectory (its cosine and sine formed once): ψ = phase_per_m · dr / λ, dr = (√((x² + (y − y_r)²) + z²)
     − nominal_range_m[p, r]) − centre_change_m[b, p], (x, y, z) = ``apc_m[b, p]`` and y_r =
     ``ground_y_m[r]`` (the reference points lie on x = 0, z = 0); ``phase_per_m`` = −4π as
     :func:`budget.units.range_to_phase` multiplies; then, when ``pulse_weight`` (n_pulses,) is not
     empty, times each pulse's real weight, as NumPy multiplies a complex by a real (the real taken
-    as a complex of zero imaginary part); ``fused`` as in :func:`first_order_product`."""
-    n_b, n_p, n_r = data.shape
+    as a complex of zero imaginary part); ``fused`` as in :func:`first_order_product_into`."""
+    n_g, n_b, n_p, n_r = data.shape
     weighted = pulse_weight.size > 0
     for b in range(n_b):
         for p in range(n_p):
@@ -68,5 +67,7 @@ def second_order_in_place(data: np.ndarray, apc_m: np.ndarray, ground_y_m: np.nd
                 dy = y - ground_y_m[r]
                 dr = (math.sqrt((xx + dy * dy) + zz) - nominal_range_m[p, r]) - dc
                 phase = -(phase_per_m * dr / wavelength_m)
-                v = cmul(data[b, p, r], complex(math.cos(phase), math.sin(phase)), fused)
-                data[b, p, r] = cmul(v, w, fused) if weighted else v
+                e = complex(math.cos(phase), math.sin(phase))
+                for g in range(n_g):
+                    v = cmul(data[g, b, p, r], e, fused)
+                    data[g, b, p, r] = cmul(v, w, fused) if weighted else v
