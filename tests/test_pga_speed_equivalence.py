@@ -65,3 +65,49 @@ def test_phase_correction_is_the_plain_expression():
     g64 = g.astype(np.complex64)
     plain = sfft.fft(sfft.ifft(g64, axis=0) * np.exp(-1j * np.fft.ifftshift(phi))[:, None], axis=0)
     assert np.array_equal(apply_phase_correction(g64, phi), plain)
+
+
+@pytest.mark.parametrize("shape", [(462, 41), (128, 39), (95, 7)])
+def test_fused_line_kernels_equal_their_parts(shape):
+    """The fused kernels of the iterations and the fast-phase bands give what their parts give, bit
+    for bit (the bands' angles: NumPy's arctan2, to 1e-12 rad of the compiled one)."""
+    from budget.sar.pga_lines import _SG_MAX_FRACTION, _savgol_parts, _window
+    rng = np.random.default_rng(5)
+    n, n_l = shape
+    h = _image(rng, shape)
+    shifted = fft_lines(h)
+    pw = k.power(shifted)
+    c_line = rng.random(n_l) * np.median(pw, axis=0)
+    rows, rot, inside = _window(n, max(n // 6, 8))
+    bias = (np.log(n) + 0.5772 - 1.0) / rows.size
+    scr, w, cols = k.weights_and_lines(pw, rows, c_line, bias)
+    scr0, w0 = k.line_weights(pw, rows, c_line, bias)
+    assert np.array_equal(scr, scr0) and np.array_equal(w, w0) and np.array_equal(cols, np.flatnonzero(w0 > 0))
+    summed = k.weighted_rows(pw, w0)
+    assert k.measured_width(pw, rows, c_line, bias, 10.0, 1.5, 7) == k.window_width(summed, 10.0, 1.5)
+    assert k.measured_width(pw, rows, c_line * 1e9, bias, 10.0, 1.5, 7) == 7  # no line weighs: fallback
+    phi = rng.standard_normal(n)
+    assert np.array_equal(k.corrected_refine_ramp(shifted, h, rows, rot, cols, phi),
+                          k.refine_ramp(shifted, k.phase_corrected(h, phi), rows, rot, cols))
+    inc, weight, lo, hi, length = k.ml_step(h, 30.0, 16.0, 2.5, _SG_MAX_FRACTION)
+    energy, prod = k.line_sums(h)
+    inc0, weight0 = k.ml_increment(prod, energy, 30.0)
+    assert np.array_equal(inc, inc0) and np.array_equal(weight, weight0)
+    assert (lo, hi, length) == k.savgol_span(weight0, 16.0, 2.5, _SG_MAX_FRACTION)
+    if length:
+        rms = k.smoothed_rms(inc, weight, lo, hi, *_savgol_parts(int(length)))
+        k.savgol_in_place(inc0, lo, hi, *_savgol_parts(int(length)))
+        assert np.array_equal(inc, inc0) and rms == k.wrms(inc0, weight0)
+    starts = np.arange(0, n_l, 2)
+    im, re = k.band_sums(h, 3, n - 3, starts)
+    est, jk = k.accumulate_phases(np.arctan2(im, re))
+    est0, jk0 = k.band_phases(k.group_products(h, 3, n - 3, starts))
+    assert np.abs(est - est0).max() < 1e-12 and np.abs(jk - jk0).max() < 1e-12
+
+
+def test_dct_lines_is_scipys_orthonormal_dct():
+    from budget.sar.pga_lines import dct_lines
+    rng = np.random.default_rng(6)
+    for a in (rng.standard_normal(300), rng.standard_normal((301, 7))):
+        assert np.array_equal(dct_lines(a), sfft.dct(a, axis=0, norm="ortho"))
+        assert np.array_equal(dct_lines(a, inverse=True), sfft.idct(a, axis=0, norm="ortho"))

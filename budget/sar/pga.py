@@ -151,10 +151,11 @@ import scipy.fft as sfft
 
 from ..errors import InputError
 from .pga_fast import _fast_bands
-from .pga_kernels import image_power, line_sums, median_all, median_columns, weighted_rows, wrms
+from .pga_kernels import (image_power, line_sums, measured_width, median_all, median_columns, ml_step, refine_ramp,
+                          smoothed_rms, weights_and_lines, window_in_place, wrms)
 from .sharpness import image_sharpness
-from .pga_lines import (_LN2, _SG_STRETCH_INC, _Lines, _centre, _detrend, _increment, _line_weights, _lowpass,
-                        _predicted_noise, _refine, _window, _window_width, fft_lines, ifft_lines)
+from .pga_lines import (_LN2, _SG_MAX_FRACTION, _SG_STRETCH_INC, _Lines, _bias, _centre, _detrend, _increment,
+                        _line_weights, _lowpass, _predicted_noise, _savgol_parts, _window, fft_lines, ifft_lines)
 
 # First window on clutter (step 3, "auto"): this many times the measured width, which holds the
 # tails of a blurred response below win_db.
@@ -350,11 +351,10 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
     converged = False
     start = width
     for it in range(1, max_iter + 1):
-        h_shift, shifted, pw = _centre(d, phi_c)
+        h_shift, shifted, pw = d.centred_uncorrected() if it == 1 and not phi_c.any() else _centre(d, phi_c)
         # line weights from the SCR inside the current window (step 4), then the window (step 3)
-        scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
-        summed = weighted_rows(pw, w_line)
-        measured = _window_width(summed, d.win_db, d.win_scale) if summed[0] > 0 else width
+        rows = _window(n, width)[0]
+        measured = int(measured_width(pw, rows, d.c_line, _bias(d, rows), d.win_db, d.win_scale, width))
         previous = width
         if it == 1 and first == "auto":
             width = start = _start_width(d, pw, measured, d.n_signal_bins)
@@ -365,17 +365,29 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
             width = previous = start = max(d.min_window, min(width, measured))
         else:
             width = max(d.min_window, min(width, max(measured, int(np.ceil(d.shrink * width)))))
-        scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
-        if not np.any(w_line > 0):
+        rows, rot, inside = _window(n, width)
+        scr, w_line, cols = weights_and_lines(pw, rows, d.c_line, _bias(d, rows))
+        if cols.size == 0:
             break
-        _, win, hist_w = _refine(d, h_shift, shifted, width, w_line)
-        inc, weight = _increment(d, hist_w, win, *line_sums(hist_w)[::-1])
-        if d.smooth:
-            inc = _lowpass(inc, weight, min(width, d.smooth * max(measured, d.min_window)), _SG_STRETCH_INC)
-        rms = float(wrms(inc, weight))
+        # step 2's centroid refinement and step 3's window (:func:`_refine`)
+        win = refine_ramp(shifted, h_shift, rows, rot, cols)
+        win = fft_lines(win, out=win)
+        window_in_place(win, inside, w_line, cols)
+        if d.kernel == "ml":
+            sg_window = min(width, d.smooth * max(measured, d.min_window)) if d.smooth else 0.0
+            inc, weight, lo, hi, length = ml_step(ifft_lines(win, out=win), d.band_db, float(sg_window),
+                                                  _SG_STRETCH_INC, _SG_MAX_FRACTION)
+            rms = float(smoothed_rms(inc, weight, lo, hi, *_savgol_parts(int(length))) if length else
+                        wrms(inc, weight))
+        else:
+            hist_w = ifft_lines(win)
+            inc, weight = _increment(d, hist_w, win, *line_sums(hist_w)[::-1])
+            if d.smooth:
+                inc = _lowpass(inc, weight, min(width, d.smooth * max(measured, d.min_window)), _SG_STRETCH_INC)
+            rms = float(wrms(inc, weight))
         phi_c += inc
         history.append({"iteration": it, "rms_increment_rad": rms, "window": int(width),
-                        "lines_weighted": int(np.sum(w_line > 0))})
+                        "lines_weighted": int(cols.size)})
         if rms < d.tol_rad and width == previous:  # small correction and the window has settled
             converged = True
             break
@@ -476,7 +488,11 @@ def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaRe
     ``restarts``."""
     runs = [("clutter-limited start", first)]
     for label, first_window, shrink in _RESTARTS:
-        runs.append((label, finish(d if shrink is None else replace(d, shrink=shrink),
+        dd = d
+        if shrink is not None:
+            dd = replace(d, shrink=shrink)
+            dd.unshifted = d.unshifted  # the same lines: the same uncorrected start
+        runs.append((label, finish(dd,
                                    "auto" if first_window is None else first_window)))
     table, images = [], []
     for label, r in runs:

@@ -5,10 +5,10 @@ window that sees it and kept only where it is significant against its jackknife 
 from __future__ import annotations
 
 import numpy as np
-import scipy.fft as sfft
 
-from .pga_kernels import band_phases, group_products, group_starts, phase_corrected
-from .pga_lines import _SPAN_FRACTION, _Lines, _centre, _line_weights, _refine, _window
+from .pga_kernels import (accumulate_phases, band_sums, corrected_refine_ramp, group_starts, refine_ramp,
+                          weights_and_lines, window_in_place)
+from .pga_lines import _SPAN_FRACTION, _bias, _centre, _Lines, _window, dct_lines, fft_lines, ifft_lines
 from .residual import highpass_phase
 
 # lines less than 2 range lines apart form one jackknife group
@@ -40,23 +40,33 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
     gain 1 − V/P. Returns (phase to add, centred bins; the band's record)."""
     n = d.hist.shape[0]
     h_shift, shifted, pw = centred
-    if np.any(added):
-        h_shift = phase_corrected(h_shift, added)
-    scr, w_line = _line_weights(pw, _window(n, width)[0], d.c_line)
+    rows, rot, inside = _window(n, width)
+    scr, w_line, cols = weights_and_lines(pw, rows, d.c_line, _bias(d, rows))
     record = {"window": int(width), "m_lo": int(m_lo), "m_hi": int(m_hi), "band_rms_rad": 0.0,
               "noise_rms_rad": float("nan"), "gain": 0.0, "noise_from": "jackknife"}
-    if not np.any(w_line > 0):
+    keep = w_line > 0
+    if cols.size == 0:
         return np.zeros(n), record
-    keep, _, hist_w = _refine(d, h_shift, shifted, width, w_line)
+    # step 2's centroid refinement and step 3's window (:func:`_refine`) on the lines corrected
+    # with the bands added so far, forming only the lines that carry weight
+    if np.any(added):
+        win = corrected_refine_ramp(shifted, h_shift, rows, rot, cols, added)
+    else:
+        win = refine_ramp(shifted, h_shift, rows, rot, cols)
+    win = fft_lines(win, out=win)
+    window_in_place(win, inside, w_line, cols)
+    hist_w = ifft_lines(win, out=win)
     # lines of zero weight carry nothing: their groups are not data
     starts = group_starts(groups, keep)  # groups are runs of sorted lines
     n_g = starts.size
-    per_group = group_products(hist_w, lo, hi, starts)  # Σ G(k) G*(k−1) per group inside the span
-    est, jk = band_phases(per_group)  # the estimate over the span, and without each group
+    # Σ G(k) G*(k−1) over the groups inside the span, and without each group: their angles
+    # integrate to the estimate over the span and its delete-one-group versions
+    im, re = band_sums(hist_w, lo, hi, starts)
+    est, jk = accumulate_phases(np.arctan2(im, re, out=im))
     # orthonormal DCT-II over the span (index m ↔ m/2 cycles), the band's coefficients
-    coef = sfft.dct(est, norm="ortho")[m_lo + 1:m_hi + 1]
+    coef = dct_lines(est)[m_lo + 1:m_hi + 1]
     if n_g >= _MIN_GROUPS:
-        coef_jk = sfft.dct(jk, axis=0, norm="ortho")[m_lo + 1:m_hi + 1]
+        coef_jk = dct_lines(jk)[m_lo + 1:m_hi + 1]
         noise = float(np.sum((n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)))
     else:
         # one or two scatterers (a calibration reflector): no jackknife; the closed form — white
@@ -72,7 +82,7 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
         record["gain"] = 1.0 - noise / power
         full = np.zeros(hi - lo)
         full[m_lo + 1:m_hi + 1] = coef
-        out[lo:hi] = record["gain"] * sfft.idct(full, norm="ortho")
+        out[lo:hi] = record["gain"] * dct_lines(full, inverse=True)
     return out, record
 
 
@@ -83,7 +93,7 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     sees it (m_j = ⌊2^j W · span/n⌋: W samples see W/2 cycles per n bins), each kept only where
     significant (:func:`_band`). Returns the estimate with the kept bands added, and the records."""
     n = d.hist.shape[0]
-    energy = np.fft.fftshift((d.hist.real ** 2 + d.hist.imag ** 2).sum(axis=1))
+    energy = np.fft.fftshift(d.energy)
     # the span: bins within 10 dB of the peak energy that also hold at least as much signal as
     # noise (twice the floor, the 5th percentile: out-of-band bins of a noisy image are noise
     # only, and a basis stretched over them cannot follow the in-band phase)

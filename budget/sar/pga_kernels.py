@@ -556,3 +556,103 @@ def median_columns(x: np.ndarray, cols: np.ndarray) -> np.ndarray:
             buf[i] = x[i, c]
         out[j] = _median_of(buf, n)
     return out
+
+
+@njit(cache=True)
+def corrected_refine_ramp(shifted: np.ndarray, h_shift: np.ndarray, rows: np.ndarray, rot: np.ndarray,
+                          cols: np.ndarray, phi_c: np.ndarray) -> np.ndarray:
+    """:func:`refine_ramp` of ``phase_corrected(h_shift, phi_c)``, forming the corrected values of
+    the selected lines only (the same products in the same order)."""
+    n = h_shift.shape[0]
+    half = n // 2
+    src = np.empty((n, cols.size), dtype=np.complex128)
+    for k in range(n):
+        p = phi_c[(k + half) % n]
+        e = complex(np.cos(p), -np.sin(p))
+        for j in range(cols.size):
+            src[k, j] = h_shift[k, cols[j]] * e
+    slope = centroid_slope(shifted, rows, rot, cols)
+    z = np.empty(cols.size, dtype=np.complex128)
+    for j in range(cols.size):
+        z[j] = _ramp_factor(slope[j] * n / (2.0 * np.pi), n)
+    _ramp_columns(src, src, np.arange(cols.size), z)
+    return src
+
+
+@njit(cache=True)
+def band_sums(h: np.ndarray, lo: int, hi: int, starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(imaginary, real parts) of the ML kernel's sums for the fast-phase bands over the centred
+    bins c = lo+1 … hi−1 (rows): column 0 the sum over every group of :func:`group_products`,
+    column 1 + g that sum less group g — the arguments whose angles :func:`band_phases` takes,
+    summed in the same order, for one vectorised arctan2."""
+    prod = group_products(h, lo, hi, starts)
+    m, n_g = prod.shape
+    im = np.empty((m, n_g + 1))
+    re = np.empty((m, n_g + 1))
+    for i in range(m):
+        t = 0.0 + 0.0j
+        for g in range(n_g):
+            t += prod[i, g]
+        im[i, 0] = t.imag
+        re[i, 0] = t.real
+        for g in range(n_g):
+            r = t - prod[i, g]
+            im[i, g + 1] = r.imag
+            re[i, g + 1] = r.real
+    return im, re
+
+
+@njit(cache=True)
+def accumulate_phases(angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """From the increments of :func:`band_sums` (rows × (1 + groups), rad): the estimate
+    [0, cumsum(column 0)] and the delete-one-group estimates [0, cumsum(columns 1 …)], as
+    :func:`band_phases` returns them."""
+    m, cols = angles.shape
+    est = np.zeros(m + 1)
+    jk = np.zeros((m + 1, cols - 1))
+    for i in range(m):
+        est[i + 1] = est[i] + angles[i, 0]
+        for g in range(cols - 1):
+            jk[i + 1, g] = jk[i, g] + angles[i, g + 1]
+    return est, jk
+
+
+@njit(cache=True)
+def measured_width(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray, bias: float, win_db: float,
+                   win_scale: float, fallback: int) -> int:
+    """Step 3's measured width: :func:`window_width` of the lines' intensity ``pw`` weighted as
+    :func:`line_weights` weighs them in the window ``rows`` and summed (:func:`weighted_rows`);
+    ``fallback`` when that sum is not > 0 at index 0."""
+    _, weight = line_weights(pw, rows, c_line, bias)
+    summed = weighted_rows(pw, weight)
+    if summed[0] > 0:
+        return window_width(summed, win_db, win_scale)
+    return fallback
+
+
+@njit(cache=True)
+def weights_and_lines(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray,
+                      bias: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`line_weights` and the indices of the lines of weight > 0."""
+    scr, weight = line_weights(pw, rows, c_line, bias)
+    return scr, weight, np.flatnonzero(weight > 0)
+
+
+@njit(cache=True)
+def ml_step(h: np.ndarray, band_db: float, window: float, stretch: float,
+            max_fraction: float) -> tuple[np.ndarray, np.ndarray, int, int, int]:
+    """One iteration's ML increment from the windowed lines' phase histories ``h``: (detrended
+    increment and bin weights of :func:`ml_increment` on :func:`line_sums`; lo, hi, length of the
+    increment's smoothing, :func:`savgol_span` at ``window``, length 0 for none or ``window`` ≤ 0)."""
+    energy, prod = line_sums(h)
+    inc, weight = ml_increment(prod, energy, band_db)
+    lo, hi, length = savgol_span(weight, window, stretch, max_fraction)
+    return inc, weight, lo, hi, length
+
+
+@njit(cache=True)
+def smoothed_rms(inc: np.ndarray, weight: np.ndarray, lo: int, hi: int, coef: np.ndarray,
+                 ends: np.ndarray) -> float:
+    """:func:`savgol_in_place` on ``inc`` (lo … hi−1), then its :func:`wrms` with ``weight``."""
+    savgol_in_place(inc, lo, hi, coef, ends)
+    return wrms(inc, weight)

@@ -13,9 +13,9 @@ import scipy.fft as sfft
 from scipy.signal import savgol_coeffs
 
 try:  # scipy.fft's own pocketfft binding, called without its dispatch layers (the same transform)
-    from scipy.fft._pocketfft.pypocketfft import c2c as _c2c
+    from scipy.fft._pocketfft.pypocketfft import c2c as _c2c, dct as _dct
 except ImportError:  # pragma: no cover - another scipy layout: the public functions
-    _c2c = None
+    _c2c = _dct = None
 
 from .pga_kernels import (band_weight, centre_in_place, detrend, line_weights, ml_increment, phase_corrected, power,
                           refine_ramp, savgol_in_place, savgol_span, window_in_place, window_width)
@@ -52,6 +52,14 @@ def ifft_lines(a: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     return _c2c(a, (0,), False, 2, out, sfft.get_workers())
 
 
+def dct_lines(a: np.ndarray, inverse: bool = False) -> np.ndarray:
+    """``scipy.fft.dct(a, axis=0, norm="ortho")`` (``inverse``: ``idct``) of a real float64 array,
+    bit for bit (see :func:`fft_lines`)."""
+    if _dct is None:
+        return (sfft.idct if inverse else sfft.dct)(a, axis=0, norm="ortho")
+    return _dct(a, 3 if inverse else 2, (0,), 1, None, sfft.get_workers(), None)
+
+
 def _window_width(summed: np.ndarray, win_db: float, win_scale: float) -> int:
     """Width (samples) of the region around index 0 where ``summed`` stays within ``win_db``
     (:func:`~budget.sar.pga_kernels.window_width`)."""
@@ -66,6 +74,11 @@ def _line_weights(pw: np.ndarray, rows: np.ndarray, c_line: np.ndarray) -> tuple
     clutter-only lines ≈ 0."""
     n = pw.shape[0]
     return line_weights(pw, rows, c_line, (np.log(n) + 0.5772 - 1.0) / max(rows.size, 1))
+
+
+def _bias(d: _Lines, rows: np.ndarray) -> float:
+    """The bias b of :func:`_line_weights` for the window ``rows``."""
+    return d.bias_numerator / max(rows.size, 1)
 
 
 def _detrend(phi: np.ndarray, weight: np.ndarray) -> np.ndarray:
@@ -128,8 +141,18 @@ class _Lines:
         n = self.hist.shape[0]
         self.freq = np.fft.fftfreq(n)
         self.pos = self.freq * n  # signed sample index: the centre-shifted peak sits at 0
-        energy = (self.hist.real ** 2 + self.hist.imag ** 2).sum(axis=1)
-        self.n_signal_bins = int(np.sum(energy >= _SPAN_FRACTION * energy.max()))
+        #: the lines' energy per bin (numpy order)
+        self.energy = (self.hist.real ** 2 + self.hist.imag ** 2).sum(axis=1)
+        self.n_signal_bins = int(np.sum(self.energy >= _SPAN_FRACTION * self.energy.max()))
+        #: numerator of :func:`_line_weights`' bias, (H_n − 1) ≈ ln n + 0.5772 − 1
+        self.bias_numerator = np.log(n) + 0.5772 - 1.0
+        self.unshifted = None  # :func:`_centre` of the uncorrected lines, once computed
+
+    def centred_uncorrected(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:func:`_centre` with a zero estimate, computed once (every run starts there; read-only)."""
+        if self.unshifted is None:
+            self.unshifted = _centre(self, np.zeros(self.hist.shape[0]))
+        return self.unshifted
 
 
 def _centre(d: _Lines, phi_c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
