@@ -33,7 +33,7 @@ are simulated once per setup; each trial draws its noise from its own stream
 (``trial_generator(seed, i, SAR_STREAM)``).
 
 Speed without a change of numbers: what the trials share is computed once per process
-(:class:`ChainPlan`: the echoes' range spectra, the image former's geometry-only factors, the
+(:class:`~budget.mc.plan.ChainPlan`: the echoes' range spectra, the image former's geometry-only factors, the
 target meter); the trials are imaged and measured in batches of :data:`FORMATION_BATCH` (the
 same range-Doppler steps as :func:`budget.sar.form_image` on a stack; all cuts of a batch at
 once); the acceptance is checked on arrays (:func:`budget.sar.acceptance.failed_checks`, the
@@ -54,17 +54,14 @@ from ..motion import simulate_motion
 from ..nav.platform import Disturbance
 from ..noise.prefilter import prefilter_for
 from ..rng import STREAMS, trial_generator
-from ..sar import (SarGeometry, SarImage, Scene, evaluate, form_image, pga, phase_on_bins, residual_phase_rad,
+from ..sar import (SarGeometry, Scene, evaluate, pga, phase_on_bins, residual_phase_rad,
                    simulate_echoes)
 from ..sar.acceptance import failed_checks
-from ..sar.image import RdaImageFormer, default_bp_grid
-from ..sar.metrics import TargetMeter
 from ..sar.residual import pga_bandwidth_cycles, pga_residual_rms_rad
 from ..scenario import Scenario
-from .noise_kernels import add_band_noise
 from .notes import navigation_note, range_ambiguity_note, wideband_note
 from .options import REALISTIC_SNR_DB, McOptions
-from .receiver_noise import receiver_noise_draws, receiver_noise_echoes, receiver_noise_scale
+from .plan import ChainPlan
 from .reference import REFERENCE_DRAWS, SceneReference, reference_from_outcomes
 
 SAR_STREAM = STREAMS["sar_receiver_noise"]
@@ -252,68 +249,11 @@ def _pga_kwargs(opt: McOptions) -> dict:
     return kw
 
 
-class ChainPlan:
-    """What the trials of one setup share beyond the echoes, computed once per process: the
-    batched image former and the range spectra of the echoes (range-Doppler method), the image
-    grid (a data-free :class:`~budget.sar.SarImage`), its aperture mask, and the target meter."""
-
-    def __init__(self, setup: ChainSetup):
-        g, opt = setup.geom, setup.options
-        self.separate = setup.clean_echoes is not setup.echoes
-        if opt.image_method == "rda":
-            self.former = RdaImageFormer(g)
-            self.template = self.former.template
-            self.clean_spectrum = self.former.range_spectrum(setup.clean_echoes)
-            self.pga_spectrum = self.former.range_spectrum(setup.echoes) if self.separate else self.clean_spectrum
-        else:
-            self.former = None
-            az, rg = default_bp_grid(g)
-            self.template = SarImage(data=np.zeros((az.size, rg.size), dtype=complex), azimuth_m=az,
-                                     slant_range_m=rg, wavelength_m=g.wavelength_m, speed_m_s=g.speed_m_s,
-                                     ref_range_m=g.ref_range_m, aperture_time_s=g.aperture_time_s,
-                                     method=opt.image_method)
-        self.mask = self.template.aperture_mask()
-        self.meter = TargetMeter(g, setup.clean_scene, self.template.azimuth_m, self.template.slant_range_m,
-                                 azimuth_search_cells=AZ_SEARCH_CELLS)
-
-    def noise_scale(self, setup: ChainSetup) -> np.ndarray:
-        """:func:`receiver_noise_scale` of the setup's SNR, computed once."""
-        if getattr(self, "_noise_scale", None) is None:
-            self._noise_scale = receiver_noise_scale(setup.geom, setup.snr_db)
-        return self._noise_scale
-
-    def form(self, setup: ChainSetup, measured: np.ndarray, trials: range, seed: int,
-             stream: int = SAR_STREAM) -> tuple[np.ndarray, np.ndarray]:
-        """(clean images, PGA images), each (B, n_a, n_r), of the trials ``trials`` imaged with the
-        measured offsets (B, n_pulses, 3); the PGA images carry each trial's receiver noise."""
-        g, opt = setup.geom, setup.options
-        noise = [] if setup.snr_db is None else [trial_generator(seed, t, stream) for t in trials]
-        if self.former is not None:
-            if setup.snr_db is None and not self.separate:
-                clean = self.former.form(self.clean_spectrum, measured)
-                return clean, clean
-            spec = self.pga_spectrum
-            if noise:  # image formation is linear: the echoes' spectrum plus each trial's noise
-                spec = np.empty((len(noise),) + self.pga_spectrum.shape, dtype=complex)
-                scale, band = self.noise_scale(setup), g.range_band_index
-                for b, r in enumerate(noise):
-                    add_band_noise(spec[b], self.pga_spectrum, receiver_noise_draws(g, r), scale, band)
-            # both images along the same measured tracks: their motion-compensation phases once
-            clean, noisy = self.former.form_groups([self.clean_spectrum, spec], measured)
-            return clean, noisy
-        clean = np.stack([form_image(g, setup.clean_echoes, m, method=opt.image_method).data for m in measured])
-        if setup.snr_db is None and not self.separate:
-            return clean, clean
-        data = ([setup.echoes + receiver_noise_echoes(g, setup.snr_db, r) for r in noise]
-                or [setup.echoes] * len(measured))
-        return clean, np.stack([form_image(g, d, m, method=opt.image_method).data for d, m in zip(data, measured)])
-
-
 def chain_plan(setup: ChainSetup) -> ChainPlan:
     """The setup's :class:`ChainPlan`, built on first use and kept with the setup."""
     plan = getattr(setup, "_plan", None)
     if plan is None:
-        plan = ChainPlan(setup)
+        plan = ChainPlan(setup, AZ_SEARCH_CELLS)
         setup._plan = plan
     return plan
 
@@ -369,11 +309,18 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
     ref = scene_reference(setup) if relative else None
     acc_after = opt.acceptance if ref is None else ref.acceptance
     max_residual = opt.max_residual_phase_rms_deg if ref is None else ref.max_residual_phase_rms_deg
-    measured = -np.asarray(errors_m, dtype=float)  # true track is nominal; the IMU believes true − error
-    clean, img_pga = plan.form(setup, measured, trials, seed, stream)
-    hist = sfft.ifft(clean, axis=1)  # phase histories of the clean images (centred bins after fftshift)
-    energy = np.fft.fftshift((np.abs(hist) ** 2).sum(axis=2), axes=1)
-    m_before = plan.meter.measure(clean)
+    errors_m = np.asarray(errors_m, dtype=float)
+    measured = -errors_m  # true track is nominal; the IMU believes true − error
+    if plan.former is not None and not np.any(errors_m) and not np.any(np.signbit(errors_m)):
+        # a perfect IMU (the reference, the twins): the clean image is every trial's same one
+        clean, prod = plan.still(setup, len(trials))
+        img_pga = plan.form(setup, measured, trials, seed, stream, clean=False)[1]
+        img_pga = clean if img_pga is None else img_pga
+    else:
+        clean, img_pga = plan.form(setup, measured, trials, seed, stream)
+        prod = plan.clean_products(clean)
+    hist, energy, m_before = prod.hist, prod.energy, prod.metrics
+    del prod
     fail_before = failed_checks(m_before, opt.acceptance)
     worst_before = m_before.worst()
     mask = plan.mask
@@ -383,7 +330,10 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
         if res.usable_lines != 0:
             estimates[b] = np.asarray(res.phase_error_rad, float)
         results.append(res)
-    after_data = sfft.fft(hist * np.exp(-1j * np.fft.ifftshift(estimates, axes=1))[:, :, None], axis=1)
+    # the phase histories are not needed again: corrected in place, transformed in place
+    hist *= np.exp(-1j * np.fft.ifftshift(estimates, axes=1))[:, :, None]
+    after_data = sfft.fft(hist, axis=1, overwrite_x=True)
+    del hist
     m_after = plan.meter.measure(after_data)
     fail_after = failed_checks(m_after, acc_after)
     worst_after = m_after.worst()

@@ -1,4 +1,4 @@
-"""Compiled loop of the trials' noisy range spectra (:meth:`budget.mc.chain.ChainPlan.form`).
+"""Compiled loop of the trials' noisy range spectra (:meth:`budget.mc.plan.ChainPlan.form`).
 
 :func:`add_band_noise` computes echoes' spectrum + receiver-noise spectrum
 (:func:`budget.mc.receiver_noise.receiver_noise_spectrum`) element by element with the same operations —
