@@ -111,3 +111,15 @@ def test_dct_lines_is_scipys_orthonormal_dct():
     for a in (rng.standard_normal(300), rng.standard_normal((301, 7))):
         assert np.array_equal(dct_lines(a), sfft.dct(a, axis=0, norm="ortho"))
         assert np.array_equal(dct_lines(a, inverse=True), sfft.idct(a, axis=0, norm="ortho"))
+
+
+def test_percentile_and_jackknife_noise_equal_numpy():
+    from budget.sar.pga_fast import _percentile
+    rng = np.random.default_rng(7)
+    for n in range(1, 300):
+        x = rng.random(n) ** 3
+        assert _percentile(x, 5.0) == np.percentile(x, 5)
+    coef = rng.standard_normal((60, 9))
+    band = coef[4:21]
+    expected = np.sum(8 / 9 * ((band - band.mean(axis=1, keepdims=True)) ** 2).sum(axis=1))
+    assert abs(k.jackknife_noise(coef, 3, 20) - expected) <= 1e-13 * expected

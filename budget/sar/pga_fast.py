@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .pga_kernels import (accumulate_phases, band_sums, corrected_refine_ramp, group_starts, refine_ramp,
-                          weights_and_lines, window_in_place)
+from .pga_kernels import (accumulate_phases, band_sums, corrected_refine_ramp, group_starts, jackknife_noise,
+                          refine_ramp, weights_and_lines, window_in_place)
 from .pga_lines import _SPAN_FRACTION, _bias, _centre, _Lines, _window, dct_lines, fft_lines, ifft_lines
 from .residual import highpass_phase
 
@@ -22,6 +22,21 @@ _MIN_GROUPS = 3
 
 # the span holds bins whose energy is at least this many times the 5th percentile (signal ≥ noise)
 _SPAN_FLOOR = 2.0
+
+
+def _percentile(x: np.ndarray, q: float) -> float:
+    """``np.percentile(x, q)`` of a finite 1-D array (linear method), the same arithmetic on the
+    two order statistics from one partition, without np.percentile's general machinery."""
+    n = x.size
+    virtual = (n - 1) * (q / 100)
+    below = np.floor(virtual)
+    i = n - 1 if virtual >= n - 1 else int(below)
+    j = min(i + 1, n - 1)
+    part = np.partition(x, [i, j] if j != i else i)
+    a, b = part[i], part[j]
+    t = virtual - below
+    diff = b - a
+    return float(b - diff * (1 - t) if t >= 0.5 else a + diff * t)
 
 
 def _groups(lines: np.ndarray) -> np.ndarray:
@@ -66,8 +81,7 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
     # orthonormal DCT-II over the span (index m ↔ m/2 cycles), the band's coefficients
     coef = dct_lines(est)[m_lo + 1:m_hi + 1]
     if n_g >= _MIN_GROUPS:
-        coef_jk = dct_lines(jk)[m_lo + 1:m_hi + 1]
-        noise = float(np.sum((n_g - 1) / n_g * ((coef_jk - coef_jk.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)))
+        noise = float(jackknife_noise(dct_lines(jk), m_lo, m_hi))
     else:
         # one or two scatterers (a calibration reflector): no jackknife; the closed form — white
         # per-bin phase noise of variance 1/(2 Σ SCR) (Jakowatz & Wahl 1993), σ² per orthonormal
@@ -97,7 +111,7 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     # the span: bins within 10 dB of the peak energy that also hold at least as much signal as
     # noise (twice the floor, the 5th percentile: out-of-band bins of a noisy image are noise
     # only, and a basis stretched over them cannot follow the in-band phase)
-    floor = _SPAN_FLOOR * np.percentile(energy, 5)
+    floor = _SPAN_FLOOR * _percentile(energy, 5.0)
     idx = np.nonzero(energy >= max(_SPAN_FRACTION * energy.max(), floor))[0]
     groups = _groups(lines)
     if idx.size < 16:

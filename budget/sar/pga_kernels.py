@@ -656,3 +656,23 @@ def smoothed_rms(inc: np.ndarray, weight: np.ndarray, lo: int, hi: int, coef: np
     """:func:`savgol_in_place` on ``inc`` (lo … hi−1), then its :func:`wrms` with ``weight``."""
     savgol_in_place(inc, lo, hi, coef, ends)
     return wrms(inc, weight)
+
+
+@njit(cache=True)
+def jackknife_noise(coef_jk: np.ndarray, m_lo: int, m_hi: int) -> float:
+    """Delete-one-group jackknife variance summed over the DCT indices m_lo < m ≤ m_hi:
+    Σ_m (G − 1)/G · Σ_g (a_{m,g} − mean_g a_{m,g})², from the coefficients ``coef_jk`` (DCT index ×
+    group G of them)."""
+    n_g = coef_jk.shape[1]
+    total = 0.0
+    for m in range(m_lo + 1, m_hi + 1):
+        mean = 0.0
+        for g in range(n_g):
+            mean += coef_jk[m, g]
+        mean /= n_g
+        acc = 0.0
+        for g in range(n_g):
+            dev = coef_jk[m, g] - mean
+            acc += dev * dev
+        total += (n_g - 1) / n_g * acc
+    return total

@@ -13,6 +13,7 @@ import scipy.fft as sfft
 from scipy.signal import savgol_coeffs
 
 try:  # scipy.fft's own pocketfft binding, called without its dispatch layers (the same transform)
+    from scipy.fft._pocketfft.helper import _workers
     from scipy.fft._pocketfft.pypocketfft import c2c as _c2c, dct as _dct
 except ImportError:  # pragma: no cover - another scipy layout: the public functions
     _c2c = _dct = None
@@ -42,14 +43,14 @@ def fft_lines(a: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     scipy.fft's dispatch costs as much as a quarter of the transform."""
     if _c2c is None:
         return sfft.fft(a, axis=0)
-    return _c2c(a, (0,), True, 0, out, sfft.get_workers())
+    return _c2c(a, (0,), True, 0, out, _workers(None))
 
 
 def ifft_lines(a: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """``scipy.fft.ifft(a, axis=0)`` of a complex array, bit for bit (see :func:`fft_lines`)."""
     if _c2c is None:
         return sfft.ifft(a, axis=0)
-    return _c2c(a, (0,), False, 2, out, sfft.get_workers())
+    return _c2c(a, (0,), False, 2, out, _workers(None))
 
 
 def dct_lines(a: np.ndarray, inverse: bool = False) -> np.ndarray:
@@ -57,7 +58,7 @@ def dct_lines(a: np.ndarray, inverse: bool = False) -> np.ndarray:
     bit for bit (see :func:`fft_lines`)."""
     if _dct is None:
         return (sfft.idct if inverse else sfft.dct)(a, axis=0, norm="ortho")
-    return _dct(a, 3 if inverse else 2, (0,), 1, None, sfft.get_workers(), None)
+    return _dct(a, 3 if inverse else 2, (0,), 1, None, _workers(None), None)
 
 
 def _window_width(summed: np.ndarray, win_db: float, win_scale: float) -> int:
