@@ -95,15 +95,27 @@ def measure_rows(cuts: np.ndarray, spacing: np.ndarray, origin: np.ndarray, expe
         # PSLR: highest sample outside the measured main lobe (and, for a finite extent, within it)
         cut_far = finite_ext and ext_s < n / 2.0
         fe = int(math.floor(ext_s))
+        # the samples at distance d = (i − ip) mod n with k_right < d < n − k_left, and for a
+        # finite extent without fe < d < n − fe: one or two runs of d, read without a modulo
+        # (the maximum does not depend on the order it is taken in)
         q_max = 0.0
-        for i in range(n):
-            d = (i - ip) % n
-            if d <= k_right or d >= n - k_left:
-                continue
-            if cut_far and fe + 1 <= d <= n - fe - 1:
-                continue
-            if p[i] > q_max:
-                q_max = p[i]
+        d_lo, d_hi = k_right + 1, n - k_left - 1
+        for run in range(2):
+            lo, hi = d_lo, d_hi
+            if cut_far:
+                if run == 0:
+                    hi = min(hi, fe)
+                else:
+                    lo = max(lo, n - fe)
+            elif run == 1:
+                break
+            i = ip + lo - n if ip + lo >= n else ip + lo
+            for _ in range(lo, hi + 1):
+                if p[i] > q_max:
+                    q_max = p[i]
+                i += 1
+                if i == n:
+                    i = 0
         pslr[r] = 10 * math.log10(q_max / (peak_amp * peak_amp)) if q_max > 0 else -np.inf
         # ISLR: energy around the sub-pixel centre, main lobe ±ideal null, sidelobes to the extent
         fc = int(math.floor(centre))
