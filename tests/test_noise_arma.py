@@ -32,7 +32,7 @@ def test_paper_model_stationary_and_invertible_but_close():
 
 def test_selection_picks_arma21_with_tolerances(paper_series):
     sel = select_arma(paper_series)
-    assert [c.name for c in sel.candidates] == ["AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)"]
+    assert [c.name for c in sel.candidates] == ["white", "AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)"]
     assert sel.selected.name == "ARMA(2,1)" and sel.by_fpe.name == "ARMA(2,1)"
     f = sel.selected
     est = np.r_[f.phi, f.theta]

@@ -74,7 +74,7 @@ def test_characterize_table_needs_rate_and_samples(tmp_path, capsys):
 def test_arma_json_keys(log_csv, capsys):
     assert main(["noise", "arma", str(log_csv), "--channel", "gyro_z", "--json", "-"]) == 0
     out = _json(capsys)
-    assert [c["order"] for c in out["candidates"]] == ["AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)"]
+    assert [c["order"] for c in out["candidates"]] == ["white", "AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)"]
     assert {"order", "aic", "fpe", "params"} <= set(out["candidates"][0])
     assert out["selected"] == "ARMA(2,1)"
     assert out["variance_after"] < out["variance_before"]

@@ -59,7 +59,7 @@ def add_parser(sub) -> None:
     a.add_argument("log", help="static IMU log CSV")
     a.add_argument("--channel", default="gyro_z", help="channel, e.g. gyro_z (default)")
     a.add_argument("--orders", nargs="+", metavar="P,Q",
-                   help=f"candidate orders (default 1,0 2,0 3,0 1,1 2,1; p, q ≤ {MAX_ORDER})")
+                   help=f"candidate orders (default 0,0 1,0 2,0 3,0 1,1 2,1; 0,0 = white; p, q ≤ {MAX_ORDER})")
     a.add_argument("--method", choices=("ls", "mle"), default="ls",
                    help="least squares (paper) or exact maximum likelihood (statsmodels)")
     a.add_argument("--pauta-k", type=float, default=4.0, help="outlier factor k (3–5, default 4)")

@@ -4,7 +4,7 @@ Seed 000 (§3–4) fits an ARMA model to each channel of a *static* record, then
 state-augmented Kalman filter (14)–(16) on the sensor output before navigation. Here the static
 record is simulated from the part's own noise model (``calibration_samples`` at the IMU rate,
 stream ``prefilter_calibration`` of :data:`budget.rng.STREAMS`), each channel gets its
-AIC-selected ARMA model (:func:`select_arma`, least squares as in the paper) and an
+AIC-selected ARMA model (:func:`select_arma` among the paper's candidates, least squares) and an
 :class:`ArmaKalman` (X₀ = 0, P₀ = I, Q = δ₁I, R = the static variance). In a trial the filter
 sees what the sensor outputs, true signal + error, with the record mean removed and restored,
 and the error left is filtered − true.
@@ -31,7 +31,7 @@ from ..imu.generator import simulate_static_log
 from ..imu.noise_model import as_noise_model_si
 from ..rng import STREAMS
 from ..units import ACCEL_CHANNELS, GYRO_CHANNELS
-from .arma import DEFAULT_ORDERS, select_arma
+from .arma import PAPER_ORDERS, select_arma
 from .kalman import ArmaKalman
 from .kalman_response import FrequencyResponse, frequency_response
 
@@ -117,7 +117,7 @@ class ImuPrefilter:
 
 
 def calibrate_prefilter(model, rate_hz: float, *, kind: str = "kalman", samples: int = 16_384,
-                        seed: int = 0, orders=DEFAULT_ORDERS) -> ImuPrefilter:
+                        seed: int = 0, orders=PAPER_ORDERS) -> ImuPrefilter:
     """Fit the per-channel ARMA-Kalman filters on a simulated static record of ``model``."""
     if kind not in KINDS:
         raise InputError(f"unknown pre-filter {kind!r}", field="prefilter", expected=" | ".join(KINDS))
