@@ -262,9 +262,16 @@ def apply_phase_correction(image_data, phase_error_rad) -> np.ndarray:
                          expected="finite values")
     if g.dtype != np.complex128:
         return sfft.fft(sfft.ifft(g, axis=0) * np.exp(-1j * np.fft.ifftshift(phi))[:, None], axis=0)
-    hist = ifft_lines(g)
-    hist *= np.exp(-1j * np.fft.ifftshift(phi))[:, None]
-    return fft_lines(hist, out=hist)
+    return _corrected(ifft_lines(g), phi, overwrite=True)
+
+
+def _corrected(hist: np.ndarray, phi: np.ndarray, overwrite: bool = False) -> np.ndarray:
+    """The image of the phase history ``hist`` (complex128, numpy order along axis 0) multiplied
+    by e^{−jφ} (``phi`` centred), as :func:`apply_phase_correction` forms it; ``overwrite``: in
+    ``hist`` itself."""
+    out = hist if overwrite else hist.copy()
+    out *= np.exp(-1j * np.fft.ifftshift(phi))[:, None]
+    return fft_lines(out, out=out)
 
 
 def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fraction: float,
@@ -494,9 +501,11 @@ def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaRe
             dd.unshifted = d.unshifted  # the same lines: the same uncorrected start
         runs.append((label, finish(dd,
                                    "auto" if first_window is None else first_window)))
-    table, images = [], []
+    table, images, hist = [], [], None
     for label, r in runs:
-        images.append(apply_phase_correction(g, r.phase_error_rad) if r.usable_lines else g)
+        if r.usable_lines:
+            hist = ifft_lines(g) if hist is None else hist  # every run corrects the same phase history
+        images.append(_corrected(hist, r.phase_error_rad) if r.usable_lines else g)
         sharp = image_sharpness(images[-1]) if r.usable_lines else float("nan")
         table.append({"start": label, "start_window": r.start_window, "sharpness": sharp, "converged": r.converged,
                       "iterations": r.iterations, "usable_lines": r.usable_lines, "final_window": r.final_window})
