@@ -406,3 +406,50 @@ def test_units_at_the_edges_deg_s_log_is_modelled_in_rad_s(tmp_path, capsys):
     t = np.linspace(-1, 1, g_rad.size)
     ref = np.var(g_rad - np.polyval(np.polyfit(t, g_rad, 1), t))
     assert out["variance_before"] == pytest.approx(ref, rel=1e-6)
+
+
+def _arma_fit(phi, theta):
+    phi, theta = np.atleast_1d(np.asarray(phi, float)), np.atleast_1d(np.asarray(theta, float))
+    return ArmaFit(p=phi.size, q=theta.size, phi=phi, theta=theta, sigma2=1.0, n=10_000, method="ls",
+                   data_variance=1.0, stderr=np.zeros(phi.size + theta.size))
+
+
+def test_cancelling_pair_effect_against_closed_form():
+    # ARMA(1,1) x(k) = 0.9 x(k−1) + w(k) − 0.5 w(k−1): AR root 0.9, MA root 0.5; the pair's
+    # spectral effect |e^{jω} − 0.5|²/|e^{jω} − 0.9|² peaks at ω = 0: 0.25/0.01 → 13.98 dB
+    fit = _arma_fit(0.9, -0.5)
+    assert fit.cancelling_pair_db == pytest.approx(10 * np.log10(0.25 / 0.01), rel=1e-3)
+    assert not fit.redundant
+    # roots −0.93 and −0.93 + 0.002 (the white series' near-cancelling pair): at ω = π
+    # |−1 + 0.928|² / |−1 + 0.93|² = 0.0784/0.0729 → 0.52 dB; equal roots → 0 dB
+    assert _arma_fit(-0.93, 0.93).cancelling_pair_db == pytest.approx(0.0, abs=1e-9)
+    near = _arma_fit(-0.93, 0.928)
+    assert near.cancelling_pair_db == pytest.approx(10 * np.log10(0.072 ** 2 / 0.07 ** 2), rel=1e-3)
+    assert _arma_fit(0.5, []).cancelling_pair_db == np.inf
+
+
+def test_white_series_never_selects_a_cancelling_pair():
+    # 30 white series of 30,000 samples: whatever AIC prefers, the selected model carries no
+    # AR/MA pair that cancels, and a candidate that did is named in the notes
+    for seed in range(30):
+        x = 0.01 * np.random.default_rng(7000 + seed).standard_normal(30_000)
+        sel = select_arma(x)
+        assert not sel.selected.redundant
+        eligible = [f for f in sel.candidates if f.stationary and f.invertible]
+        first = min(eligible, key=lambda f: f.aic)
+        if first.redundant:  # AIC's own choice was a cancelling pair: the note says which
+            assert any("cancel" in n and first.name in n for n in sel.notes)
+
+
+def test_genuine_arma11_is_not_called_redundant():
+    # φ = 0.9, θ = −0.5 (roots 0.9 and 0.5, 14 dB apart at DC): selected as ARMA(1,1) on most draws
+    # and its fit never flagged
+    chosen = 0
+    for seed in range(10):
+        e = np.random.default_rng(8000 + seed).standard_normal(30_001)
+        x = signal.lfilter([1.0, -0.5], [1.0, -0.9], e)[1:]
+        sel = select_arma(x)
+        arma11 = next(f for f in sel.candidates if (f.p, f.q) == (1, 1))
+        assert not arma11.redundant
+        chosen += sel.selected.name == "ARMA(1,1)"
+    assert chosen >= 8

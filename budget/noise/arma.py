@@ -11,13 +11,15 @@ from the least-squares estimate.
 
 Criteria (normalised by the number n of residuals, as MATLAB's ``aic``/``fpe`` that the paper
 used): AIC = ln σ̂² + 2k/n and FPE = σ̂² (n + k)/(n − k), with k = p + q (σ² not counted).
-The selected model minimises AIC among the stationary and invertible candidates (FPE's choice
-is reported too). By least squares every candidate's residuals run over the same samples, from
-the largest p on (n = N − max p): with each its own (N − p), AR(1) data picked AR(1) in 71 % of
-2,000 simulated series instead of the asymptotic 79 % (Shibata's rate among AR(1..3)); on one
-sample set, 79.6 %. ``method="mle"`` fits the series scaled to unit rms (statsmodels' optimiser
-did not move from its start values at IMU magnitudes). Note the paper's Table 1 is not self-consistent under these definitions:
-ln(FPE) of ARMA(2,1) is −4.871, not −4.948, and its FPE 0.007666 is below the σ² 0.007778 it
+The selected model minimises AIC among the stationary and invertible candidates whose AR and
+MA roots do not cancel (:data:`REDUNDANT_PAIR_DB`; FPE's choice is reported too). By least
+squares every candidate's residuals run over the same samples, from the largest p on
+(n = N − max p): with each its own (N − p), AR(1) data picked AR(1) in 71 % of 2,000 simulated
+series instead of the asymptotic 79 % (Shibata's rate among AR(1..3)); on one sample set,
+79.6 %. ``method="mle"`` fits the series scaled to unit rms (statsmodels' optimiser did not move
+from its start values at IMU magnitudes). Note the paper's Table 1 is not self-consistent under
+these definitions: ln(FPE) of ARMA(2,1) is −4.871, not −4.948, and its FPE 0.007666 is below the
+σ² 0.007778 it
 reports (FPE ≥ σ̂² by definition).
 """
 
@@ -53,6 +55,12 @@ DETERMINISTIC_RATIO = 1e-9
 #: below which a note says the model is doubtful (the relative standard error of the series'
 #: variance is about √(2/(n(1 − ρ))) for ρ → 1, 20 % at 50; least squares biases ρ low).
 MIN_CORRELATION_TIMES = 50.0
+#: An AR root and an MA root whose pair changes the model's spectrum by less than this (dB, at
+#: every frequency) cancel: the candidate is the lower-order model without the pair, its two
+#: extra parameters fitted to noise (parameter redundancy, Box & Jenkins §7.3.5). 0.5 dB is about
+#: the scatter of a periodogram averaged over 100 segments (4.34/√K dB): a spectrum no record of
+#: ordinary length can tell apart from the lower order's.
+REDUNDANT_PAIR_DB = 0.5
 
 
 def order_name(p: int, q: int) -> str:
@@ -106,6 +114,24 @@ class ArmaFit:
     def ma_root_max(self) -> float:
         """Largest |root| of z^q + θ₁z^{q−1} + … + θ_q (invertible when < 1)."""
         return max_root_modulus(self.theta, +1.0)
+
+    @property
+    def cancelling_pair_db(self) -> float:
+        """The least spectral effect (dB, largest over frequency) of any pair of one AR and one MA
+        root: |e^{jω} − b|² / |e^{jω} − a|² on 512 frequencies in [0, π]; ∞ without a pair (p or q 0)."""
+        if self.p == 0 or self.q == 0:
+            return math.inf
+        ar = np.roots(np.r_[1.0, -np.asarray(self.phi, float)])
+        ma = np.roots(np.r_[1.0, np.asarray(self.theta, float)])
+        z = np.exp(1j * np.linspace(0.0, math.pi, 512))
+        effect = [float(np.max(np.abs(10.0 * np.log10(np.abs(z - b) ** 2 / np.maximum(np.abs(z - a) ** 2, 1e-300)))))
+                  for a in ar for b in ma]
+        return min(effect)
+
+    @property
+    def redundant(self) -> bool:
+        """True when an AR and an MA root cancel (:data:`REDUNDANT_PAIR_DB`)."""
+        return self.cancelling_pair_db < REDUNDANT_PAIR_DB
 
     @property
     def stationary(self) -> bool:
@@ -298,6 +324,14 @@ def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = 
     if len(valid) < len(fits):
         notes.append("not stationary or not invertible, not eligible: "
                      + ", ".join(f.name for f in fits if f not in valid))
+    plain = [f for f in valid if not f.redundant]
+    if plain and len(plain) < len(valid):
+        first = min(valid, key=lambda f: f.aic)
+        if first.redundant:  # said only where it changes the choice (most series have such a candidate)
+            notes.append(f"AIC's lowest, {first.name}, has an AR and an MA root that cancel (the pair changes "
+                         f"the spectrum by {first.cancelling_pair_db:.2g} dB < {REDUNDANT_PAIR_DB:g} dB: a lower "
+                         "order in disguise, its two extra parameters fitted to noise); not eligible")
+        valid = plain
     if not any(f.stationary and f.invertible for f in fits):
         notes.append("no candidate is both stationary and invertible; selected among all")
     best = min(valid, key=lambda f: f.aic)
