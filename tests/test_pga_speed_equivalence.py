@@ -8,6 +8,8 @@ import scipy.fft as sfft
 
 from budget.sar import pga_kernels as k
 from budget.sar.pga import _median, apply_phase_correction
+from budget.sar import pga_fast as fast
+from budget.sar import pga_lines as lines
 from budget.sar.pga_lines import fft_lines, ifft_lines
 
 SHAPES = [(462, 135), (128, 128), (95, 7), (16, 2), (1000, 17)]
@@ -22,11 +24,11 @@ def test_image_power_is_numpys_power_column_sums_and_peak(shape):
     """Bit for bit on two or more columns (PGA takes NumPy's sum for one)."""
     g = _image(np.random.default_rng(1), shape)
     power = g.real ** 2 + g.imag ** 2
-    p, col, peak, finite = k.image_power(g)
+    p, col, peak, finite = lines.image_power(g)
     assert np.array_equal(p, power) and np.array_equal(col, power.sum(axis=0))
     assert peak == power.max() and finite
     g[shape[0] // 2, 0] = complex(0.0, np.nan)
-    assert not k.image_power(g)[3]
+    assert not lines.image_power(g)[3]
 
 
 @pytest.mark.parametrize("shape", SHAPES + [(16, 1)])
@@ -40,9 +42,9 @@ def test_selection_medians_equal_numpy_with_ties_and_zeros(shape):
             x = np.round(x * 10) / 10
         if case % 3 == 2:
             x[:, : max(shape[1] // 2, 1)] = 0.0
-        assert k.median_all(x) == np.median(x)
+        assert lines.median_all(x) == np.median(x)
         cols = np.sort(rng.choice(shape[1], max(1, shape[1] // 3), replace=False))
-        assert np.array_equal(k.median_columns(x, cols), np.median(x[:, cols], axis=0))
+        assert np.array_equal(lines.median_columns(x, cols), np.median(x[:, cols], axis=0))
         assert _median(x) == np.median(x)
         assert np.array_equal(_median(x, axis=0), np.median(x, axis=0))
 
@@ -87,7 +89,7 @@ def test_fused_line_kernels_equal_their_parts(shape):
     assert k.measured_width(pw, rows, c_line, bias, 10.0, 1.5, 7) == k.window_width(summed, 10.0, 1.5)
     assert k.measured_width(pw, rows, c_line * 1e9, bias, 10.0, 1.5, 7) == 7  # no line weighs: fallback
     phi = rng.standard_normal(n)
-    assert np.array_equal(k.corrected_refine_ramp(shifted, h, rows, rot, cols, phi),
+    assert np.array_equal(fast.corrected_refine_ramp(shifted, h, rows, rot, cols, phi),
                           k.refine_ramp(shifted, k.phase_corrected(h, phi), rows, rot, cols))
     inc, weight, lo, hi, length = k.ml_step(h, 30.0, 16.0, 2.5, _SG_MAX_FRACTION)
     energy, prod = k.line_sums(h)
@@ -99,8 +101,8 @@ def test_fused_line_kernels_equal_their_parts(shape):
         k.savgol_in_place(inc0, lo, hi, *_savgol_parts(int(length)))
         assert np.array_equal(inc, inc0) and rms == k.wrms(inc0, weight0)
     starts = np.arange(0, n_l, 2)
-    im, re = k.band_sums(h, 3, n - 3, starts)
-    est, jk = k.accumulate_phases(np.arctan2(im, re))
+    im, re = fast.band_sums(h, 3, n - 3, starts)
+    est, jk = fast.accumulate_phases(np.arctan2(im, re))
     est0, jk0 = k.band_phases(k.group_products(h, 3, n - 3, starts))
     assert np.abs(est - est0).max() < 1e-12 and np.abs(jk - jk0).max() < 1e-12
 
@@ -122,4 +124,4 @@ def test_percentile_and_jackknife_noise_equal_numpy():
     coef = rng.standard_normal((60, 9))
     band = coef[4:21]
     expected = np.sum(8 / 9 * ((band - band.mean(axis=1, keepdims=True)) ** 2).sum(axis=1))
-    assert abs(k.jackknife_noise(coef, 3, 20) - expected) <= 1e-13 * expected
+    assert abs(fast.jackknife_noise(coef, 3, 20) - expected) <= 1e-13 * expected

@@ -1,13 +1,17 @@
 """PGA's fast-phase stage (:mod:`budget.sar.pga`, "Fast-phase stage"): after convergence, the
 phase above the settled window's bandwidth, estimated one DCT octave at a time with the narrowest
-window that sees it and kept only where it is significant against its jackknife noise."""
+window that sees it and kept only where it is significant against its jackknife noise. A band's
+loops (its ML sums with and without each group, their integration, the jackknife noise) are
+compiled here, in the manner of :mod:`budget.sar.pga_kernels`."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .pga_kernels import (accumulate_phases, band_sums, corrected_refine_ramp, group_starts, jackknife_noise,
-                          refine_ramp, weights_and_lines, window_in_place)
+from numba import njit
+
+from .pga_kernels import (_ramp_columns, _ramp_factor, centroid_slope, group_products, group_starts, refine_ramp,
+                          weights_and_lines, window_in_place)
 from .pga_lines import _SPAN_FRACTION, _bias, _centre, _Lines, _window, dct_lines, fft_lines, ifft_lines
 from .residual import highpass_phase
 
@@ -22,6 +26,88 @@ _MIN_GROUPS = 3
 
 # the span holds bins whose energy is at least this many times the 5th percentile (signal ≥ noise)
 _SPAN_FLOOR = 2.0
+
+
+# Compiled loops of a band (as in :mod:`budget.sar.pga_kernels`).
+
+
+@njit(cache=True)
+def corrected_refine_ramp(shifted: np.ndarray, h_shift: np.ndarray, rows: np.ndarray, rot: np.ndarray,
+                          cols: np.ndarray, phi_c: np.ndarray) -> np.ndarray:
+    """:func:`refine_ramp` of ``phase_corrected(h_shift, phi_c)``, forming the corrected values of
+    the selected lines only (the same products in the same order)."""
+    n = h_shift.shape[0]
+    half = n // 2
+    src = np.empty((n, cols.size), dtype=np.complex128)
+    for k in range(n):
+        p = phi_c[(k + half) % n]
+        e = complex(np.cos(p), -np.sin(p))
+        for j in range(cols.size):
+            src[k, j] = h_shift[k, cols[j]] * e
+    slope = centroid_slope(shifted, rows, rot, cols)
+    z = np.empty(cols.size, dtype=np.complex128)
+    for j in range(cols.size):
+        z[j] = _ramp_factor(slope[j] * n / (2.0 * np.pi), n)
+    _ramp_columns(src, src, np.arange(cols.size), z)
+    return src
+
+
+@njit(cache=True)
+def band_sums(h: np.ndarray, lo: int, hi: int, starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(imaginary, real parts) of the ML kernel's sums for the fast-phase bands over the centred
+    bins c = lo+1 … hi−1 (rows): column 0 the sum over every group of :func:`group_products`,
+    column 1 + g that sum less group g — the arguments whose angles :func:`band_phases` takes,
+    summed in the same order, for one vectorised arctan2."""
+    prod = group_products(h, lo, hi, starts)
+    m, n_g = prod.shape
+    im = np.empty((m, n_g + 1))
+    re = np.empty((m, n_g + 1))
+    for i in range(m):
+        t = 0.0 + 0.0j
+        for g in range(n_g):
+            t += prod[i, g]
+        im[i, 0] = t.imag
+        re[i, 0] = t.real
+        for g in range(n_g):
+            r = t - prod[i, g]
+            im[i, g + 1] = r.imag
+            re[i, g + 1] = r.real
+    return im, re
+
+
+@njit(cache=True)
+def accumulate_phases(angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """From the increments of :func:`band_sums` (rows × (1 + groups), rad): the estimate
+    [0, cumsum(column 0)] and the delete-one-group estimates [0, cumsum(columns 1 …)], as
+    :func:`band_phases` returns them."""
+    m, cols = angles.shape
+    est = np.zeros(m + 1)
+    jk = np.zeros((m + 1, cols - 1))
+    for i in range(m):
+        est[i + 1] = est[i] + angles[i, 0]
+        for g in range(cols - 1):
+            jk[i + 1, g] = jk[i, g] + angles[i, g + 1]
+    return est, jk
+
+
+@njit(cache=True)
+def jackknife_noise(coef_jk: np.ndarray, m_lo: int, m_hi: int) -> float:
+    """Delete-one-group jackknife variance summed over the DCT indices m_lo < m ≤ m_hi:
+    Σ_m (G − 1)/G · Σ_g (a_{m,g} − mean_g a_{m,g})², from the coefficients ``coef_jk`` (DCT index ×
+    group G of them)."""
+    n_g = coef_jk.shape[1]
+    total = 0.0
+    for m in range(m_lo + 1, m_hi + 1):
+        mean = 0.0
+        for g in range(n_g):
+            mean += coef_jk[m, g]
+        mean /= n_g
+        acc = 0.0
+        for g in range(n_g):
+            dev = coef_jk[m, g] - mean
+            acc += dev * dev
+        total += (n_g - 1) / n_g * acc
+    return total
 
 
 def _percentile(x: np.ndarray, q: float) -> float:
