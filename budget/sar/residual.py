@@ -62,11 +62,18 @@ def pga_bandwidth_cycles(final_window_samples: float, n_bins: int, n_aperture_bi
     return float(final_window_samples) * n_aperture_bins / (2.0 * n_bins)
 
 
-@lru_cache(maxsize=32)
+@lru_cache(maxsize=256)
+def _legendre_columns(n: int) -> tuple[np.ndarray, ...]:
+    """P0…P3 (Legendre) on n points of [−1, 1] (fewer for n < 4)."""
+    u = np.linspace(-1.0, 1.0, n)
+    return tuple(np.polynomial.legendre.legval(u, np.eye(4)[k]) for k in range(min(4, n)))
+
+
+# PGA's fast-phase stage asks for a basis per span and window (tens of sizes in a Monte Carlo run)
+@lru_cache(maxsize=256)
 def _removable_basis(n: int, n_cos: int) -> np.ndarray:
     """B = [P0…P3 (Legendre), DCT-II cosines 1…n_cos] on n points (n × columns; read-only)."""
-    u = np.linspace(-1.0, 1.0, n)
-    cols = [np.polynomial.legendre.legval(u, np.eye(4)[k]) for k in range(min(4, n))]
+    cols = list(_legendre_columns(n))
     i = np.arange(n) + 0.5
     cols += [np.cos(np.pi * j * i / n) for j in range(1, min(n_cos, n - 1) + 1)]
     b = np.stack(cols, axis=1)
