@@ -10,8 +10,9 @@ distort. Targets on 2 cores: ≥ 60 trials/s (points), ≥ 20 trials/s (realisti
 is printed beside every figure.
 
 FFT-bound rate (how fast the chain would run if it did nothing but its FFTs). Definition: one
-64-trial chunk of the chain is run with every FFT call of ``scipy.fft`` and ``numpy.fft``
-(fft, ifft, fft2, ifft2, fftn, ifftn, rfft, irfft) recorded — function, array shape and dtype, axes, length —
+64-trial chunk of the chain is run with every FFT recorded where it arrives — scipy's pocketfft
+binding (c2c, r2c, c2r: what ``scipy.fft``'s functions call, and what PGA's line transforms call
+directly) and ``numpy.fft``'s functions — with function, array shape and dtype, axes, length —
 so the list is exactly what the chain needs: the motion engine's noise synthesis, image formation
 (batched as the chain batches it), PGA's iterations as many times as PGA really iterated on these
 trials, the phase corrections and the metric cuts' 16× upsampling. The recorded calls are then
@@ -40,7 +41,6 @@ import tracemalloc
 
 import numpy as np
 import numpy.fft
-import scipy.fft
 
 from budget.catalog.fill import resolve_unspecified
 from budget.catalog.io import get_part
@@ -85,20 +85,40 @@ def time_run(scen, part, opt, trials: int, workers: int) -> dict:
 
 
 def record_ffts(scen, part, opt, trials: int = 64) -> list[tuple]:
-    """Every FFT call of one chunk of ``trials`` trials: (module, name, shape, dtype, kwargs)."""
+    """Every FFT of one chunk of ``trials`` trials: (function, array shape, dtype, arguments).
+
+    Recorded where every transform of the chain arrives, whichever way it was called: scipy's
+    pocketfft binding (``c2c``, ``r2c``, ``c2r``; what ``scipy.fft``'s public functions call, and
+    what PGA's line transforms call directly, without the dispatch layers) and NumPy's public FFT
+    functions (their own pocketfft). Real-to-real transforms (DCTs) are not counted."""
+    import budget.sar.pga_lines as pga_lines
+    from scipy.fft._pocketfft import pypocketfft as pfft
+
     calls = []
     saved = []
-    for mod in (scipy.fft, numpy.fft):
-        for name in _FFT_NAMES:
-            orig = getattr(mod, name)
-            saved.append((mod, name, orig))
 
-            def wrapped(x, *args, _orig=orig, _mod=mod, _name=name, **kw):
-                a = np.asarray(x)
-                calls.append((_mod, _name, a.shape, a.dtype, args, {k: v for k, v in kw.items() if k != "overwrite_x"}))
-                return _orig(x, *args, **kw)
+    def wrap(owner, name, binding: bool):
+        orig = getattr(owner, name)
+        if orig is None:
+            return
+        saved.append((owner, name, orig))
 
-            setattr(mod, name, wrapped)
+        def wrapped(x, *args, _orig=orig, **kw):
+            a = np.asarray(x)
+            if binding:  # (axes, forward, norm, out, workers) or, for c2r, (axes, n, forward, …)
+                rec = tuple(None if isinstance(v, np.ndarray) else v for v in args)
+                calls.append((_orig, a.shape, a.dtype, rec, {}))
+            else:
+                calls.append((_orig, a.shape, a.dtype, args, {k: v for k, v in kw.items() if k != "overwrite_x"}))
+            return _orig(x, *args, **kw)
+
+        setattr(owner, name, wrapped)
+
+    for name in ("c2c", "r2c", "c2r"):
+        wrap(pfft, name, True)
+    wrap(pga_lines, "_c2c", True)
+    for name in _FFT_NAMES:
+        wrap(numpy.fft, name, False)
     try:
         setup = ChainSetup.build(scen, opt)
         chain_plan(setup)
@@ -107,23 +127,27 @@ def record_ffts(scen, part, opt, trials: int = 64) -> list[tuple]:
         with single_threaded_blas():
             run_chunk(setup, model, 1, 0, trials)
     finally:
-        for mod, name, orig in saved:
-            setattr(mod, name, orig)
+        for owner, name, orig in saved:
+            setattr(owner, name, orig)
     return calls
 
 
 def replay_cpu_s(calls: list[tuple], repeats: int = 3) -> float:
-    """CPU seconds of the recorded FFT calls alone (best of ``repeats``)."""
+    """CPU seconds of the recorded FFT calls alone (best of ``repeats``), on arrays of the recorded
+    shapes and dtypes, one thread, results in new arrays."""
     rng = np.random.default_rng(0)
     arrays = {}
-    for _, _, shape, dtype, _, _ in calls:
+    for _, shape, dtype, _, _ in calls:
         key = (shape, np.dtype(dtype).str)
         if key not in arrays:
             a = rng.standard_normal(shape)
             arrays[key] = (a + 1j * rng.standard_normal(shape)).astype(dtype) if np.iscomplexobj(np.empty(0, dtype)) \
                 else a.astype(dtype)
-    jobs = [(getattr(mod, name), arrays[(shape, np.dtype(dtype).str)], args, kw)
-            for mod, name, shape, dtype, args, kw in calls]
+
+    def one_thread(args: tuple) -> tuple:
+        return args[:-1] + (1,) if args and isinstance(args[-1], int) and not isinstance(args[-1], bool) else args
+
+    jobs = [(f, arrays[(shape, np.dtype(dtype).str)], one_thread(args), kw) for f, shape, dtype, args, kw in calls]
     best = float("inf")
     with single_threaded_blas():
         for _ in range(repeats):
@@ -173,7 +197,8 @@ def main() -> None:
         fft_s = replay_cpu_s(calls) / 64
         bound1 = 1.0 / fft_s
         shapes = {}
-        for _, name, shape, _, _, _ in calls:
+        for f, shape, _, _, _ in calls:
+            name = getattr(f, "__name__", str(f))
             shapes[(name, shape)] = shapes.get((name, shape), 0) + 1
         top = sorted(shapes.items(), key=lambda kv: -kv[1] * int(np.prod(kv[0][1])))[:4]
         print(f"[{scene}] FFTs per trial: {len(calls) / 64:.0f} calls, {fft_s * 1e3:.2f} ms CPU → FFT-bound "
