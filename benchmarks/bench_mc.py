@@ -105,8 +105,9 @@ def record_ffts(scen, part, opt, trials: int = 64) -> list[tuple]:
 
         def wrapped(x, *args, _orig=orig, **kw):
             a = np.asarray(x)
-            if binding:  # (axes, forward, norm, out, workers) or, for c2r, (axes, n, forward, …)
-                rec = tuple(None if isinstance(v, np.ndarray) else v for v in args)
+            if binding:  # (axes, forward, norm, out, workers) or, for c2r, (axes, n, forward, …):
+                # replayed into a new array (out=None) on one thread (workers=1)
+                rec = tuple(None if isinstance(v, np.ndarray) else v for v in args[:-1]) + (1,)
                 calls.append((_orig, a.shape, a.dtype, rec, {}))
             else:
                 calls.append((_orig, a.shape, a.dtype, args, {k: v for k, v in kw.items() if k != "overwrite_x"}))
@@ -144,10 +145,7 @@ def replay_cpu_s(calls: list[tuple], repeats: int = 3) -> float:
             arrays[key] = (a + 1j * rng.standard_normal(shape)).astype(dtype) if np.iscomplexobj(np.empty(0, dtype)) \
                 else a.astype(dtype)
 
-    def one_thread(args: tuple) -> tuple:
-        return args[:-1] + (1,) if args and isinstance(args[-1], int) and not isinstance(args[-1], bool) else args
-
-    jobs = [(f, arrays[(shape, np.dtype(dtype).str)], one_thread(args), kw) for f, shape, dtype, args, kw in calls]
+    jobs = [(f, arrays[(shape, np.dtype(dtype).str)], args, kw) for f, shape, dtype, args, kw in calls]
     best = float("inf")
     with single_threaded_blas():
         for _ in range(repeats):
