@@ -176,6 +176,8 @@ def _channel_sections(log: ImuLog, key: str) -> None:
     cols[1].metric(f"variance after ({unit})²", f"{k.variance_after:.4g}")
     cols[2].metric("reduction", f"÷{a.variance_reduction:.3g}")
     st.caption(a.kalman.summary())
+    if a.adequacy is not None:  # the innovation tests and steady error variances, as the library words them
+        st.text(a.adequacy.summary())
     st.plotly_chart(filter_figure(a.pre.x, k, log.rate_hz, unit=unit), key="noise_filter_plot", width="stretch")
     st.markdown(f"What the filter does to real motion: {a.response.summary()}")
     st.plotly_chart(response_figure(a.response), key="noise_response_plot", width="stretch")

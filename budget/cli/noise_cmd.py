@@ -152,8 +152,8 @@ def run_arma(args) -> int:
         warn(args, f"{name}: {finding}")
     for flag in res.checks.flags():
         warn(args, f"{args.channel}: {flag} — modelled anyway, see 'checks'")
-    if args.json:  # the summary lists the selection's notes itself (a short record, no convergence)
-        for note in res.selection.notes:
+    if args.json:  # the summary lists the notes itself (a short record, a model that does not describe the series)
+        for note in res.notes:
             warn(args, f"{args.channel}: {note}")
         write_json(res.to_dict(), args.json)
         return 0

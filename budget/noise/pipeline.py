@@ -3,7 +3,8 @@
 Preprocess (Pauta outliers, detrend, zero mean; seed 000 §3.1) → checks (runs test, normality)
 → ARMA candidates by least squares or exact ML, selected by AIC (seed 000 (12)–(13)) → the
 state-augmented Kalman filter and RTS smoother on the selected model (seed 000 (14)–(16)) → the
-filter's steady-state response to real motion (what it would also remove). Units: the channel's
+filter's steady-state response to real motion (what it would also remove) → the adequacy of the
+model and of the filter by their innovations, and the steady error variances (:mod:`.adequacy`). Units: the channel's
 SI unit (rad/s or m/s²); variances in its square.
 """
 
@@ -17,6 +18,7 @@ import pandas as pd
 
 from ..errors import REPAIR_WAY, InputError
 from ..units import channel_si_unit
+from .adequacy import ModelAdequacy, model_adequacy
 from .arguments import float_series
 from .arma import DEFAULT_ORDERS, MIN_SAMPLES, ArmaSelection, check_magnitude, check_orders, select_arma
 from .checks import CheckReport, check_series
@@ -67,6 +69,12 @@ class ArmaAnalysis:
     smoothed: KalmanResult
     response: FrequencyResponse
     options: ArmaOptions = field(default_factory=ArmaOptions)
+    adequacy: ModelAdequacy | None = None
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        """The selection's notes, then the adequacy's (e.g. the model does not describe the series)."""
+        return tuple(self.selection.notes) + (self.adequacy.notes if self.adequacy is not None else ())
 
     @property
     def unit(self) -> str:
@@ -82,8 +90,14 @@ class ArmaAnalysis:
         return float(self.filtered.variance_before / self.filtered.variance_after)
 
     def to_frame(self) -> pd.DataFrame:
-        """The ARMA candidates: order, AIC, FPE, parameters, stationarity and invertibility."""
-        return self.selection.to_frame()
+        """The ARMA candidates: order, AIC, FPE, parameters, stationarity and invertibility; the
+        selected row also carries the adequacy's values (innovation tests, steady error variances in
+        the channel's SI unit squared, named in the column), empty on the other rows."""
+        frame = self.selection.to_frame()
+        if self.adequacy is not None:
+            for name, value in self.adequacy.fields().items():
+                frame[name] = np.where(frame["selected"], value, np.nan)
+        return frame
 
     def to_dict(self) -> dict:
         """JSON-safe result (the ``sar-budget noise arma --json`` contract)."""
@@ -105,8 +119,9 @@ class ArmaAnalysis:
                        "steady_gain": np.asarray(kf.K_ss).tolist(), "transient_samples": kf.T,
                        "response_freq_hz": resp.freq_hz.tolist(), "response_gain": resp.magnitude.tolist(),
                        "warning": MOTION_WARNING},
+            "adequacy": self.adequacy.to_dict() if self.adequacy is not None else None,
             "options": self.options.to_dict(),
-            "notes": list(sel.notes),
+            "notes": list(self.notes),
         }
 
     def summary(self) -> str:
@@ -116,6 +131,8 @@ class ArmaAnalysis:
                  f.summary() + f"; smoother → {self.smoothed.variance_after:.4g} ({self.unit})^2",
                  "response to motion: " + ", ".join(f"{fr:g} Hz ×{g:.3f}" for fr, g in
                                                    zip(self.response.freq_hz, self.response.magnitude))]
+        if self.adequacy is not None:
+            lines.append(self.adequacy.summary())
         return "\n".join(lines)
 
 
@@ -180,6 +197,8 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
         freqs = None
     else:
         freqs = response_freq_hz
+    filtered = kf.filter(pre.x)
     return ArmaAnalysis(channel=channel, rate_hz=float(rate_hz), raw=raw, pre=pre, checks=checks,
-                        selection=sel, kalman=kf, filtered=kf.filter(pre.x), smoothed=kf.smooth(pre.x),
-                        response=frequency_response(kf, rate_hz, freqs), options=opt)
+                        selection=sel, kalman=kf, filtered=filtered, smoothed=kf.smooth(pre.x),
+                        response=frequency_response(kf, rate_hz, freqs), options=opt,
+                        adequacy=model_adequacy(sel.selected, kf, pre.x, filtered, unit=channel_si_unit(channel)))
