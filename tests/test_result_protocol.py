@@ -261,6 +261,16 @@ def _build_arma_analysis():
     return _arma(), {"rate_hz": RATE_HZ, "channel": "gyro_x", "options.pauta_k": 3.5}
 
 
+def _build_model_adequacy():
+    a = _arma().adequacy
+    return a, {"model": a.model_name, "model_innovations.lags": a.model.lags}
+
+
+def _build_innovation_test():
+    t = _arma().adequacy.filter
+    return t, {"samples": t.samples, "ljung_box_q": t.q}
+
+
 @functools.cache
 def _imu_log(tmp: str):
     from budget.noise import read_log
@@ -464,6 +474,8 @@ BUILDERS = {
     "budget.noise.kalman:KalmanResult": _build_kalman_result,
     "budget.noise.kalman_response:FrequencyResponse": _build_response,
     "budget.noise.pipeline:ArmaAnalysis": _build_arma_analysis,
+    "budget.noise.adequacy:ModelAdequacy": _build_model_adequacy,
+    "budget.noise.adequacy:InnovationTest": _build_innovation_test,
     "budget.noise.logs:ImuLog": _build_imu_log,
     "budget.noise.log_checks:LogReport": _build_log_report,
     "budget.report.content:Report": _build_report,

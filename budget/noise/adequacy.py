@@ -40,6 +40,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 from scipy import linalg, stats
 
 from ..errors import InputError
@@ -107,6 +108,10 @@ class InnovationTest:
         return (f"{self.what} innovations: Ljung–Box Q = {self.q:.4g} over {self.lags} lags ({self.dof} dof), "
                 f"p = {self.p_value:.3g} ({'white' if self.white else 'NOT white'} at α = {ALPHA:g}); "
                 f"normalised variance {self.normalised_variance:.4g} (1 ± {self.variance_band:.2g} at 99 %)")
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row (index: which innovations), the columns of :meth:`to_dict`."""
+        return pd.DataFrame([self.to_dict()], index=pd.Index([self.what], name="innovations"))
 
     def to_dict(self) -> dict:
         return {"samples": self.samples, "lags": self.lags, "dof": self.dof, "ljung_box_q": self.q,
@@ -237,6 +242,10 @@ class ModelAdequacy:
                 f"smoother_error_variance_{vu}": self.smoother_error_variance,
                 "error_variances": "steady state, of the estimate of x, as the filter's model states them",
                 "notes": list(self.notes)}
+
+    def to_frame(self) -> pd.DataFrame:
+        """Two rows, the model's and the filter's innovation tests (:meth:`InnovationTest.to_dict`)."""
+        return pd.concat([self.model.to_frame(), self.filter.to_frame()])
 
     def summary(self) -> str:
         lines = [f"model adequacy ({self.model_name}): " + self.model.summary(),
