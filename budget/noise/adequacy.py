@@ -177,8 +177,7 @@ def filter_innovations(kf: ArmaKalman, x, filtered: KalmanResult) -> tuple[np.nd
 
 def steady_error_variances(kf: ArmaKalman) -> tuple[float, float]:
     """(filter, RTS smoother) steady-state error variance of x̂ as the filter's model states it."""
-    P, Pp, F = kf.P_ss, kf.Pp_ss, kf.F
-    C = P @ F.T @ np.linalg.pinv(Pp)
+    P, Pp, C = kf.P_ss, kf.Pp_ss, kf.C_ss  # C: the smoother's steady gain P Fᵀ Pp⁻¹, kept by the filter
     Ps = linalg.solve_discrete_lyapunov(C, P - C @ Pp @ C.T)
     return float(P[0, 0]), float(Ps[0, 0])
 
