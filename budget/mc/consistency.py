@@ -22,7 +22,8 @@ from __future__ import annotations
 import math
 import numbers
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -33,19 +34,37 @@ from ..bounds import paper_bounds
 from ..errors import InputError
 from ..imu.noise_model import NoiseModel
 from ..scenario import Scenario
+from ..units import ug_rt_hz_to_m_s_rt_h
 from .options import McOptions
 from .runner import run_mc
 
-#: term → (NoiseModel field, paper-bound key in datasheet units, conversion bound → field unit)
+class Term(NamedTuple):
+    """One error term of the table: the :class:`~budget.imu.noise_model.NoiseModel` field that
+    carries it, its paper-bound key in datasheet units (:meth:`budget.bounds.BoundsTable.datasheet`),
+    the conversion from that unit to the field's, and its SI field of
+    :class:`~budget.bounds.BoundsTable` (None: no PGA-limited rule tightens it; the lever-arm
+    misalignment rule is the gyro's, attitude error × lever arm)."""
+
+    model_field: str
+    bound_key: str
+    to_field: Callable[[float], float]
+    bound_si_field: str | None
+
+
+def _same(x: float) -> float:
+    return x
+
+
+#: term → :class:`Term`
 TERMS = {
-    "accel_bias": ("accel_bias_repeatability_ug", "accel_bias_ug", 1.0),
-    "gyro_bias": ("gyro_bias_repeatability_deg_h", "gyro_bias_deg_h", 1.0),
-    "accel_vrw": ("accel_vrw_m_s_rt_h", "accel_vrw_ug_rt_hz", 1.0 / 1699.5270216298807),
-    "gyro_arw": ("gyro_arw_deg_rt_h", "gyro_arw_deg_rt_h", 1.0),
-    "accel_scale_factor": ("accel_scale_factor_ppm", "accel_scale_factor_ppm", 1.0),
-    "accel_misalignment": ("accel_misalignment_mrad", "misalignment_mrad", 1.0),
-    "gyro_scale_factor": ("gyro_scale_factor_ppm", "gyro_scale_factor_ppm", 1.0),
-    "gyro_misalignment": ("gyro_misalignment_mrad", "misalignment_mrad", 1.0),
+    "accel_bias": Term("accel_bias_repeatability_ug", "accel_bias_ug", _same, "accel_bias_m_s2"),
+    "gyro_bias": Term("gyro_bias_repeatability_deg_h", "gyro_bias_deg_h", _same, "gyro_bias_rad_s"),
+    "accel_vrw": Term("accel_vrw_m_s_rt_h", "accel_vrw_ug_rt_hz", ug_rt_hz_to_m_s_rt_h, "accel_vrw_m_s2_rt_hz"),
+    "gyro_arw": Term("gyro_arw_deg_rt_h", "gyro_arw_deg_rt_h", _same, "gyro_arw_rad_s_rt_hz"),
+    "accel_scale_factor": Term("accel_scale_factor_ppm", "accel_scale_factor_ppm", _same, "accel_scale_factor"),
+    "accel_misalignment": Term("accel_misalignment_mrad", "misalignment_mrad", _same, None),
+    "gyro_scale_factor": Term("gyro_scale_factor_ppm", "gyro_scale_factor_ppm", _same, "gyro_scale_factor"),
+    "gyro_misalignment": Term("gyro_misalignment_mrad", "misalignment_mrad", _same, "misalignment_rad"),
 }
 #: The table's default terms: the four seed 004 budgets for straight flight with PGA.
 DEFAULT_TERMS = ("accel_bias", "gyro_bias", "accel_vrw", "gyro_arw")
@@ -60,28 +79,20 @@ def single_term_model(scenario: Scenario, term: str, scale: float) -> NoiseModel
     datasheet figure."""
     if term not in TERMS:
         raise InputError("unknown error term", field="terms", value=term, expected=", ".join(TERMS))
-    field, key, conv = TERMS[term]
+    field, key, to_field, _ = TERMS[term]
     bound = float(paper_bounds(scenario.tc_s, scenario.range_resolution_m).datasheet()[key][0])
     try:
         return NoiseModel(part_id=f"{term}_x{scale:g}", grade="tactical", source="synthetic",
-                          **{field: scale * bound * conv})
+                          **{field: to_field(scale * bound)})
     except ValidationError as err:
         # on a short aperture (automotive, Tc ≈ 0.1 s) 10× a paper bound can exceed any IMU the
         # noise model accepts (e.g. gyro bias > 10⁶ deg/h): say so, with the bound behind it
         first = err.errors(include_url=False)[0]
         raise InputError(f"{term} at {scale:g}× its paper bound for Tc = {scenario.tc_s:.3g} s is beyond "
                          f"what a noise model accepts: {first.get('msg', 'invalid value')}",
-                         field=field, value=scale * bound * conv,
+                         field=field, value=to_field(scale * bound),
                          expected="a smaller scale (the paper bound itself is "
-                                  f"{bound * conv:.4g} in the field's unit)") from None
-
-
-#: term → its field of :class:`~budget.bounds.BoundsTable` (SI); None: no PGA-limited rule
-#: tightens it (the lever-arm misalignment rule is the gyro's: attitude error × lever arm)
-_BOUND_FIELD = {"accel_bias": "accel_bias_m_s2", "gyro_bias": "gyro_bias_rad_s",
-                "accel_vrw": "accel_vrw_m_s2_rt_hz", "gyro_arw": "gyro_arw_rad_s_rt_hz",
-                "accel_scale_factor": "accel_scale_factor", "accel_misalignment": None,
-                "gyro_scale_factor": "gyro_scale_factor", "gyro_misalignment": "misalignment_rad"}
+                                  f"{to_field(bound):.4g} in the field's unit)") from None
 
 
 def pga_limited_scale(scenario: Scenario, term: str) -> tuple[float, str]:
@@ -92,9 +103,9 @@ def pga_limited_scale(scenario: Scenario, term: str) -> tuple[float, str]:
     this scale also predicts is explained by that rule."""
     from ..bounds.lever_arm import pga_limited_bounds
 
-    if term not in _BOUND_FIELD:
+    if term not in TERMS:
         raise InputError("unknown error term", field="terms", value=term, expected=", ".join(TERMS))
-    si = _BOUND_FIELD[term]
+    si = TERMS[term].bound_si_field
     if si is None:
         return 1.0, ""
     table, rules = pga_limited_bounds(scenario)
