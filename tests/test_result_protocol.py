@@ -350,6 +350,13 @@ def _build_focus():
     return focus(_phase_history(), _focus_options(), "pga"), {"autofocus": "pga", "options.spacing_m": 0.5}
 
 
+def _build_real_scene_verdict():
+    from budget.mc.real_scene import RealSceneOptions, real_scene_verdict
+    opt = RealSceneOptions(focus=_focus_options())
+    return real_scene_verdict(_phase_history(), PART, trials=1, seed=3, options=opt), \
+        {"trials": 1, "seed": 3, "options.platform_speed_m_s": 100.0, "options.focus.spacing_m": 0.5}
+
+
 def _build_acquisition():
     from budget.sar.acquisition import describe_acquisition
     from budget.sar.focus import ground_grid
@@ -489,6 +496,7 @@ BUILDERS = {
     "budget.sar.phase_history:PhaseHistory": _build_phase_history,
     "budget.sar.focus:GroundImage": _build_ground_image,
     "budget.sar.focus_pga:FocusResult": _build_focus,
+    "budget.mc.real_scene:RealSceneVerdict": _build_real_scene_verdict,
     "budget.sar.acquisition:Acquisition": _build_acquisition,
     "budget.sar.image:SarImage": _build_sar_image,
     "budget.sar.metrics:TargetMetricsTable": _build_target_metrics,

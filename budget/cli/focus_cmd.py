@@ -1,16 +1,22 @@
 """``sar-budget focus``: form a ground image from recorded phase-history files (AFRL format),
 autofocus it (PGA, the recorded solution, or none) and report what the data are (band, aperture,
 closed-form resolutions beside the pixel spacing: :mod:`budget.sar.acquisition`), the per-pulse
-phase estimate, entropy before/after and the rms difference from the recorded autofocus solution."""
+phase estimate, entropy before/after and the rms difference from the recorded autofocus solution.
+
+With ``--part ID`` (or ``--model M.json``): the part's verdict on the recorded scene
+(:func:`budget.mc.real_scene.real_scene_verdict`: its motion error injected into the phase history
+``--trials`` times, focused, PGA, judged; P(pass) with its Wilson interval)."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from ..errors import InputError
+from ..mc.real_scene import DEFAULT_EXTENT_M, DEFAULT_SPEED_M_S, RealSceneOptions
 from ..sar.afrl import read_afrl
 from ..sar.focus import FocusOptions
 from ..sar.focus_pga import AUTOFOCUS_MODES, focus
+from .common import add_catalog_option, part_or_model_from_args
 from .output import add_json_option, write_json
 
 
@@ -37,6 +43,19 @@ def add_parser(sub) -> None:
                         "u from −1 to 1 over the pulses (a test of the autofocus on real clutter)")
     p.add_argument("--image", metavar="OUT.png", default=None,
                    help="write the image before | after side by side (40 dB, greyscale PNG)")
+    v = p.add_argument_group("verdict of an IMU on this scene (--part or --model)")
+    src = v.add_mutually_exclusive_group()
+    src.add_argument("--part", metavar="ID", default=None,
+                     help="catalog part: inject its motion error into the phase history per trial, focus, PGA, "
+                          "and judge what PGA leaves (P(pass) with its 95 %% Wilson interval)")
+    src.add_argument("--model", metavar="M.json", default=None, help="noise-model JSON/YAML instead of --part")
+    add_catalog_option(v)
+    v.add_argument("--trials", type=int, default=8, help="trials (default 8; ≈ 1.5 s each on the default patch)")
+    v.add_argument("--seed", type=int, default=1, help="seed of the IMU draws (default 1)")
+    v.add_argument("--speed-m-s", type=float, default=None,
+                   help=f"platform speed, assumed: the files carry no pulse times (default {DEFAULT_SPEED_M_S:g} "
+                        "m/s); sets the aperture time = track length / speed")
+    v.add_argument("--imu-rate-hz", type=float, default=None, help="IMU sample rate (default 200 Hz)")
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -56,21 +75,66 @@ def _injected(spec: str) -> tuple[float, float, float, float]:
     return q, c, s, n
 
 
+def _named_with_files(err: InputError, files) -> InputError:
+    """A geometry or size the data cannot be imaged with: the error names the files it comes from."""
+    if err.file is None and (err.field or "").startswith(_DATA_FIELDS):
+        return err.rename_file(files[0] if len(files) == 1 else ", ".join(files))
+    return err
+
+
+def _verdict(args, ph, options: FocusOptions) -> int:
+    """``--part`` / ``--model``: the part's verdict on the recorded scene (thin: the library judges)."""
+    from ..mc.real_scene import real_scene_verdict
+    if args.autofocus != "pga":
+        raise InputError("the verdict judges what PGA leaves", field="--autofocus", value=args.autofocus,
+                         expected="pga (the default) with --part / --model")
+    if args.image:
+        raise InputError("--image shows one focus, not a verdict's trials", field="--image",
+                         expected="no --image with --part / --model")
+    if args.trials is None or args.trials < 1:
+        raise InputError("must be ≥ 1", field="--trials", value=args.trials, expected="a whole number of trials")
+    if args.seed is None or args.seed < 0:
+        raise InputError("must be ≥ 0", field="--seed", value=args.seed, expected="a whole number")
+    try:
+        opt = RealSceneOptions.build(platform_speed_m_s=args.speed_m_s, imu_rate_hz=args.imu_rate_hz, focus=options,
+                                     pga_kernel=args.kernel)
+    except InputError as err:  # name the option the user wrote
+        names = {"platform_speed_m_s": "--speed-m-s", "imu_rate_hz": "--imu-rate-hz"}
+        if err.field in names:
+            raise InputError(err.reason, field=names[err.field], value=err.value,
+                             expected=err.expected) from None
+        raise
+    model = part_or_model_from_args(args)
+    try:
+        verdict = real_scene_verdict(ph, model, args.trials, args.seed, opt)
+    except InputError as err:
+        raise _named_with_files(err, args.files) from None
+    if args.json:
+        write_json(verdict.to_dict(), args.json)
+        return 0
+    print(verdict.acquisition.summary())
+    print(verdict.summary())
+    return 0
+
+
 def run(args) -> int:
-    options = FocusOptions.build(spacing_m=args.spacing_m, range_extent_m=args.range_extent_m,
-                                 azimuth_extent_m=args.azimuth_extent_m, range_centre_m=args.range_centre_m,
-                                 azimuth_centre_m=args.azimuth_centre_m, range_window=args.window,
-                                 azimuth_window=args.window, workers=args.workers)
+    verdict = bool(getattr(args, "part", None) or getattr(args, "model", None))
+    extent = DEFAULT_EXTENT_M if verdict else None  # the verdict's smaller default patch: one image per trial
+    options = FocusOptions.build(spacing_m=args.spacing_m,
+                                 range_extent_m=args.range_extent_m if args.range_extent_m is not None else extent,
+                                 azimuth_extent_m=(args.azimuth_extent_m if args.azimuth_extent_m is not None
+                                                   else extent),
+                                 range_centre_m=args.range_centre_m, azimuth_centre_m=args.azimuth_centre_m,
+                                 range_window=args.window, azimuth_window=args.window, workers=args.workers)
     ph = read_afrl(args.files)
     if args.inject:
         ph = ph.with_smooth_phase_error(*_injected(args.inject))
+    if verdict:
+        return _verdict(args, ph, options)
     try:
         result = focus(ph, options, args.autofocus, kernel=args.kernel)
     except InputError as err:
-        # a geometry or size the data cannot be imaged with: name the files it comes from
-        if err.file is None and (err.field or "").startswith(_DATA_FIELDS):
-            raise err.rename_file(args.files[0] if len(args.files) == 1 else ", ".join(args.files)) from None
-        raise
+        raise _named_with_files(err, args.files) from None
     if args.image:
         from ..plots.focus import write_before_after_png
         write_before_after_png(result, args.image)

@@ -70,6 +70,10 @@ class PhaseHistory:
     #: Phase error per pulse (rad) added by :meth:`with_phase_error` (an injection experiment):
     #: known, so that an autofocus estimate can be scored against it.
     injected_phase_rad: np.ndarray | None = field(default=None, repr=False)
+    #: Line-of-sight range error per pulse (m, Δr = R_true − R_assumed) added by
+    #: :meth:`with_range_error`; its phase at the reference frequency is in
+    #: :attr:`injected_phase_rad`, the rest is the range migration (:meth:`with_range_error`, eq. 4).
+    injected_range_m: np.ndarray | None = field(default=None, repr=False)
     #: Time of each pulse, s (optional; the AFRL Gotcha files carry none): gives the platform
     #: speed in :func:`budget.sar.acquisition.describe_acquisition`.
     pulse_time_s: np.ndarray | None = field(default=None, repr=False)
@@ -110,7 +114,7 @@ class PhaseHistory:
         if self.pulse_source.size != n:
             raise InputError("one source name per pulse expected", field="pulse_source")
         for name in ("recorded_range_correction_m", "recorded_phase_correction_rad", "azimuth_deg",
-                     "elevation_deg", "injected_phase_rad", "pulse_time_s"):
+                     "elevation_deg", "injected_phase_rad", "injected_range_m", "pulse_time_s"):
             v = getattr(self, name)
             if v is not None:
                 v = np.asarray(v, dtype=float).ravel()
@@ -158,6 +162,32 @@ class PhaseHistory:
         injected = ph if self.injected_phase_rad is None else self.injected_phase_rad + ph
         return self._replace(samples=self.samples * np.exp(1j * ph)[:, None].astype(self.samples.dtype),
                              injected_phase_rad=injected)
+
+    def with_range_error(self, range_error_m) -> "PhaseHistory":
+        """A copy carrying a line-of-sight range error Δr_n (m per pulse, Δr = R_true − R_assumed,
+        the motion engine's sign: :func:`budget.motion.geometry.range_error`), exactly: pulse n at
+        frequency f_k multiplied by
+
+            exp(−j 4π f_k Δr_n / c)                                                          (4)
+
+        — by (1), the echo of a true antenna Δr_n farther from every scene point than the recorded
+        track says. The same sign as :meth:`with_phase_error`: its per-pulse phase at the reference
+        frequency f_r, ψ_n = −4π f_r Δr_n / c (the package's ψ = −4πΔr/λ, :mod:`budget`), is added
+        to :attr:`injected_phase_rad`, so :meth:`known_phase_error_rad` scores an autofocus against
+        it; what is left, exp(−j 4π (f_k − f_r) Δr_n / c), is a shift of pulse n's range profile by
+        Δr_n (range migration, which no per-pulse phase correction removes), recorded with Δr in
+        :attr:`injected_range_m`."""
+        dr = np.asarray(range_error_m, dtype=float).ravel()
+        if dr.size != self.n_pulses or not np.all(np.isfinite(dr)):
+            raise InputError("one finite range error per pulse expected", field="range_error_m",
+                             expected=f"{self.n_pulses} values in m")
+        k = two_way_wavenumber_at_frequency_rad_m(self.frequency_hz, C_M_S)  # 4π f_k / c, rad/m
+        # float64 phase before the cast: Δr of metres at 10 GHz is thousands of radians
+        turn = np.exp(-1j * np.outer(dr, k)).astype(self.samples.dtype)
+        psi = -two_way_wavenumber_at_frequency_rad_m(self.reference_frequency_hz, C_M_S) * dr
+        injected = psi if self.injected_phase_rad is None else self.injected_phase_rad + psi
+        ranges = dr if self.injected_range_m is None else self.injected_range_m + dr
+        return self._replace(samples=self.samples * turn, injected_phase_rad=injected, injected_range_m=ranges)
 
     def with_smooth_phase_error(self, quadratic_rad: float, cubic_rad: float, sinusoid_rad: float,
                                 sinusoid_cycles: float) -> "PhaseHistory":
@@ -236,6 +266,8 @@ class PhaseHistory:
                "track_length_m": float(track), "scene_range_mean_m": float(self.scene_range_m.mean()),
                "sources": list(dict.fromkeys(self.pulse_source.tolist())),
                "recorded_autofocus": self.has_recorded_autofocus, "notes": list(self.notes)}
+        if self.injected_range_m is not None:
+            out["injected_range_peak_m"] = float(np.max(np.abs(self.injected_range_m)))
         if self.injected_phase_rad is not None:
             out["injected_phase_rms_rad"] = float(np.sqrt(np.mean(self.injected_phase_rad ** 2)))
         if self.azimuth_deg is not None:
