@@ -46,8 +46,7 @@ from scipy import linalg, stats
 from ..errors import InputError
 from .arguments import float_series
 from .arma import ArmaFit
-from .kalman import MAX_TRANSIENT, ArmaKalman, KalmanResult, state_space
-from .recurrence import linear_recurrence
+from .kalman import ArmaKalman, KalmanResult
 
 #: Significance level of the whiteness test and of the normalised-variance band.
 ALPHA = 0.01
@@ -129,36 +128,11 @@ def _test(what: str, nu: np.ndarray, s: np.ndarray, fitted: int) -> tuple[Innova
 
 def model_innovations(fit: ArmaFit, x) -> tuple[np.ndarray, np.ndarray]:
     """(ν, S): exact one-step prediction errors of the ARMA ``fit`` on the zero-mean series ``x``
-    and their variances (state-augmented form, Q = σ² G Gᵀ, R = 0, from the stationary covariance)."""
+    and their variances (:meth:`ArmaKalman.exact_predictor`: Q = σ² G Gᵀ, R = 0, from the
+    stationary covariance)."""
     z = float_series(x, "x", "a 1-D zero-mean series in the model's unit")
-    F, G, H = state_space(fit)
-    n = F.shape[0]
-    Qm = fit.sigma2 * np.outer(G, G)
-    Pp = linalg.solve_discrete_lyapunov(F, Qm) if fit.stationary else Qm.copy()
-    x_pred = np.zeros(n)
-    nu, S = np.empty(z.size), np.empty(z.size)
-    K_last, k = None, 0
-    limit = min(z.size, MAX_TRANSIENT)
-    while k < limit:
-        s = float(Pp[0, 0])
-        K = Pp[:, 0] / s
-        nu[k], S[k] = z[k] - x_pred[0], s
-        x_f = x_pred + K * nu[k]
-        P = Pp - np.outer(K, Pp[0, :])
-        P = 0.5 * (P + P.T)
-        x_pred = F @ x_f
-        Pp = F @ P @ F.T + Qm
-        k += 1
-        if K_last is not None and np.max(np.abs(K - K_last)) <= 1e-13 * np.max(np.abs(K)):
-            break
-        K_last = K
-    if k < z.size:  # steady gain: x̂_j = A x̂_{j−1} + K z_j, ν_j = z_j − H F x̂_{j−1}
-        A = (np.eye(n) - np.outer(K, H)) @ F
-        X = linear_recurrence(A, np.outer(z[k:], K), x_f)
-        prev = np.vstack([x_f[None, :], X[:-1]])
-        nu[k:] = z[k:] - prev @ F[0, :]
-        S[k:] = s
-    return nu, S
+    kf = ArmaKalman.exact_predictor(fit)
+    return filter_innovations(kf, z, kf.filter(z, center=False))
 
 
 def filter_innovations(kf: ArmaKalman, x, filtered: KalmanResult) -> tuple[np.ndarray, np.ndarray]:

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from scipy import linalg
 
 from ..errors import InputError
 from .arguments import float_series
@@ -102,13 +103,32 @@ class ArmaKalman:
             # P₀ = p0·I is a covariance: ≤ 0 or NaN gave a wrong transient or an SVD failure
             raise InputError("initial covariance scale p0 must be positive", field="p0", value=p0,
                              expected="a finite number > 0 (P₀ = p0·I, the paper's 1)")
+        F, G, _ = state_space(fit)
+        n = F.shape[0]
+        Q = fit.sigma2 * (np.eye(n) if process_noise == "paper" else np.outer(G, G))
+        self._setup(fit, Q, R, p0 * np.eye(n), process_noise, tol)
+
+    @classmethod
+    def exact_predictor(cls, fit: ArmaFit, tol: float = 1e-13) -> "ArmaKalman":
+        """The model's own exact one-step predictor: Q = σ² G Gᵀ, no measurement noise (R = 0),
+        the state started from the model's stationary covariance P∞ = F P∞ Fᵀ + Q (zero for a
+        non-stationary fit, where the predictor starts from Q). Its innovations are the
+        prediction errors of the exact Gaussian likelihood (Harvey 1989, §3.4), tending to the
+        ARMA's own w(k) with S = σ²; :mod:`.adequacy` tests them."""
+        F, G, _ = state_space(fit)
+        Q = fit.sigma2 * np.outer(G, G)
+        # the first prediction is F P₀ Fᵀ + Q: P₀ = P∞ makes it P∞ itself
+        P0 = linalg.solve_discrete_lyapunov(F, Q) if fit.stationary else np.zeros_like(Q)
+        kf = cls.__new__(cls)
+        kf._setup(fit, Q, 0.0, P0, "model", tol)
+        return kf
+
+    def _setup(self, fit: ArmaFit, Q: np.ndarray, R: float, P0: np.ndarray, process_noise: str,
+               tol: float) -> None:
         self.fit = fit
         self.F, self.G, self.H = state_space(fit)
-        n = self.F.shape[0]
-        self.Q = fit.sigma2 * (np.eye(n) if process_noise == "paper" else np.outer(self.G, self.G))
-        self.R = R
+        self.Q, self.R, self.P0 = Q, R, P0
         self.process_noise = process_noise
-        self.P0 = p0 * np.eye(n)
         self._riccati(tol)
 
     @property
