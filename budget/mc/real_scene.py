@@ -54,15 +54,17 @@ simulated scene — does PGA absorb the motion error this IMU leaves? Per trial:
    (``added_*``), against the limits as they are — the Monte Carlo's perfect-IMU twin
    (:func:`budget.mc.chain.run_trials`: the same draw with no motion error) with the floor taken
    off pulse by pulse. The Monte Carlo's quadrature rule, limit √(r² + q²), cannot be used here:
-   on the Gotcha scene q ≈ 14° beyond PGA's window (the recorded solution's fast part, which PGA
-   cannot see), so √(1² + 14²) − 14 ≈ 0.04° of margin, below the floor's own change from one
-   injection to the next (±0.2°, measured): the verdict would be decided by chance.
+   on the Gotcha scene q ≈ 14° beyond PGA's window — the recorded solution's own content there
+   (13.8° of it, measured; PGA's estimate has 0.002°: it cannot see that band), so
+   √(1² + 14²) − 14 ≈ 0.04° of margin, below the floor's own change from one injection to the
+   next (±0.2°, measured): the verdict would be decided by chance.
    ``scene_reference = "none"`` judges ψ̂ − ψ (absolute) against the limits instead.
 
 P(pass) = passed / trials with the 95 % Wilson interval (:func:`budget.mc.stats.wilson_interval`).
-Cost: one backprojection per trial (≈ 1.4 s for the default 60 m × 60 m patch at 0.25 m on
-2 threads, the 469-pulse Gotcha aperture) plus PGA (< 0.1 s); the motion engine's time is
-negligible beside it.
+Cost: one backprojection per trial plus PGA (< 0.1 s), and one reference run per verdict:
+0.7–1.7 s per trial measured for the default 60 m × 60 m patch at 0.25 m on 2 shared threads, the
+469-pulse Gotcha aperture (the time grows with the patch's pixels × pulses); the motion engine's
+time is negligible beside it.
 """
 
 from __future__ import annotations
@@ -259,7 +261,8 @@ class RealSceneVerdict:
                  "failures: " + (", ".join(f"{k} {v}" for k, v in fails.items()) if fails else "none"),
                  f"reference (no injection; PGA vs the recorded solution): beyond PGA's window "
                  f"{ref['residual_beyond_window_deg']:.3g}°, within {ref['residual_within_window_deg']:.3g}°, peak loss "
-                 f"{ref['peak_loss_db']:.3g} dB, entropy {ref['entropy_before']:.5g} → {ref['entropy_after']:.5g}",
+                 f"{ref['peak_loss_db']:.3g} dB, entropy {ref['entropy_before']:.5g} → {ref['entropy_after']:.5g}, "
+                 f"contrast {ref['contrast_before']:.4g} → {ref['contrast_after']:.4g}",
                  f"judged on {lim['judged_on']}: beyond PGA's window ≤ {lim['residual_beyond_window_deg']:.3g}°, "
                  f"peak loss ≤ "
                  f"{lim['peak_loss_db']:.3g} dB" + (f", range migration ≤ {lim['range_migration_cells']:g} cells"
@@ -272,7 +275,8 @@ class RealSceneVerdict:
                  f"{self._median('added_residual_beyond_window_deg'):.3g}°, within "
                  f"{self._median('added_residual_within_window_deg'):.3g}°, peak loss "
                  f"{self._median('added_peak_loss_db'):.3g} dB; entropy "
-                 f"{self._median('entropy_before'):.5g} → {self._median('entropy_after'):.5g}",
+                 f"{self._median('entropy_before'):.5g} → {self._median('entropy_after'):.5g}, contrast "
+                 f"{self._median('contrast_before'):.4g} → {self._median('contrast_after'):.4g}",
                  f"time: {self.timings_s.get('per_trial', math.nan):.2f} s per trial "
                  f"({self.timings_s.get('total', math.nan):.1f} s in all)"]
         lines += [f"note: {n}" for n in self.notes]
