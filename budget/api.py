@@ -167,15 +167,18 @@ def compute_bounds(scenario, mode: str = "paper", assumptions=None):
     as ``sar-budget bounds --scenario`` computes them: without ``assumptions``, ``derived`` and
     ``no-autofocus`` take the scenario's ``platform_accel_m_s2`` and ``lever-arm`` its lever arm,
     turn rate and verdict window (:func:`budget.bounds.scenario_assumptions`). The table carries
-    the scenario (``scenario`` in ``to_dict()``)."""
+    the scenario and the keys it left at their defaults (``scenario``, ``scenario_defaults`` in
+    ``to_dict()``; the defaults in words at the end of ``summary()``), as the CLI states them."""
     from dataclasses import replace
 
-    from .bounds import compute_bounds as _bounds, scenario_assumptions
+    from .bounds import compute_bounds as _bounds, scenario_assumptions, scenario_keys
 
     s = load_scenario(scenario)
     table = _bounds([s.tc_s], s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
                     assumptions=scenario_assumptions(mode, s, assumptions))
-    return replace(table, scenario=s.model_dump(mode="json"))
+    keys = scenario_keys(mode)
+    return replace(table, scenario=s.model_dump(mode="json"), scenario_defaults=s.defaults_taken(keys),
+                   defaults_note=s.defaults_note(keys))
 
 
 def consistency_table(scenario, terms=None, scales=None, trials: int = DEFAULT_TRIALS, seed: int = 0, **kwargs):

@@ -95,6 +95,11 @@ class CheckResult:
     #: per scenario, the scenario checked against (``Scenario.model_dump(mode="json")``: Tc, δr,
     #: λ, lever arm …), so that a result read later says what it was computed for
     scenarios: tuple[dict, ...] = ()
+    #: per scenario, the scenario keys the check rests on that the scenario did not set, with the
+    #: value taken (:meth:`Scenario.defaults_taken` of :func:`check_scenario_keys`), and the same
+    #: in words (:meth:`Scenario.defaults_note`; '' when every key was set)
+    scenario_defaults: tuple[dict, ...] = ()
+    defaults_notes: tuple[str, ...] = ()
 
     def fast_phase(self, i: int, s: int) -> float:
         """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
@@ -209,7 +214,9 @@ class CheckResult:
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
                 "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s),
                                "rotation": self.rotation[s] if self.rotation else None,
-                               "scenario": self.scenarios[s] if self.scenarios else None}
+                               "scenario": self.scenarios[s] if self.scenarios else None,
+                               "scenario_defaults": (self.scenario_defaults[s] if self.scenario_defaults
+                                                     else None)}
                               for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
 
     def to_frame(self) -> pd.DataFrame:
@@ -266,6 +273,8 @@ class CheckResult:
         if notes:
             lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
                       "its window, attitude error × lever arm); where the verdicts differ:"] + notes
+        if self.defaults_notes and self.defaults_notes[scenario_index]:
+            lines.append(self.defaults_notes[scenario_index])
         return "\n".join(lines)
 
 
@@ -398,6 +407,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     if platform_motion is not None:
         rotation = _apply_rotation(bmat, pmat, scen, mode, assumptions, _platform_motion(platform_motion), assumed)
     specs = spec_matrix(parts)
+    keys = check_scenario_keys(mode, _platform_motion(platform_motion) if platform_motion is not None else None)
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
@@ -405,7 +415,9 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        assumptions=_assumptions_dict(assumptions),
                        fast_phase_deg=_fast_phase_matrix(parts, scen, assumed),
                        fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed),
-                       rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen))
+                       rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen),
+                       scenario_defaults=tuple(sc.defaults_taken(keys) for sc in scen),
+                       defaults_notes=tuple(sc.defaults_note(keys) for sc in scen))
 
 
 def _platform_motion(value):

@@ -49,6 +49,11 @@ class BoundsTable:
     #: the scenario the bounds were computed for (``model_dump(mode="json")``; set by
     #: :func:`budget.compute_bounds`), None for bare arrays of Tc and δr
     scenario: dict | None = None
+    #: the scenario keys these bounds rest on that the scenario did not set, with the value taken
+    #: (:meth:`Scenario.defaults_taken` of :func:`budget.bounds.scenario_keys`), and the same in
+    #: words (set by :func:`budget.compute_bounds`; None / '' for bare arrays or when every key was set)
+    scenario_defaults: dict | None = None
+    defaults_note: str = ""
 
     def datasheet(self) -> dict[str, np.ndarray]:
         """Bounds in datasheet units keyed as in the CLI JSON (``accel_bias_ug`` …)."""
@@ -60,7 +65,8 @@ class BoundsTable:
         data.update({k: np.ravel(v) for k, v in self.datasheet().items()})
         frame = pd.DataFrame(data)
         # what the summary's head line says: the mode, its assumptions, the scenario (if any)
-        frame.attrs.update({"mode": self.mode, "assumptions": self.assumptions, "scenario": self.scenario})
+        frame.attrs.update({"mode": self.mode, "assumptions": self.assumptions, "scenario": self.scenario,
+                            "scenario_defaults": self.scenario_defaults})
         return frame
 
     def limit_notes(self) -> tuple[str, ...]:
@@ -96,6 +102,7 @@ class BoundsTable:
                "rows": frame.to_dict(orient="records")}
         if self.scenario is not None:
             out["scenario"] = self.scenario
+            out["scenario_defaults"] = self.scenario_defaults
         return out
 
     def summary(self) -> str:
@@ -108,4 +115,4 @@ class BoundsTable:
                 head += (", lever arm [" + ", ".join(f"{v:.3g}" for v in arm) + "] m, platform rate "
                          f"{self.assumptions.get('platform_rate_deg_s'):g} deg/s")
         text = head + "\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}")
-        return "\n".join([text, *self.limit_notes()])
+        return "\n".join([text, *self.limit_notes(), *([self.defaults_note] if self.defaults_note else [])])

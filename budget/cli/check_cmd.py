@@ -53,6 +53,4 @@ def run(args) -> int:
     print(res.summary())
     print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {rec.grade[0] or 'none'}")
     print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {rec_limited.grade[0] or 'none'}")
-    if scen.defaults_note(keys):
-        print(scen.defaults_note(keys))
     return 0

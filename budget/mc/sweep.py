@@ -21,6 +21,7 @@ from ..errors import InputError, refuse_repeats
 from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
 from ..scenario import Scenario, name_scenario_file
+from .notes import SIMULATED_DEFAULT_KEYS
 from .options import McOptions
 from .runner import check_options, check_run_counts, model_label, run_mc
 from .stats import wilson_interval
@@ -28,6 +29,18 @@ from .stats import wilson_interval
 
 #: Columns every row of a :func:`sweep` table has (:func:`_cell`), which :func:`cheapest_passing` reads.
 TABLE_KEYS = ("scenario", "part_id", "grade", "price_usd")
+
+
+#: The defaulted scenario keys a Monte Carlo cell rests on: Tc's, the line of sight, the lever arm
+#: and the IMU rate the trials are simulated at (:data:`budget.scenario.DEFAULTED_KEYS`).
+SWEEP_DEFAULT_KEYS = SIMULATED_DEFAULT_KEYS + ("lever_arm_m", "imu_rate_hz")
+
+
+def scenario_defaults_text(scen: Scenario) -> str:
+    """The ``scenario_defaults`` column: the keys of :data:`SWEEP_DEFAULT_KEYS` the scenario did not
+    set and the value used (:meth:`Scenario.defaults_note`), or that every one was set — a CSV row
+    says what its verdict rests on without the Monte Carlo's summary beside it."""
+    return scen.defaults_note(SWEEP_DEFAULT_KEYS) or "none: every key the verdict uses is in the scenario"
 
 
 def _cell(scen: Scenario, part) -> dict:
@@ -47,7 +60,9 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     ``window`` and ``navigation`` (what the verdict was judged on: points or realistic scene, the
     azimuth window, free-inertial or the aiding mode),
     ``unspecified_terms`` (how the part's empty datasheet terms were resolved — each value filled
-    from its grade, with its unit, or taken as 0 — as the Monte Carlo's own summary line says) and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
+    from its grade, with its unit, or taken as 0 — as the Monte Carlo's own summary line says),
+    ``scenario_defaults`` (the scenario keys the cell rests on that the scenario did not set, with
+    the value taken: :func:`scenario_defaults_text`) and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
     simulator's sampling limits; module docstring). ``sources``: the file each scenario was read
     from (None for a preset or an object), one per scenario: an input error raised while that
     scenario runs then names its file."""
@@ -85,7 +100,8 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             status = f"not simulated: {name_scenario_file(e, source)}"
             for part in parts:
                 rows.append(_cell(scen, part) | {"trials": 0, "seed": seed, "status": status,
-                                                 "platform_motion": options.platform_motion.kind})
+                                                 "platform_motion": options.platform_motion.kind,
+                                                 "scenario_defaults": scenario_defaults_text(scen)})
                 done += 1
                 if progress:
                     progress(done, total)
@@ -107,7 +123,8 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
                 "scene": r.judged_on.get("scene"), "window": r.judged_on.get("window"),
                 "navigation": r.judged_on.get("navigation"),
                 "unspecified_terms": (r.unspecified_summary()
-                                      or f"no unspecified datasheet terms ({options.unspecified})")}
+                                      or f"no unspecified datasheet terms ({options.unspecified})"),
+                "scenario_defaults": scenario_defaults_text(scen)}
             row.update({f"fail_{k}": v for k, v in r.agg.failure_reasons().items()})
             for m, q in pct.items():
                 row[f"{m}_p50"], row[f"{m}_p95"] = q["p50"], q["p95"]
