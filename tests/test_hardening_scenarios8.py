@@ -99,3 +99,41 @@ def test_sweep_rows_state_the_scenario_defaults_their_verdict_rests_on(tmp_path)
         assert text in auto
     assert "depression_deg" not in auto  # the file sets it
     assert ka.startswith("none")
+
+
+#: a user's own STIM300 unit: its datasheet figures written over the shipped row (same id)
+OWN_STIM300 = ("part_id,vendor,model,grade,gyro_arw_deg_rt_h,accel_vrw_m_s_rt_h,gyro_bias_instability_deg_h,"
+               "accel_bias_instability_ug,source\n"
+               "STIM300,Safran,STIM300 serial 1234,tactical,0.2,0.1,0.5,50,acceptance test sheet of unit 1234\n"
+               "MY-IMU,Acme,M1,tactical,0.1,0.05,1,100,Acme datasheet rev B\n")
+
+
+def test_a_user_row_replacing_a_shipped_part_is_named_by_check_mc_and_report(tmp_path, capsys, monkeypatch):
+    monkeypatch.delenv("SAR_BUDGET_CATALOG", raising=False)
+    cat = tmp_path / "mine.csv"
+    cat.write_text(OWN_STIM300)
+    # airborne_xband by hand: λ = c/9.6 GHz, Tc = λ R / (2 δℓ V) = 3.1228 s, δr = 0.5 m;
+    # paper ARW bound 784 δr / Tc^2.5 against the user's 0.2 deg/√h (the shipped row says 0.15)
+    tc = (C / 9.6e9) * 5000.0 / (2 * 0.5 * 50.0)
+    assert main(["check", "--preset", "airborne_xband", "--catalog", str(cat), "--part", "STIM300", "MY-IMU",
+                 "--json", "-"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    stim = next(r for r in out["parts"] if r["part_id"] == "STIM300")
+    assert stim["margins"]["gyro_arw_deg_rt_h"] == pytest.approx(784 * 0.5 / tc**2.5 / 0.2, rel=1e-3)
+    assert "replaces the shipped one of: STIM300" in out["catalog_note"]
+    assert "from the user catalog only: MY-IMU" in out["catalog_note"]
+    assert main(["check", "--preset", "airborne_xband", "--catalog", str(cat), "--part", "STIM300"]) == 0
+    assert "replaces the shipped one of: STIM300" in capsys.readouterr().out
+    # the shipped catalog alone: no catalog line
+    assert main(["check", "--preset", "airborne_xband", "--part", "STIM300"]) == 0
+    assert "catalog:" not in capsys.readouterr().out
+    # the Monte Carlo says it too, also when the catalog comes from the environment variable
+    monkeypatch.setenv("SAR_BUDGET_CATALOG", str(cat))
+    assert main(["mc", "--preset", "airborne_xband", "--part", "STIM300", "--trials", "2", "--workers", "1",
+                 "-q", "--json", "-"]) == 0
+    note = json.loads(capsys.readouterr().out)["catalog_note"]
+    assert "replaces the shipped one of: STIM300" in note and "$SAR_BUDGET_CATALOG" in note
+    monkeypatch.delenv("SAR_BUDGET_CATALOG")
+    rep = budget.build_report("airborne_xband", ["STIM300", "HG9900"], catalog=str(cat))
+    assert "replaces the shipped one of: STIM300" in rep.to_dict()["provenance"]["catalog"]
+    assert budget.build_report("airborne_xband", ["HG9900"]).to_dict()["provenance"]["catalog"] == "shipped"

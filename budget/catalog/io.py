@@ -207,6 +207,25 @@ def part_origins(user_csv: str | Path | None = None) -> dict[str, str]:
     return origins
 
 
+def catalog_note(part_ids, user_csv: str | Path | None = None) -> str:
+    """One line naming the user catalog in use (``user_csv`` or ``$SAR_BUDGET_CATALOG``) and which
+    of ``part_ids`` come from it — those replacing a shipped row first, since their numbers are not
+    the shipped datasheet's though their id is; '' when no user catalog is in use."""
+    user = user_catalog_path(user_csv)
+    if user is None:
+        return ""
+    origins = part_origins(user)
+    replaced = [p for p in part_ids if origins.get(p) == ORIGIN_REPLACED]
+    own = [p for p in part_ids if origins.get(p) == ORIGIN_USER]
+    via = "" if user_csv else f" (from ${ENV_VAR})"
+    text = f"catalog: the shipped parts with the user catalog {user}{via} merged over them"
+    if replaced:
+        text += f"; the user's row replaces the shipped one of: {', '.join(replaced)}"
+    if own:
+        text += f"; from the user catalog only: {', '.join(own)}"
+    return text
+
+
 def _case_twins(ids, others) -> list[tuple[str, str]]:
     """(id, other id) for each id of ``ids`` equal to an id of ``others`` up to letter case only."""
     lower = {o.lower(): o for o in others}

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..api import load_parts
 from ..bounds import scenario_assumptions
 from ..bounds.lever_arm import pga_limited_bounds
-from ..catalog.io import load_catalog, load_grades, user_catalog_path
+from ..catalog.io import catalog_note, load_catalog, load_grades, user_catalog_path
 from ..check import check_parts, check_scenario_keys, recommend_grade
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
 from .mc_cmd import add_platform_motion_options, platform_motion_from_args
@@ -36,6 +36,7 @@ def run(args) -> int:
     limited, _ = pga_limited_bounds(scen)
     rec_limited = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, bounds=limited)
     keys = check_scenario_keys(args.mode, getattr(args, "platform_motion", None))
+    origin = catalog_note(res.part_ids, args.catalog)  # '' with the shipped catalog alone
     if args.json:
         # the user catalog merged over the shipped one: --catalog, else $SAR_BUDGET_CATALOG
         user = user_catalog_path(args.catalog)
@@ -45,12 +46,14 @@ def run(args) -> int:
                     "assumptions": res.assumptions, "parts": res.to_dict()["scenarios"][0]["parts"],
                     "rotation": res.rotation[0] if res.rotation else None,
                     "lowest_sufficient_grade": {args.mode: rec.grade[0], "pga_limited": rec_limited.grade[0]},
-                    "scenario_defaults": scen.defaults_taken(keys)},
+                    "scenario_defaults": scen.defaults_taken(keys), "catalog_note": origin or None},
                    args.json)
         return 0
     print(f"scenario {scen.name}: Tc = {scen.tc_s:.3g} s, δr = {scen.range_resolution_m:g} m, "
           f"λ = {scen.wavelength_m:.4g} m ({args.mode} bounds)")
     print(res.summary())
+    if origin:
+        print(origin)
     print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {rec.grade[0] or 'none'}")
     print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {rec_limited.grade[0] or 'none'}")
     return 0

@@ -6,7 +6,7 @@ import sys
 
 from ..aiding_spec import AidingPlan
 from ..api import load_parts
-from ..catalog.io import load_catalog
+from ..catalog.io import catalog_note, load_catalog
 from ..errors import InputError
 from ..mc import McOptions, run_mc
 from ..mc.options import (DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS, UNSPECIFIED_DEFAULT, UNSPECIFIED_POLICIES,
@@ -181,9 +181,13 @@ def run(args) -> int:
                               samples=opts.prefilter_calibration_samples,
                               seed=args.seed).dc_gains(scen.imu_rate_hz)
     versus = _check_vs_mc(scen, model, res)
+    # a part id read from a user catalog (--catalog or $SAR_BUDGET_CATALOG): say so, above all
+    # when the user's row replaces a shipped part of the same id
+    origin = catalog_note([model.part_id], args.catalog) if args.part else ""
     if args.json:
         out = res.to_dict()
         out["aiding"] = AidingPlan.from_scenario(scen).label()
+        out["catalog_note"] = origin or None
         if gains is not None:
             out["prefilter_dc_gain"] = gains
         if versus is not None:
@@ -192,6 +196,8 @@ def run(args) -> int:
     else:
         print(res.summary())
         print(f"aiding: {AidingPlan.from_scenario(scen).label()}")
+        if origin:
+            print(origin)
         if gains is not None:
             print("pre-filter DC gain: " + ", ".join(f"{ch} {g:.4f}" for ch, g in gains.items()))
         if versus is not None and versus["agree"] is False:

@@ -201,7 +201,7 @@ def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence 
     may return a ``progress(done, total)`` callback for each Monte Carlo run.
     """
     from ..api import load_part, load_parts, load_scenario
-    from ..catalog.io import as_catalog
+    from ..catalog.io import as_catalog, catalog_note
     from ..check import check_parts
     from ..mc.options import DEFAULT_SEED, DEFAULT_TRIALS, McOptions
     from ..mc.runner import run_mc
@@ -229,9 +229,14 @@ def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence 
     recs = {r["part_id"]: r for r in check.to_dict()["scenarios"][0]["parts"]}
     comparisons = [check_vs_mc(recs.get(pid, {"part_id": pid, "verdict": "not checked"}), r)
                    for pid, r in mc.items()]
+    # which rows come from a user catalog, above all one replacing a shipped part of the same id
+    user = getattr(cat, "user_file", None)
+    ids = list(dict.fromkeys([*check.part_ids, *mc]))
+    origin = {"catalog": catalog_note(ids, user) if user is not None else "shipped"}
     rep = Report(scenario=s, mode=mode, bounds=bounds_frame(s, assumptions), check=check, mc=mc,
                  comparisons=comparisons,
-                 provenance=provenance(trials if mc else None, seed if mc else None, options if mc else None))
+                 provenance=provenance(trials if mc else None, seed if mc else None, options if mc else None,
+                                       extra=origin))
     rep.figures = _figures(rep)
     return rep
 
