@@ -137,3 +137,26 @@ def test_a_user_row_replacing_a_shipped_part_is_named_by_check_mc_and_report(tmp
     rep = budget.build_report("airborne_xband", ["STIM300", "HG9900"], catalog=str(cat))
     assert "replaces the shipped one of: STIM300" in rep.to_dict()["provenance"]["catalog"]
     assert budget.build_report("airborne_xband", ["HG9900"]).to_dict()["provenance"]["catalog"] == "shipped"
+
+
+#: a C-band spaceborne-like strip-map: 5.405 GHz, 850 km slant range, 7.5 km/s, 5 m resolution
+C_BAND_SPACE = {"name": "cband_space", "medium": "radar", "carrier_frequency_hz": 5.405e9,
+                "slant_range_m": 850e3, "azimuth_resolution_m": 5.0, "range_resolution_m": 5.0,
+                "platform_speed_m_s": 7500.0, "depression_deg": 55.0}
+
+
+def test_an_orbital_scenario_notes_its_specific_force_once_per_run(tmp_path):
+    import warnings
+
+    from budget.nav.earth import EARTH_RADIUS_M
+
+    path = _write(tmp_path, "cband.json", C_BAND_SPACE)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        s = budget.load_scenario(path)
+        budget.run_mc(s, "HG9900", trials=2, seed=3, workers=1)
+    notes = [str(w.message) for w in caught if "level flight around the Earth" in str(w.message)]
+    assert len(notes) == 1  # when the scenario is read, not again when the simulator rebuilds it
+    # hand: Tc = λ R / (2 δℓ V) = 0.6286 s; g − V²/r_E = 9.80665 − 7500²/6.371e6 ≈ 0.978 m/s²
+    assert s.tc_s == pytest.approx((C / 5.405e9) * 850e3 / (2 * 5.0 * 7500.0), rel=1e-12)
+    assert f"{9.80665 - 7500.0**2 / EARTH_RADIUS_M:.3g} m/s²" in notes[0]

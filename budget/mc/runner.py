@@ -25,6 +25,7 @@ import threading
 from collections import deque
 from collections.abc import Mapping
 from concurrent.futures import ProcessPoolExecutor
+import warnings
 from functools import lru_cache
 from typing import Callable
 
@@ -54,8 +55,10 @@ def single_threaded_blas():
 
 @lru_cache(maxsize=8)
 def _cached_setup(scenario_json: str, options_json: str) -> ChainSetup:
-    setup = ChainSetup.build(Scenario.model_validate_json(scenario_json),
-                             McOptions.model_validate_json(options_json))
+    with warnings.catch_warnings():  # the scenario's notes were shown when the caller built it
+        warnings.simplefilter("ignore", UserWarning)
+        scenario = Scenario.model_validate_json(scenario_json)
+    setup = ChainSetup.build(scenario, McOptions.model_validate_json(options_json))
     chain_plan(setup)  # built here, so that forked workers inherit it with the setup
     scene_reference(setup)  # likewise the perfect-IMU reference of a cluttered or noisy scene
     return setup
