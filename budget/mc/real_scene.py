@@ -71,6 +71,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -94,6 +95,10 @@ from .stats import wilson_interval
 #: time Tc = L / V (≈ 4.9 s over the 494 m of the 0–4° files), and the IMU's error grows with Tc
 #: (random walks as Tc^1.5 … Tc^2.5), so the verdict depends on it: give the platform's speed.
 DEFAULT_SPEED_M_S = 100.0
+#: Why that default, in words for an input's help (the dashboard shows it beside the speed).
+DEFAULT_SPEED_REASON = ("the files carry no pulse times, so the speed is assumed: 100 m/s is a typical speed of a "
+                        "manned X-band SAR aircraft. It sets the aperture time Tc = track length / V, and the "
+                        "IMU's error grows with Tc: give the platform's speed")
 #: Default image patch (m, ground range × cross range) and spacing: one backprojection per trial.
 DEFAULT_EXTENT_M = 60.0
 DEFAULT_SPACING_M = 0.25
@@ -308,10 +313,12 @@ def _check_counts(trials, seed) -> tuple[int, int]:
 
 
 def real_scene_verdict(ph: PhaseHistory, part, trials: int = 8, seed: int = 1,
-                       options: RealSceneOptions | None = None) -> RealSceneVerdict:
+                       options: RealSceneOptions | None = None,
+                       progress: Callable[[int, int], None] | None = None) -> RealSceneVerdict:
     """Inject ``trials`` draws of ``part``'s motion error into ``ph``, focus, PGA, judge (module
     docstring). ``part``: a catalog ``PartSpec``, a part id or a noise model (as
-    :func:`budget.api.load_part` accepts)."""
+    :func:`budget.api.load_part` accepts). ``progress(done, total)`` is called after the reference
+    run (done = 0) and after each trial (total = ``trials``)."""
     from ..api import load_part
     from ..catalog.fill import resolve_unspecified
     from ..motion import simulate_motion
@@ -372,6 +379,8 @@ def real_scene_verdict(ph: PhaseHistory, part, trials: int = 8, seed: int = 1,
                      + (": the trials are judged on what they add to it" if relative else ""))
 
     outcomes = []
+    if progress is not None:
+        progress(0, trials)
     t0 = time.perf_counter()
     for i in range(trials):
         t_inj = np.interp(t_pulse, motion.time_s, motion.range_error_m[i, 0])
@@ -406,6 +415,8 @@ def real_scene_verdict(ph: PhaseHistory, part, trials: int = 8, seed: int = 1,
                          "injected_beyond_linear_deg": math.degrees(math.sqrt(np.sum(w * inj_bl ** 2) / np.sum(w))),
                          **out, **{f"added_{k}": v for k, v in added.items()},
                          "pga_bandwidth_cycles": cut, **img})
+        if progress is not None:
+            progress(i + 1, trials)
     t_trials = time.perf_counter() - t0
     passed = sum(o["passed"] for o in outcomes)
     timings = {"motion": t_motion, "reference": t_ref, "trials": t_trials, "per_trial": t_trials / trials,
