@@ -1,7 +1,9 @@
 """Page: real SAR data — focus a recorded phase history (AFRL format) on a ground grid, autofocus
 it, and show the image before/after, the estimated vs recorded phase error and what the data are
-(band, aperture, resolutions: ``FocusResult.acquisition``). Every number from
-``budget.sar.focus_pga``; this page only collects the inputs and draws."""
+(band, aperture, resolutions: ``FocusResult.acquisition``); and a catalog part's verdict on the
+scene (its motion error injected into the recorded data, P(pass) after PGA with its interval,
+per-trial outcomes, the floor and the assumptions). Every number from ``budget.sar.focus_pga`` and
+``budget.mc.real_scene``; this page only collects the inputs and draws."""
 
 from __future__ import annotations
 
@@ -10,21 +12,36 @@ import os
 import tempfile
 from pathlib import Path
 
+import pandas as pd
 import streamlit as st
 
+from budget.catalog.schema import PartSpec
 from budget.errors import InputError
 from budget.fileio import json_safe
+from budget.mc.real_scene import (DEFAULT_EXTENT_M, DEFAULT_SPEED_M_S, DEFAULT_SPEED_REASON, REASONS,
+                                  RealSceneOptions, RealSceneVerdict, real_scene_verdict)
 from budget.plots.focus import image_pair_figure, phase_figure
+from budget.plots.real_scene import real_scene_trials_figure
 from budget.sar.afrl import name_order, read_afrl
 from budget.sar.focus import FocusOptions
 from budget.sar.focus_pga import AUTOFOCUS_MODES, focus
 
+import components as c
+from formatting import fmt_value, tidy
 from page_frame import run_page
+from uploads import error_text
 
 SOURCES = ("directory of .mat files", "upload .mat files")
 MAX_UPLOAD_MB = 50
 #: Environment variable naming a default directory of phase-history files.
 DATA_ENV = "SAR_BUDGET_SAR_DATA"
+#: The part the verdict section starts with (present in the shipped catalog).
+DEFAULT_VERDICT_PART = "STIM300"
+#: Trials the verdict section starts with: one backprojection each, so few.
+DEFAULT_VERDICT_TRIALS = 8
+MAX_VERDICT_TRIALS = 1000
+#: Session-state key of the verdict shown: (inputs, RealSceneVerdict), kept until the next run.
+VERDICT_KEY = "focus_verdict_last"
 
 
 def _files_in(directory: str) -> list[Path]:
@@ -48,9 +65,9 @@ def _run_paths(paths: tuple[str, ...], options_json: str, autofocus: str,
                  autofocus)
 
 
-@st.cache_data(show_spinner="Backprojecting and autofocusing …", max_entries=2)
-def _run_uploads(blobs: tuple[tuple[str, bytes], ...], options_json: str, autofocus: str,
-                 inject: tuple[float, float, float, float] | None = None):
+def _read_uploads(blobs: tuple[tuple[str, bytes], ...]):
+    """The phase history of uploaded files (written to a private temporary copy, read as the CLI
+    reads files; errors name the uploaded file)."""
     with tempfile.TemporaryDirectory() as tmp:
         paths = []
         for name, data in blobs:
@@ -59,12 +76,45 @@ def _run_uploads(blobs: tuple[tuple[str, bytes], ...], options_json: str, autofo
                 fh.write(data)
             paths.append(str(path))
         try:
-            ph = read_afrl(paths)
+            return read_afrl(paths)
         except InputError as err:
             if err.file and tmp in err.file:
                 err.rename_file(err.file.replace(tmp + os.sep, ""))
             raise
-    return focus(_with_injection(ph, inject), FocusOptions.model_validate_json(options_json), autofocus)
+
+
+@st.cache_data(show_spinner="Backprojecting and autofocusing …", max_entries=2)
+def _run_uploads(blobs: tuple[tuple[str, bytes], ...], options_json: str, autofocus: str,
+                 inject: tuple[float, float, float, float] | None = None):
+    return focus(_with_injection(_read_uploads(blobs), inject), FocusOptions.model_validate_json(options_json),
+                 autofocus)
+
+
+def _verdict(ph, part_json: str, trials: int, seed: int, options_json: str) -> RealSceneVerdict:
+    """The part's verdict on ``ph`` with a progress bar (removed when done, or refused)."""
+    part = PartSpec.model_validate_json(part_json)
+    bar = st.progress(0.0, text=f"{part.part_id}: reference run (no injection) …")
+
+    def progress(done: int, total: int) -> None:
+        bar.progress(done / total, text=f"{part.part_id}: {done} / {total} trials")
+
+    try:
+        return real_scene_verdict(ph, part, trials, seed, RealSceneOptions.model_validate_json(options_json),
+                                  progress=progress)
+    finally:
+        bar.empty()
+
+
+@st.cache_data(show_spinner=False, max_entries=8)
+def _verdict_paths(paths: tuple[str, ...], part_json: str, trials: int, seed: int,
+                   options_json: str) -> RealSceneVerdict:
+    return _verdict(read_afrl(list(paths)), part_json, trials, seed, options_json)
+
+
+@st.cache_data(show_spinner=False, max_entries=2)
+def _verdict_uploads(blobs: tuple[tuple[str, bytes], ...], part_json: str, trials: int, seed: int,
+                     options_json: str) -> RealSceneVerdict:
+    return _verdict(_read_uploads(blobs), part_json, trials, seed, options_json)
 
 
 def _injection() -> tuple[float, float, float, float] | None:
@@ -101,37 +151,34 @@ def _options() -> FocusOptions:
                               azimuth_window=win)
 
 
-def render() -> None:
-    st.title("Real SAR data")
-    st.caption("Backprojection of a recorded phase history onto a ground grid, phase gradient autofocus on "
-               "the real image, and the comparison with the data provider's own autofocus solution.")
-    src = st.radio("phase history", SOURCES, horizontal=True, key="focus_source")
-    autofocus = st.radio("autofocus", AUTOFOCUS_MODES, horizontal=True, key="focus_mode")
-    options = _options()
-    inject = _injection()
+def _source(src: str) -> tuple[str, object] | None:
+    """Where the phase history comes from: ("paths", directory) or ("uploads", ((name, bytes), …)),
+    or None after telling the user what to give."""
     if src == SOURCES[0]:
         directory = st.text_input("directory (all its .mat files, in name order, form one aperture)",
                                   os.environ.get(DATA_ENV, ""), key="focus_dir")
         if not directory:
             st.info(f"Name a directory of AFRL .mat files (or set {DATA_ENV}), or upload files.")
-            return
-        run = st.button("Focus", type="primary", key="focus_run")
-        if not run and "focus_last" not in st.session_state:
-            return
-        result = _run_paths(tuple(str(p) for p in _files_in(directory)), options.model_dump_json(), autofocus,
-                            inject)
+            return None
+        return "paths", directory
+    ups = st.file_uploader(f"AFRL .mat files (at most {MAX_UPLOAD_MB} MB each)", type=["mat"],
+                           accept_multiple_files=True, key="focus_upload", max_upload_size=MAX_UPLOAD_MB)
+    if not ups:
+        st.info("Upload one or more AFRL .mat files (they are concatenated in name order, az2 before az10).")
+        return None
+    by_name = {u.name: u for u in ups}
+    return "uploads", tuple((n, by_name[n].getvalue()) for n in name_order(by_name))
+
+
+def _focus_section(source: tuple[str, object], options: FocusOptions, autofocus: str, inject) -> None:
+    run = st.button("Focus", type="primary", key="focus_run")
+    if not run and "focus_last" not in st.session_state:
+        return
+    kind, value = source
+    if kind == "paths":
+        result = _run_paths(tuple(str(p) for p in _files_in(value)), options.model_dump_json(), autofocus, inject)
     else:
-        ups = st.file_uploader(f"AFRL .mat files (at most {MAX_UPLOAD_MB} MB each)", type=["mat"],
-                               accept_multiple_files=True, key="focus_upload", max_upload_size=MAX_UPLOAD_MB)
-        if not ups:
-            st.info("Upload one or more AFRL .mat files (they are concatenated in name order, az2 before az10).")
-            return
-        run = st.button("Focus", type="primary", key="focus_run")
-        if not run and "focus_last" not in st.session_state:
-            return
-        by_name = {u.name: u for u in ups}
-        blobs = tuple((n, by_name[n].getvalue()) for n in name_order(by_name))
-        result = _run_uploads(blobs, options.model_dump_json(), autofocus, inject)
+        result = _run_uploads(value, options.model_dump_json(), autofocus, inject)
     st.session_state["focus_last"] = True
     s = result.scalars()
     m1, m2, m3, m4 = st.columns(4)
@@ -162,6 +209,121 @@ def render() -> None:
         st.caption(note)
     st.download_button("Download FOCUS.json", json.dumps(json_safe(result.to_dict()), indent=2), "focus.json",
                        mime="application/json", key="focus_dl")
+
+
+def _verdict_inputs(options: FocusOptions) -> tuple[PartSpec, int, int, RealSceneOptions | None, bool]:
+    """Part (shipped + user catalog), trials, seed, assumed speed, patch; the options built by the
+    library (None after showing its refusal) and whether the run button was pressed."""
+    catalog = c.session_catalog()
+    ids, user = list(catalog), set(c.user_parts())
+    a, b, c2, d, e = st.columns([2, 1, 1, 1, 1])
+    pid = a.selectbox("part (shipped catalog and your uploaded parts)", ids,
+                      index=ids.index(DEFAULT_VERDICT_PART) if DEFAULT_VERDICT_PART in ids else 0,
+                      format_func=lambda p: f"{p} (your catalog)" if p in user else p, key="focus_verdict_part")
+    trials = b.number_input("trials", min_value=1, max_value=MAX_VERDICT_TRIALS, value=DEFAULT_VERDICT_TRIALS,
+                            step=1, key="focus_verdict_trials",
+                            help=f"one backprojection and PGA per trial: ≈ 1 s per trial for the "
+                                 f"{DEFAULT_EXTENT_M:g} m patch on 2 threads (the time grows with the patch's "
+                                 "area), plus one reference run")
+    seed = c2.number_input("seed", min_value=0, value=1, step=1, key="focus_verdict_seed",
+                           help="same seed → same draws of the part's errors, same verdict")
+    speed = d.number_input("assumed platform speed (m/s)", value=DEFAULT_SPEED_M_S, step=10.0, format="%g",
+                           key="focus_verdict_speed", help=f"default {DEFAULT_SPEED_M_S:g} m/s: {DEFAULT_SPEED_REASON}")
+    patch = e.number_input("patch, square (m)", 5.0, 1000.0, DEFAULT_EXTENT_M, 5.0, key="focus_verdict_patch",
+                           help="ground range × cross range imaged per trial; pixel spacing and window as above")
+    try:
+        opts = RealSceneOptions.build(platform_speed_m_s=speed, focus=FocusOptions.build(
+            **{**options.model_dump(), "range_extent_m": patch, "azimuth_extent_m": patch}))
+    except InputError as err:
+        st.error(error_text(err), icon=":material/error:")
+        return catalog[pid], int(trials), int(seed), None, False
+    clicked = st.button("Run the verdict", type="primary", key="focus_verdict_run")
+    return catalog[pid], int(trials), int(seed), opts, clicked
+
+
+def _show_verdict(v: RealSceneVerdict) -> None:
+    lo, hi = v.interval
+    m1, m2, m3, m4 = st.columns(4)
+    m1.metric(f"P(pass) after PGA — {v.part}", f"{v.p_pass:.2f}", help=f"95 % Wilson interval [{lo:.2f}, {hi:.2f}]")
+    m2.metric("95 % interval (Wilson)", f"[{lo:.2f}, {hi:.2f}]")
+    m3.metric("trials passed", f"{v.passed} / {v.trials}")
+    m4.metric("time per trial (s)", f"{v.timings_s.get('per_trial', float('nan')):.2f}",
+              help=f"{v.timings_s.get('total', float('nan')):.1f} s in all, with the reference run")
+    lim = v.limits
+    migration = (f", range migration ≤ {lim['range_migration_cells']:g} cells"
+                 if lim.get("range_migration_cells") is not None else "")
+    st.caption(f"seed {v.seed} · assumed speed {v.options.platform_speed_m_s:g} m/s · Tc {v.scenario.tc_s:.3g} s · "
+               f"patch {v.options.focus.range_extent_m:g} m × {v.options.focus.azimuth_extent_m:g} m at "
+               f"{v.options.focus.spacing_m:g} m. Judged: {lim['judged_on']}. Limits: beyond PGA's window ≤ "
+               f"{lim['residual_beyond_window_deg']:g}° rms, peak loss ≤ {lim['peak_loss_db']:g} dB{migration}.")
+    st.markdown("**Failure reasons** (trials failing for each)")
+    counts = v.failure_counts()
+    st.dataframe(pd.DataFrame([{r: counts.get(r, 0) for r in REASONS}]), hide_index=True,
+                 key="focus_verdict_reasons")
+    st.plotly_chart(real_scene_trials_figure(v), key="focus_verdict_plot", width="stretch")
+    st.markdown("**Per trial**")
+    st.dataframe(tidy(v.to_frame().reset_index()), hide_index=True, key="focus_verdict_trials_table")
+    st.markdown("**The floor: the reference run** (no injection; PGA against the recorded solution)")
+    st.dataframe([{"quantity": k, "value": fmt_value(val)} for k, val in v.reference.items()],
+                 hide_index=True, key="focus_verdict_reference")
+    st.markdown("**Assumptions and notes**")
+    for note in v.notes:
+        st.caption(note)
+    with st.expander("Summary (as `sar-budget focus --part` prints it)"):
+        st.code(v.summary(), language=None)
+    st.download_button("Download VERDICT.json", json.dumps(json_safe(v.to_dict()), indent=2), "verdict.json",
+                       mime="application/json", key="focus_verdict_dl")
+
+
+def _verdict_section(source: tuple[str, object], options: FocusOptions) -> None:
+    """A catalog part's motion error injected into these data, focused, PGA, judged (the library's
+    :func:`budget.mc.real_scene.real_scene_verdict`); runs when its button is pressed and keeps that
+    result until the next run."""
+    st.subheader("Part verdict on this scene")
+    st.caption("Each trial draws the part's IMU errors (the Monte Carlo's motion engine), injects their "
+               "line-of-sight range error into the recorded phase history exactly, backprojects, runs PGA "
+               "and judges what PGA adds to the scene's own floor; the data as recorded (no known phase "
+               f"error injected). Cost: ≈ 1 s per trial for the {DEFAULT_EXTENT_M:g} m patch on 2 threads "
+               "(growing with the patch's area), plus one reference run.")
+    part, trials, seed, opts, clicked = _verdict_inputs(options)
+    if opts is None:
+        return
+    kind, value = source
+    identity = value if kind == "paths" else tuple((n, len(b)) for n, b in value)
+    request = (kind, identity, part.model_dump_json(), trials, seed, opts.model_dump_json())
+    if clicked:
+        try:
+            if kind == "paths":
+                v = _verdict_paths(tuple(str(p) for p in _files_in(value)), *request[2:])
+            else:
+                v = _verdict_uploads(value, *request[2:])
+        except InputError as err:
+            st.error(error_text(err), icon=":material/error:")
+            return
+        st.session_state[VERDICT_KEY] = (request, v)
+    got = st.session_state.get(VERDICT_KEY)
+    if got is None:
+        st.info("Pick a part, trials, seed, speed and patch, then press **Run the verdict**.")
+        return
+    if got[0] != request:
+        st.info("The inputs changed since the verdict shown; press **Run the verdict** to update. "
+                "Showing the last run.")
+    _show_verdict(got[1])
+
+
+def render() -> None:
+    st.title("Real SAR data")
+    st.caption("Backprojection of a recorded phase history onto a ground grid, phase gradient autofocus on "
+               "the real image, and the comparison with the data provider's own autofocus solution.")
+    src = st.radio("phase history", SOURCES, horizontal=True, key="focus_source")
+    autofocus = st.radio("autofocus", AUTOFOCUS_MODES, horizontal=True, key="focus_mode")
+    options = _options()
+    inject = _injection()
+    source = _source(src)
+    if source is None:
+        return
+    _focus_section(source, options, autofocus, inject)
+    _verdict_section(source, options)
 
 
 run_page(render, sidebar=False)  # the phase history carries its own geometry
