@@ -160,3 +160,18 @@ def test_an_orbital_scenario_notes_its_specific_force_once_per_run(tmp_path):
     # hand: Tc = λ R / (2 δℓ V) = 0.6286 s; g − V²/r_E = 9.80665 − 7500²/6.371e6 ≈ 0.978 m/s²
     assert s.tc_s == pytest.approx((C / 5.405e9) * 850e3 / (2 * 5.0 * 7500.0), rel=1e-12)
     assert f"{9.80665 - 7500.0**2 / EARTH_RADIUS_M:.3g} m/s²" in notes[0]
+
+
+def test_no_autofocus_bounds_from_bare_tc_do_not_report_a_range_resolution_nobody_gave(capsys):
+    # Ka band λ = 8.6 mm: without autofocus the edge quadratic phase ≤ π/4 gives a constant
+    # acceleration error b ≤ λ/(2 Tc²) (b Tc²/8 of edge quadratic range, 4π/λ of phase)
+    assert main(["bounds", "--tc", "0.5", "2", "--wavelength", "0.0086", "--mode", "no-autofocus",
+                 "--json", "-"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["range_resolution_m"] is None  # not given, and not used by these bounds
+    for row, tc in zip(out["bounds"]["rows"], (0.5, 2.0)):
+        assert row["accel_bias_ug"] == pytest.approx(0.0086 / (2 * tc**2) / 9.80665 * 1e6, rel=1e-9)
+    # given, it is reported as given
+    assert main(["bounds", "--tc", "0.5", "--wavelength", "0.0086", "--range-resolution", "0.3",
+                 "--mode", "no-autofocus", "--json", "-"]) == 0
+    assert json.loads(capsys.readouterr().out)["range_resolution_m"] == 0.3

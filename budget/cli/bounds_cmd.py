@@ -112,7 +112,9 @@ def run(args) -> int:
     fast = fast_phase_limits(lam, tc, aperture_window=window) if lam is not None else None
     if args.json:
         out = {"mode": args.mode, "scenario": None if args.tc else s.model_dump(mode="json"),
-               "tc_s": np.atleast_1d(tc).tolist(), "range_resolution_m": float(dr),
+               "tc_s": np.atleast_1d(tc).tolist(),
+               # no-autofocus bounds do not use δr: none given with --tc is null, not the 1.0 filled above
+               "range_resolution_m": None if args.tc and args.range_resolution is None else float(dr),
                "wavelength_m": None if lam is None else float(lam), "bounds": table.to_dict(),
                "fast_phase": None if fast is None else fast.to_dict(),
                "scenario_defaults": None if args.tc else s.defaults_taken(scenario_keys(args.mode))}
