@@ -105,6 +105,34 @@ def test_the_verdict_is_kept_until_the_next_run_and_a_change_is_said(gotcha, mon
     assert any("inputs changed" in i.value for i in at.info)
 
 
+def test_uploaded_files_give_the_verdict_on_those_files(gotcha, monkeypatch):
+    """The upload source: two of the four files uploaded (out of order: the page puts them in name
+    order) give the library's verdict on those two files."""
+    at = _page(monkeypatch)
+    at.radio(key="focus_source").set_value(at.radio(key="focus_source").options[1]).run()
+    at.file_uploader(key="focus_upload").set_value(
+        [(f.name, f.read_bytes(), "application/octet-stream") for f in (gotcha[1], gotcha[0])]).run()
+    at.number_input(key="focus_verdict_trials").set_value(1).run()
+    at.number_input(key="focus_verdict_patch").set_value(PATCH_M).run()
+    at.button(key="focus_verdict_run").click().run()
+    assert not at.exception and not at.error, [e.value for e in (*at.exception, *at.error)]
+    opts = RealSceneOptions(focus=FocusOptions(range_extent_m=PATCH_M, azimuth_extent_m=PATCH_M))
+    v = real_scene_verdict(read_afrl(gotcha[:2]), load_catalog()["STIM300"], 1, 1, opts)
+    row = at.dataframe[1].value.to_dict("records")[0]
+    assert row["added_residual_beyond_window_deg"] == pytest.approx(v.outcomes[0]["added_residual_beyond_window_deg"],
+                                                                    rel=1e-9)
+    assert any(note == v.notes[0] for note in (c_.value for c_ in at.caption))  # Tc of the two files' track
+
+
+def test_a_directory_without_files_is_one_line(tmp_path, monkeypatch):
+    at = _page(monkeypatch)
+    _set_verdict_inputs(at, tmp_path)
+    at.button(key="focus_verdict_run").click().run()
+    errors = [e.value for e in at.error]
+    assert not at.exception and len(errors) == 1 and "no .mat files" in errors[0]
+    assert not at.metric
+
+
 def test_a_refused_speed_is_one_line_and_nothing_runs(tmp_path, monkeypatch):
     """The library refuses a speed ≤ 0 (RealSceneOptions): the page shows its message naming the
     field, draws no run button and no traceback (no data needed: nothing is read)."""
