@@ -33,7 +33,7 @@ def real_scene_trials_figure(verdict: RealSceneVerdict) -> go.Figure:
     """One panel per judged quantity: its value per trial (markers, green passed / red failed,
     the failure reasons on hover) and its limit (dashed line; none where it is not judged)."""
     keys = judged_keys(verdict)
-    fig = make_subplots(rows=len(keys), cols=1, shared_xaxes=True, vertical_spacing=0.07,
+    fig = make_subplots(rows=len(keys), cols=1, shared_xaxes=True, vertical_spacing=0.1,
                         subplot_titles=[label for _, _, label in keys])
     trials = [o["trial"] for o in verdict.outcomes]
     hover = [", ".join(o["reasons"]) or "passed" for o in verdict.outcomes]
