@@ -175,3 +175,15 @@ def test_no_autofocus_bounds_from_bare_tc_do_not_report_a_range_resolution_nobod
     assert main(["bounds", "--tc", "0.5", "--wavelength", "0.0086", "--range-resolution", "0.3",
                  "--mode", "no-autofocus", "--json", "-"]) == 0
     assert json.loads(capsys.readouterr().out)["range_resolution_m"] == 0.3
+
+
+def test_scenario_show_marks_the_keys_left_at_their_defaults(tmp_path, capsys):
+    path = _write(tmp_path, "auto24.json", AUTO24_SLOW)
+    assert main(["scenario", "show", "--scenario", path]) == 0
+    rows = {line.split()[0]: line for line in capsys.readouterr().out.splitlines() if line.startswith("  ")}
+    for key in ("squint_deg", "window_broadening", "lever_arm_m", "imu_rate_hz", "medium"):
+        assert rows[key].endswith("(default)"), rows[key]
+    for key in ("slant_range_m", "depression_deg", "platform_speed_m_s"):
+        assert "(default)" not in rows[key], rows[key]
+    # Tc by hand: λ R / (2 δℓ V) with a_w = 1 (the default) = 1.864 s
+    assert float(rows["tc_s"].split()[1]) == pytest.approx((C / 24.125e9) * 30.0 / (2 * 0.05 * 2.0), rel=1e-5)

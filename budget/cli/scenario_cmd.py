@@ -40,11 +40,13 @@ def add_parser(sub) -> None:
 
 
 def describe(s: Scenario) -> str:
-    """Keys and derived quantities of ``s``, one per line (SI; the unit is in the key)."""
+    """Keys and derived quantities of ``s``, one per line (SI; the unit is in the key); a key the
+    scenario did not set is marked ``(default)`` beside the value taken."""
     lines = [f"scenario {s.name}"]
     for k, v in s.model_dump(mode="json").items():
         if k != "name":
-            lines.append(f"  {k:<28}{'(default)' if v is None else v}")
+            text = "(default)" if v is None else f"{v}" if k in s.model_fields_set else f"{v}  (default)"
+            lines.append(f"  {k:<28}{text}")
     lines.append("derived:")
     lines += [f"  {k:<28}{v:.6g}" for k, v in s.derived().items()]
     return "\n".join(lines)
