@@ -187,3 +187,40 @@ def test_scenario_show_marks_the_keys_left_at_their_defaults(tmp_path, capsys):
         assert "(default)" not in rows[key], rows[key]
     # Tc by hand: λ R / (2 δℓ V) with a_w = 1 (the default) = 1.864 s
     assert float(rows["tc_s"].split()[1]) == pytest.approx((C / 24.125e9) * 30.0 / (2 * 0.05 * 2.0), rel=1e-5)
+
+
+#: a Ku-band seeker: 16 GHz, 8 km, 300 m/s, 30° squint, a 3 g manoeuvre's specific force
+MISSILE_KU = {"name": "missile_ku", "carrier_frequency_hz": 16e9, "slant_range_m": 8000.0,
+              "azimuth_resolution_m": 1.0, "range_resolution_m": 1.0, "platform_speed_m_s": 300.0,
+              "squint_deg": 30.0, "depression_deg": 40.0, "platform_accel_m_s2": 30.0,
+              "platform_rate_deg_s": 10.0, "lever_arm_m": [1.0, 0.0, 0.0], "imu_rate_hz": 400.0}
+
+
+def test_bound_assumptions_as_a_dict_complete_the_scenarios_own(tmp_path):
+    from budget.errors import InputError
+
+    path = _write(tmp_path, "missile.json", MISSILE_KU)
+    # hand: Tc = λ R / (2 δℓ V sin 60°) = 0.28848 s; derived β ≤ 2 δr / (a Tc²) with the
+    # scenario's a = 30 m/s²; combine 'rss' shares δr among 7 sources: δr/√7
+    tc = (C / 16e9) * 8000.0 / (2 * 1.0 * 300.0 * math.sin(math.radians(60.0)))
+    beta = 2 * 1.0 / (30.0 * tc**2)
+    each = budget.compute_bounds(path, "derived").to_dict()["rows"][0]
+    rss = budget.compute_bounds(path, "derived", assumptions={"combine": "rss"}).to_dict()["rows"][0]
+    assert each["accel_scale_factor_ppm"] == pytest.approx(beta * 1e6, rel=1e-9)
+    assert rss["accel_scale_factor_ppm"] == pytest.approx(beta * 1e6 / math.sqrt(7), rel=1e-9)
+    # the check takes the same dict
+    res = budget.check_parts(["STIM300"], path, mode="derived", assumptions={"combine": "rss"})
+    assert res.to_dict()["scenarios"][0]["tc_s"] == pytest.approx(tc, rel=1e-12)
+    # lever-arm: the scenario's lever arm and turn rate kept, k·σ changed
+    lever = budget.compute_bounds(path, "lever-arm", assumptions={"k_sigma": 3}).assumptions
+    assert lever["lever_arm_m"] == [1.0, 0.0, 0.0] and lever["platform_rate_deg_s"] == 10.0
+    assert lever["k_sigma"] == 3.0
+    # a bad key, value or type: one clear InputError, never an AttributeError
+    with pytest.raises(InputError, match=r"assumptions\.combin: unknown key.*keys of DerivedAssumptions"):
+        budget.compute_bounds(path, "derived", assumptions={"combin": "rss"})
+    with pytest.raises(InputError, match=r"assumptions\.k_sigma"):
+        budget.compute_bounds(path, "derived", assumptions={"k_sigma": -1})
+    with pytest.raises(InputError, match=r"field assumptions: derived bounds take"):
+        budget.compute_bounds(path, "derived", assumptions=5)
+    with pytest.raises(InputError, match=r"assumptions\.quadratic_edge_limit_rad"):
+        budget.check_parts(["STIM300"], path, mode="no-autofocus", assumptions={"quadratic_edge_limit_rad": "x"})

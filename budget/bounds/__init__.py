@@ -9,7 +9,11 @@
   (the equivalent excursion that replaces seed 004's 1 rad).
 """
 
-from ..errors import InputError
+from collections.abc import Mapping
+
+from pydantic import ValidationError
+
+from ..errors import InputError, from_validation_error
 from .table import BOUND_FIELDS, BoundsTable
 from .paper import paper_bounds
 from .derived import DerivedAssumptions, derived_bounds
@@ -23,7 +27,7 @@ __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", 
            "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
            "fast_phase_residual", "FastPhaseResidual",
            "random_walk_constants", "compute_bounds", "LeverArmAssumptions", "lever_arm_bounds",
-           "lever_arm_terms", "MODES", "scenario_assumptions", "scenario_keys", "RotationExcursion",
+           "lever_arm_terms", "MODES", "scenario_assumptions", "coerce_assumptions", "scenario_keys", "RotationExcursion",
            "motion_excursion", "rotation_excursion"]
 
 #: Bound modes of :func:`compute_bounds` (and ``sar-budget bounds --mode``).
@@ -40,8 +44,13 @@ def scenario_assumptions(mode: str, scenario, assumptions=None):
     ``paper`` (no assumption)."""
     if assumptions is None and mode in ("lever-arm", "lever_arm"):
         return LeverArmAssumptions.from_scenario(scenario)
+    if isinstance(assumptions, Mapping) and mode in _ASSUMPTION_CLASSES:
+        # a partial dict ({"combine": "rss"}) completes the scenario's own assumptions, so that
+        # its platform_accel_m_s2 (or lever arm) is not silently replaced by the class default
+        base = scenario_assumptions(mode, scenario, None)
+        return coerce_assumptions(mode, {**base.model_dump(), **assumptions})
     if assumptions is not None or mode not in ("derived", "no-autofocus", "no_autofocus"):
-        return assumptions
+        return coerce_assumptions(mode, assumptions)
     a = float(scenario.platform_accel_m_s2)
     if not a > 0:
         raise InputError("the derived and no-autofocus bounds need the specific force the scale factor and "
@@ -49,6 +58,36 @@ def scenario_assumptions(mode: str, scenario, assumptions=None):
                          expected="> 0 m/s² (g = 9.80665 in level flight)")
     cls = DerivedAssumptions if mode == "derived" else NoAutofocusAssumptions
     return cls(accel_level_m_s2=a)
+
+
+#: The assumptions class of each bounds mode that takes assumptions.
+_ASSUMPTION_CLASSES = {"derived": DerivedAssumptions, "no-autofocus": NoAutofocusAssumptions,
+                       "no_autofocus": NoAutofocusAssumptions, "lever-arm": LeverArmAssumptions,
+                       "lever_arm": LeverArmAssumptions}
+
+
+def coerce_assumptions(mode: str, assumptions):
+    """``assumptions`` for ``mode`` as its class (:class:`DerivedAssumptions`,
+    :class:`NoAutofocusAssumptions`, :class:`LeverArmAssumptions`): a dict is validated into it (a
+    bad key or value is an :class:`InputError` naming ``assumptions.<key>`` and what it accepts);
+    an instance of the class, None, or any value for ``paper`` is returned as it is."""
+    cls = _ASSUMPTION_CLASSES.get(mode)
+    if cls is None or assumptions is None or isinstance(assumptions, cls):
+        return assumptions
+    if not isinstance(assumptions, Mapping):
+        raise InputError(f"{mode} bounds take a {cls.__name__} or a dict of its fields",
+                         field="assumptions", value=type(assumptions).__name__,
+                         expected=f"{cls.__name__}(...) or a dict with keys from: {', '.join(cls.model_fields)}")
+    try:
+        return cls.model_validate(dict(assumptions))
+    except ValidationError as err:
+        e = from_validation_error(err)
+        e.field = f"assumptions.{e.field}" if e.field else "assumptions"
+        if e.reason.startswith("Extra inputs"):
+            e.reason = "unknown key"
+            e.expected = f"keys of {cls.__name__}: {', '.join(cls.model_fields)}"
+        e.args = (e._format(),)
+        raise e from None
 
 
 def scenario_keys(mode: str) -> tuple[str, ...]:
@@ -69,6 +108,7 @@ def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_
     Tc and δr (``lever-arm`` needs the wavelength and a :class:`LeverArmAssumptions`)."""
     if mode == "paper":
         return paper_bounds(tc_s, range_resolution_m)
+    assumptions = coerce_assumptions(mode, assumptions)
     if mode == "derived":
         return derived_bounds(tc_s, range_resolution_m, assumptions or DerivedAssumptions())
     if mode in ("no-autofocus", "no_autofocus"):
