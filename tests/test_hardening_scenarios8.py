@@ -224,3 +224,23 @@ def test_bound_assumptions_as_a_dict_complete_the_scenarios_own(tmp_path):
         budget.compute_bounds(path, "derived", assumptions=5)
     with pytest.raises(InputError, match=r"assumptions\.quadratic_edge_limit_rad"):
         budget.check_parts(["STIM300"], path, mode="no-autofocus", assumptions={"quadratic_edge_limit_rad": "x"})
+
+
+def test_a_user_row_without_a_bias_convention_is_told_which_one_it_got(tmp_path):
+    head = "part_id,vendor,model,grade,gyro_bias_instability_deg_h,gyro_arw_deg_rt_h,accel_bias_instability_ug,"
+    body = "tactical,1.0,0.15,1000,0.05,Honeywell-style brochure: bias 1 deg/h and 1 mg (1 sigma)"
+    bare = tmp_path / "bare.csv"
+    bare.write_text(head + "accel_vrw_m_s_rt_h,source\nHW-1,Acme,H1," + body + "\n")
+    stated = tmp_path / "stated.csv"
+    stated.write_text(head + "accel_vrw_m_s_rt_h,source,bias_instability_convention\nHW-1,Acme,H1,"
+                      + body + ",total_1sigma\n")
+    ka = _write(tmp_path, "ka.json", KA_UAV)
+    r = budget.run_mc(ka, "HW-1", trials=2, seed=1, workers=1, catalog=str(bare))
+    text = r.unspecified_summary()
+    assert "bias_instability_convention not given" in text
+    assert "gyro_bias_instability_deg_h = 1 deg/h" in text and "accel_bias_instability_ug = 1000 µg" in text
+    r2 = budget.run_mc(ka, "HW-1", trials=2, seed=1, workers=1, catalog=str(stated))
+    assert "bias_instability_convention" not in r2.unspecified_summary()
+    # the shipped rows all state theirs
+    r3 = budget.run_mc(ka, "STIM300", trials=2, seed=1, workers=1)
+    assert "bias_instability_convention" not in r3.unspecified_summary()

@@ -187,6 +187,23 @@ def _zero_figures_note(model) -> tuple[str, ...]:
             "when the figure is unknown, so that it is filled from the grade and stated",)
 
 
+def _convention_note(model) -> tuple[str, ...]:
+    """A note when the row gives a bias instability figure but no ``bias_instability_convention``:
+    the default ``adev_min`` then simulates the figure as flicker noise (an Allan minimum), where a
+    total or turn-on 1-sigma bias (Honeywell's "bias, 1 sigma") is one constant per trial: a choice
+    the verdict rests on and the row did not make."""
+    if "bias_instability_convention" in model.model_fields_set:
+        return ()
+    given = [f"{c} = {getattr(model, c):g} {unit}" for c, unit in (("gyro_bias_instability_deg_h", "deg/h"),
+                                                                   ("accel_bias_instability_ug", "µg"))
+             if getattr(model, c, None) is not None]
+    if not given:
+        return ()
+    return (f"bias_instability_convention not given: {', '.join(given)} taken as in-run Allan-deviation "
+            "minima (adev_min, the default) and simulated as flicker noise; write total_1sigma or "
+            "turn_on_1sigma if the datasheet's figure is a total or turn-on 1σ bias (one constant per trial)",)
+
+
 def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
                         grades: Mapping[str, GradeSpec] | None = None) -> Resolution:
     """Resolve the unspecified terms of ``model`` (a catalog ``PartSpec`` or a ``NoiseModel``).
@@ -205,7 +222,7 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
     missing = unspecified_quantities(model)
     not_modelled = tuple(c for c in _NO_GRADE_VALUE if getattr(model, c) is None)
     label = model.part_id or "the noise model"
-    zero_note = _zero_figures_note(model)
+    zero_note = _zero_figures_note(model) + _convention_note(model)
     if not missing:
         return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled, warnings=zero_note)
     if policy == "refuse":
