@@ -244,3 +244,29 @@ def test_a_user_row_without_a_bias_convention_is_told_which_one_it_got(tmp_path)
     # the shipped rows all state theirs
     r3 = budget.run_mc(ka, "STIM300", trials=2, seed=1, workers=1)
     assert "bias_instability_convention" not in r3.unspecified_summary()
+
+
+@pytest.mark.parametrize("header, meant", [
+    ("accel_bias_instability_µg", "accel_bias_instability_ug"),   # the micro sign of a datasheet
+    ("gyro_arw_deg_sqrt_hr", "gyro_arw_deg_rt_h"),
+    ("Gyro_ARW_deg_rt_h", "gyro_arw_deg_rt_h"),
+    ("accel_vrw_m_s_rt_hr", "accel_vrw_m_s_rt_h"),
+])
+def test_a_datasheet_spelled_header_is_refused_with_the_column_it_meant(tmp_path, header, meant):
+    from budget.catalog.io import read_parts
+    from budget.errors import InputError
+
+    p = tmp_path / "mine.csv"
+    p.write_text(f"part_id,vendor,model,grade,{header},source\nX-1,Acme,X,tactical,0.1,sheet\n")
+    with pytest.raises(InputError, match=rf"row 1, field {header}: unknown column \(did you mean '{meant}'\?\)"):
+        read_parts(p)
+
+
+def test_an_unrelated_header_gets_no_guess(tmp_path):
+    from budget.catalog.io import read_parts
+    from budget.errors import InputError
+
+    p = tmp_path / "mine.csv"
+    p.write_text("part_id,vendor,model,grade,my_comment,source\nX-1,Acme,X,tactical,hello,sheet\n")
+    with pytest.raises(InputError, match=r"field my_comment: unknown column; expected one of part_id"):
+        read_parts(p)

@@ -144,6 +144,28 @@ def _check_length(r: list[str], header: list[str], path: Path, i: int) -> None:
                          value=r[j], expected=f"at most {MAX_CELL_CHARS:,} characters")
 
 
+#: How datasheet-minded headers differ from the column names: the micro sign, "sqrt"/"√" and
+#: "hr" for the ASCII "rt" and "h" of the names (``accel_bias_instability_µg``, ``gyro_arw_deg_sqrt_hr``).
+_HEADER_SPELLINGS = (("µ", "u"), ("μ", "u"), ("√", "rt_"), ("sqrt", "rt"), ("_hr", "_h"), ("/", "_"),
+                     (" ", "_"), ("-", "_"))
+
+
+def _column_guess(col: str, names) -> str | None:
+    """The column ``col`` was most likely meant to be: the one it equals once lower-cased and
+    respelt (:data:`_HEADER_SPELLINGS`), else the closest name (difflib, cutoff 0.85), else None."""
+    import difflib
+
+    key = col.strip().lower()
+    for a, b in _HEADER_SPELLINGS:
+        key = key.replace(a, b)
+    key = re.sub("_+", "_", key).strip("_")
+    names = list(names)
+    if key in names:
+        return key
+    close = difflib.get_close_matches(key, names, n=1, cutoff=0.85)
+    return close[0] if close else None
+
+
 def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], required: tuple[str, ...],
                 alt: Mapping[str, tuple[str, callable]]) -> dict[str, str]:
     """Header column → canonical column; raises on unknown, duplicate or missing columns."""
@@ -165,8 +187,9 @@ def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], require
                                  f"use {sep!r} as its delimiter", file=path, row=1, field=col,
                                  expected="comma-separated columns and decimal points (save the sheet as CSV with "
                                  "commas; a spreadsheet set to a decimal-comma locale writes ';' and 0,4)")
-            raise InputError("unknown column", file=path, row=1, field=col,
-                             expected=f"one of {', '.join(allowed)}"
+            guess = _column_guess(col, (*allowed, *alt))
+            raise InputError("unknown column" + (f" (did you mean {guess!r}?)" if guess else ""), file=path,
+                             row=1, field=col, expected=f"one of {', '.join(allowed)}"
                              + (f" or an alternative-unit column ({', '.join(alt)})" if alt else ""))
         if col in mapping:
             raise InputError("duplicate column", file=path, row=1, field=col)
