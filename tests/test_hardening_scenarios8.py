@@ -270,3 +270,30 @@ def test_an_unrelated_header_gets_no_guess(tmp_path):
     p.write_text("part_id,vendor,model,grade,my_comment,source\nX-1,Acme,X,tactical,hello,sheet\n")
     with pytest.raises(InputError, match=r"field my_comment: unknown column; expected one of part_id"):
         read_parts(p)
+
+
+def test_an_aided_scenario_states_the_aiding_keys_it_left_out(tmp_path):
+    # a helicopter at 10 m/s, 1 km, X band: Tc = λ R / (2 δℓ V) = 5.2 s; a 5 Hz GNSS of 0.5 m given
+    # with neither latency, antenna lever arm nor a correlated error, and no mode or warm-up
+    heli = {"name": "heli", "carrier_frequency_hz": 9.6e9, "slant_range_m": 1000.0,
+            "azimuth_resolution_m": 0.3, "range_resolution_m": 0.3, "platform_speed_m_s": 10.0,
+            "depression_deg": 20.0, "lever_arm_m": [0.0, 1.0, -0.5],
+            "aiding": [{"type": "gnss", "rate_hz": 5.0, "sigma_m": 0.5}]}
+    path = _write(tmp_path, "heli.json", heli)
+    s = budget.load_scenario(path)
+    assert s.tc_s == pytest.approx((C / 9.6e9) * 1000.0 / (2 * 0.3 * 10.0), rel=1e-12)
+    r = budget.run_mc(s, "HG9900", trials=2, seed=1, workers=1)
+    note = r.judged_on["aiding_defaults"]
+    for text in ("aiding_mode = frozen", "aiding_warmup_s = 60", "latency_s = 0",
+                 "correlated_sigma_m = 0.0 (white position noise only)", "lever_arm_m = [0.0, 0.0, 0.0]"):
+        assert text in note, text
+    assert "rate_hz" not in note and "sigma_m = " not in note.replace("correlated_sigma_m", "")
+    assert note in r.summary()
+    row = budget.sweep(["HG9900"], [path], trials=2, seed=1)
+    assert "aiding_mode = frozen" in row["scenario_defaults"].iloc[0]
+    # every aiding key written: nothing to state
+    full = {**heli, "aiding_mode": "smoothed", "aiding_warmup_s": 30.0,
+            "aiding": [{"type": "gnss", "rate_hz": 5.0, "sigma_m": 0.5, "latency_s": 0.1,
+                        "lever_arm_m": [0.0, 0.0, 0.5], "correlated_sigma_m": 0.2, "correlation_time_s": 300.0}]}
+    r2 = budget.run_mc(_write(tmp_path, "heli_full.json", full), "HG9900", trials=2, seed=1, workers=1)
+    assert "aiding_defaults" not in r2.judged_on

@@ -151,14 +151,41 @@ def earth_model_line(scenario: Scenario, model) -> str:
     return earth_model(scenario, AidingPlan.from_scenario(scenario), as_noise_model_si(model), say_frame=True)[1]
 
 
+def aiding_defaults_note(scenario: Scenario) -> str:
+    """The aiding keys the scenario leaves at their defaults, with the value taken ('' without
+    aiding sensors, or when every key is written): the section's ``aiding_mode`` and
+    ``aiding_warmup_s`` and, per sensor, what its entry leaves out (a GNSS's ``latency_s`` 0,
+    ``correlated_sigma_m`` 0 — white position noise only, the optimistic case — its antenna
+    ``lever_arm_m`` …). The aided verdict rests on them as it does on the sensor's own figures."""
+    if not scenario.aiding:
+        return ""
+    parts = [f"{k} = {getattr(scenario, k)}" for k in ("aiding_mode", "aiding_warmup_s")
+             if k not in scenario.model_fields_set]
+    if scenario.aiding_mode == "feedforward" and "aiding_blend_time_s" not in scenario.model_fields_set:
+        parts.append(f"aiding_blend_time_s = 5·Tc = {5 * scenario.tc_s:.3g} s")
+    for i, sensor in enumerate(scenario.aiding):
+        unset = [k for k in type(sensor).model_fields if k != "type" and k not in sensor.model_fields_set]
+        if unset:
+            values = ", ".join(f"{k} = {list(v) if isinstance(v, tuple) else v}"
+                               + (" (white position noise only)" if k == "correlated_sigma_m" and v == 0 else "")
+                               for k in unset for v in [getattr(sensor, k)])
+            parts.append(f"aiding[{i}] ({sensor.type}): {values}")
+    if not parts:
+        return ""
+    return f"{scenario.name}: aiding keys not in the scenario, taken at their defaults: " + "; ".join(parts)
+
+
 def run_notes(scenario: Scenario, options: McOptions, model) -> dict[str, str]:
     """The notes of one run beside the setup's (:meth:`~budget.mc.chain.ChainSetup.describe`):
-    IMU rate, platform motion, lever arm, scenario defaults (when any), acceptance, Earth model."""
+    IMU rate, platform motion, lever arm, scenario and aiding defaults (when any), acceptance, Earth
+    model."""
     notes = {"imu_rate": imu_rate_note(scenario, getattr(model, "rate_hz", None)),
              "platform_motion": platform_motion_note(scenario, options.platform_motion),
              "lever_arm": lever_arm_note(scenario)}
     if defaults := scenario.defaults_note(SIMULATED_DEFAULT_KEYS):
         notes["scenario_defaults"] = defaults
+    if aiding := aiding_defaults_note(scenario):
+        notes["aiding_defaults"] = aiding
     notes["acceptance"] = acceptance_note(options)
     notes["earth_model"] = earth_model_line(scenario, model)
     return notes

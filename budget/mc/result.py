@@ -123,6 +123,8 @@ class McResult:
         line = f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
         if j.get("navigation"):
             line += f"navigation: {j['navigation']}\n"
+        if j.get("aiding_defaults"):
+            line += j["aiding_defaults"] + "\n"
         if j.get("imu_rate"):
             line += j["imu_rate"] + "\n"
         if j.get("platform_motion"):

@@ -21,7 +21,7 @@ from ..errors import InputError, refuse_repeats
 from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
 from ..scenario import Scenario, name_scenario_file
-from .notes import SIMULATED_DEFAULT_KEYS
+from .notes import SIMULATED_DEFAULT_KEYS, aiding_defaults_note
 from .options import McOptions
 from .runner import check_options, check_run_counts, model_label, run_mc
 from .stats import wilson_interval
@@ -40,7 +40,8 @@ def scenario_defaults_text(scen: Scenario) -> str:
     """The ``scenario_defaults`` column: the keys of :data:`SWEEP_DEFAULT_KEYS` the scenario did not
     set and the value used (:meth:`Scenario.defaults_note`), or that every one was set — a CSV row
     says what its verdict rests on without the Monte Carlo's summary beside it."""
-    return scen.defaults_note(SWEEP_DEFAULT_KEYS) or "none: every key the verdict uses is in the scenario"
+    text = "; ".join(t for t in (scen.defaults_note(SWEEP_DEFAULT_KEYS), aiding_defaults_note(scen)) if t)
+    return text or "none: every key the verdict uses is in the scenario"
 
 
 def _cell(scen: Scenario, part) -> dict:
