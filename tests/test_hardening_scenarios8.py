@@ -297,3 +297,16 @@ def test_an_aided_scenario_states_the_aiding_keys_it_left_out(tmp_path):
                         "lever_arm_m": [0.0, 0.0, 0.5], "correlated_sigma_m": 0.2, "correlation_time_s": 300.0}]}
     r2 = budget.run_mc(_write(tmp_path, "heli_full.json", full), "HG9900", trials=2, seed=1, workers=1)
     assert "aiding_defaults" not in r2.judged_on
+
+
+def test_no_autofocus_table_shows_the_unused_range_resolution_as_not_used(tmp_path):
+    # a 30 kHz sonar: λ = 1500/30e3 = 0.05 m, Tc = λ R / (2 δℓ V) = 0.05·200/(2·0.1·2) = 25 s;
+    # without autofocus b ≤ λ/(2 Tc²) = 4e-5 m/s² = 4.079 µg
+    sonar = {"name": "sas30k", "medium": "sonar", "carrier_frequency_hz": 30e3, "slant_range_m": 200.0,
+             "azimuth_resolution_m": 0.1, "range_resolution_m": 0.1, "platform_speed_m_s": 2.0,
+             "depression_deg": 15.0}
+    table = budget.compute_bounds(_write(tmp_path, "sonar.json", sonar), "no-autofocus")
+    assert table.to_dict()["rows"][0]["accel_bias_ug"] == pytest.approx(0.05 / (2 * 25.0**2) / 9.80665 * 1e6, rel=1e-9)
+    text = table.summary()
+    assert "NaN" not in text and "δr is not used" in text
+    assert "propagation_speed_m_s = 1500 m/s (sonar)" in text  # the default speed of sound, stated

@@ -114,5 +114,7 @@ class BoundsTable:
             if arm is not None:
                 head += (", lever arm [" + ", ".join(f"{v:.3g}" for v in arm) + "] m, platform rate "
                          f"{self.assumptions.get('platform_rate_deg_s'):g} deg/s")
-        text = head + "\n" + self.to_frame().to_string(index=False, float_format=lambda v: f"{v:.4g}")
-        return "\n".join([text, *self.limit_notes(), *([self.defaults_note] if self.defaults_note else [])])
+        text = head + "\n" + self.to_frame().to_string(index=False, na_rep="-", float_format=lambda v: f"{v:.4g}")
+        unused = (["range_resolution_m '-': these bounds limit phase (λ), not range cells: δr is not used"]
+                  if np.all(np.isnan(np.asarray(self.range_resolution_m, float))) else [])
+        return "\n".join([text, *unused, *self.limit_notes(), *([self.defaults_note] if self.defaults_note else [])])
