@@ -310,3 +310,13 @@ def test_no_autofocus_table_shows_the_unused_range_resolution_as_not_used(tmp_pa
     text = table.summary()
     assert "NaN" not in text and "δr is not used" in text
     assert "propagation_speed_m_s = 1500 m/s (sonar)" in text  # the default speed of sound, stated
+
+
+def test_sweep_names_a_user_row_replacing_a_shipped_part(tmp_path, capsys, monkeypatch):
+    monkeypatch.delenv("SAR_BUDGET_CATALOG", raising=False)
+    cat = tmp_path / "mine.csv"
+    cat.write_text(OWN_STIM300)
+    out = tmp_path / "t.csv"
+    assert main(["sweep", "--preset", "automotive_77ghz", "--part", "STIM300", "--catalog", str(cat),
+                 "--trials", "2", "--out", str(out), "-q"]) == 0
+    assert "replaces the shipped one of: STIM300" in capsys.readouterr().out

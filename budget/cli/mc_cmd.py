@@ -244,4 +244,6 @@ def run_sweep(args) -> int:
     # with --out - stdout carries the CSV alone; the cheapest-part table then goes to stderr
     print(best.astype(object).where(best.notna(), "-").to_string(index=False),
           file=sys.stderr if args.out == "-" else sys.stdout)
+    if origin := catalog_note([p.part_id for p in parts], args.catalog):
+        print(origin, file=sys.stderr if args.out == "-" else sys.stdout)
     return 0
