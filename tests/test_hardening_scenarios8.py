@@ -320,3 +320,31 @@ def test_sweep_names_a_user_row_replacing_a_shipped_part(tmp_path, capsys, monke
     assert main(["sweep", "--preset", "automotive_77ghz", "--part", "STIM300", "--catalog", str(cat),
                  "--trials", "2", "--out", str(out), "-q"]) == 0
     assert "replaces the shipped one of: STIM300" in capsys.readouterr().out
+
+
+def _taylor_3db_width_cells() -> float:
+    """3 dB width (cells of 1/bandwidth) of a Taylor −35 dB, n̄ = 4 aperture, from scipy's window
+    and a zero-padded FFT: independent of the project's own window code."""
+    import numpy as np
+    from scipy.signal.windows import taylor
+
+    n, m = 1024, 1024 * 64
+    h = np.abs(np.fft.fft(taylor(n, nbar=4, sll=35, norm=False), m)) ** 2
+    h /= h[0]
+    k = int(np.argmax(h < 0.5))
+    return 2 * (k - 1 + (0.5 - h[k - 1]) / (h[k] - h[k - 1])) * n / m
+
+
+def test_mc_states_the_resolution_its_taylor_image_reaches_with_an_unweighted_a_w(tmp_path):
+    # a 24 GHz radar at 2 m/s, 30 m: the file leaves window_broadening at 1 (an unweighted main
+    # lobe), the Monte Carlo images with Taylor (−35 dB, n̄ = 4): one cell is δℓ/1, and the
+    # image resolves w·δℓ, w = 1.184 cells, not the 0.05 m asked for
+    w = _taylor_3db_width_cells()
+    assert w == pytest.approx(1.184, abs=0.002)
+    r = budget.run_mc(_write(tmp_path, "auto24.json", AUTO24_SLOW), "HG9900", trials=2, seed=1, workers=1)
+    note = r.judged_on["window_resolution"]
+    assert f"azimuth {w * 0.05:.3g} m and range {w * 0.1:.3g} m" in note
+    assert f"window_broadening = {w:.3g}" in note and note in r.summary()
+    # a_w = 1.2 written for the Taylor window (the Ka-band file): within 5 %, nothing to say
+    r2 = budget.run_mc(_write(tmp_path, "ka.json", KA_UAV), "HG9900", trials=2, seed=1, workers=1)
+    assert "window_resolution" not in r2.judged_on

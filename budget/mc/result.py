@@ -121,6 +121,8 @@ class McResult:
             scene = (f"realistic scene ({j.get('n_targets')} scatterers, clutter "
                      f"{j.get('clutter_to_target_db'):g} dB, SNR {j.get('snr_db'):g} dB)")
         line = f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
+        if j.get("window_resolution"):
+            line += j["window_resolution"] + "\n"
         if j.get("navigation"):
             line += f"navigation: {j['navigation']}\n"
         if j.get("aiding_defaults"):
