@@ -68,7 +68,7 @@ __version__ = "0.1.0"
 #: Names served by :mod:`budget.api` (lazily, PEP 562).
 _API = ("load_scenario", "load_scenarios", "load_catalog", "load_part", "load_parts", "check_parts",
         "run_mc", "sweep", "sweep_over", "vary_scenario", "cheapest_passing", "compute_bounds",
-        "consistency_table",
+        "consistency_table", "real_scene_verdict",
         "DEFAULT_TRIALS", "DEFAULT_SEED")
 _OTHER = {"Scenario": ("budget.scenario", "Scenario"), "McOptions": ("budget.mc.options", "McOptions"),
           "InputError": ("budget.errors", "InputError"), "PRESETS": ("budget.presets", "PRESETS"),

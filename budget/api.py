@@ -155,6 +155,23 @@ def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int 
                   sources=[s if _is_file(s) else None for s in given], **kwargs)
 
 
+def real_scene_verdict(data, part, trials: int = 8, seed: int = 1, *,
+                       catalog: Mapping | str | Path | None = None, **kwargs):
+    """A part's verdict on a recorded scene (:func:`budget.mc.real_scene.real_scene_verdict`):
+    its motion error injected into the phase history per trial, focused, PGA, judged on what PGA
+    adds to its own floor. ``data``: a :class:`~budget.sar.phase_history.PhaseHistory` or the
+    AFRL files of one aperture, in aperture order (:func:`budget.sar.afrl.read_afrl`); ``part``
+    as in :func:`run_mc`; keyword arguments (``options``, ``progress``) are passed on."""
+    from .mc.real_scene import real_scene_verdict as _verdict
+    from .sar.phase_history import PhaseHistory
+
+    if not isinstance(data, PhaseHistory):
+        from .sar.afrl import read_afrl
+
+        data = read_afrl([data] if isinstance(data, (str, Path)) else list(data))
+    return _verdict(data, load_part(part, catalog), trials, seed, **kwargs)
+
+
 def cheapest_passing(table, target: float = 0.9, **kwargs):
     """Per scenario, the cheapest part of a :func:`sweep` table with P(pass after PGA) ≥ ``target``."""
     from .mc.sweep import cheapest_passing as _cheapest

@@ -165,3 +165,20 @@ def test_focus_command_gives_the_verdict_of_a_part(gotcha, tmp_path, capsys):
     assert "--autofocus" in capsys.readouterr().err
     assert main(["focus", str(gotcha[0]), "--part", "HG9900", "--speed-m-s", "-1"]) == 2
     assert "--speed-m-s" in capsys.readouterr().err
+
+
+def test_the_api_reads_the_files_and_resolves_a_user_catalog_part(gotcha, tmp_path):
+    """``budget.real_scene_verdict`` on the file paths with a part of a user catalog (HG9900's row
+    under a new id) gives, outcome for outcome, the library's verdict on the phase history read
+    from them with the shipped HG9900; an id the catalog lacks is an InputError naming it."""
+    import budget
+    from budget.catalog.io import get_part, write_parts
+
+    user = tmp_path / "mine.csv"
+    write_parts(user, [get_part("HG9900").model_copy(update={"part_id": "MY_NAV_IMU"})])
+    opt = RealSceneOptions(focus=FocusOptions(range_extent_m=20.0, azimuth_extent_m=20.0, spacing_m=0.25))
+    got = budget.real_scene_verdict([str(gotcha[0])], "MY_NAV_IMU", trials=1, seed=4, catalog=user, options=opt)
+    want = real_scene_verdict(read_afrl([gotcha[0]]), "HG9900", trials=1, seed=4, options=opt)
+    assert got.to_dict()["outcomes"] == want.to_dict()["outcomes"]
+    with pytest.raises(InputError, match="NOT_A_PART"):
+        budget.real_scene_verdict([str(gotcha[0])], "NOT_A_PART", trials=1, catalog=user, options=opt)

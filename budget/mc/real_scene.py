@@ -314,20 +314,22 @@ def _check_counts(trials, seed) -> tuple[int, int]:
 
 def real_scene_verdict(ph: PhaseHistory, part, trials: int = 8, seed: int = 1,
                        options: RealSceneOptions | None = None,
-                       progress: Callable[[int, int], None] | None = None) -> RealSceneVerdict:
+                       progress: Callable[[int, int], None] | None = None, *,
+                       catalog=None) -> RealSceneVerdict:
     """Inject ``trials`` draws of ``part``'s motion error into ``ph``, focus, PGA, judge (module
     docstring). ``part``: a catalog ``PartSpec``, a part id or a noise model (as
-    :func:`budget.api.load_part` accepts). ``progress(done, total)`` is called after the reference
+    :func:`budget.imu.resolve.resolve_part` accepts; an id is looked up in ``catalog``: a mapping,
+    a user CSV merged over the shipped parts, or None: shipped). ``progress(done, total)`` is called after the reference
     run (done = 0) and after each trial (total = ``trials``)."""
-    from ..api import load_part
     from ..catalog.fill import resolve_unspecified
+    from ..imu.resolve import resolve_part
     from ..motion import simulate_motion
     from ..sar.focus_pga import focus
 
     trials, seed = _check_counts(trials, seed)
     options = options or RealSceneOptions()
     if isinstance(part, str):
-        part = load_part(part)
+        part = resolve_part(part, catalog)
     resolution = resolve_unspecified(part, options.unspecified)
     model = resolution.model
     label = getattr(model, "part_id", None) or "noise model"
