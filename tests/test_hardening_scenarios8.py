@@ -348,3 +348,17 @@ def test_mc_states_the_resolution_its_taylor_image_reaches_with_an_unweighted_a_
     # a_w = 1.2 written for the Taylor window (the Ka-band file): within 5 %, nothing to say
     r2 = budget.run_mc(_write(tmp_path, "ka.json", KA_UAV), "HG9900", trials=2, seed=1, workers=1)
     assert "window_resolution" not in r2.judged_on
+
+
+def test_the_html_report_states_what_the_monte_carlo_was_judged_against(tmp_path):
+    import html as html_lib
+
+    rep = budget.build_report(_write(tmp_path, "auto24.json", AUTO24_SLOW), ["HG9900"], mc_parts=["HG9900"],
+                              trials=2, seed=1)
+    judged = rep.mc["HG9900"].judged_on
+    page = html_lib.unescape(rep.html())
+    # the acceptance (what "pass" meant), the default lever arm and the resolution the Taylor
+    # image reaches with a_w = 1 (1.18 × δℓ) are on the page, not only in the CLI's summary
+    for key in ("acceptance", "lever_arm", "window_resolution"):
+        assert judged[key] in page, key
+    assert f"azimuth {_taylor_3db_width_cells() * 0.05:.3g} m" in page
