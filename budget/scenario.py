@@ -417,12 +417,14 @@ class Scenario(BaseModel):
 
     def defaults_taken(self, keys=DEFAULTED_KEYS) -> dict[str, object]:
         """The scenario keys of ``keys`` that the file (or mapping, or constructor call) did not
-        set, with the value used in their place (``propagation_speed_m_s``: sound's 1500 m/s for
-        sonar; radar's speed of light is not listed). A scenario rebuilt from a full dump (every
-        key written) has none."""
+        set, or set to null, with the value used in their place (``propagation_speed_m_s``: sound's
+        1500 m/s for sonar; radar's speed of light is not listed). A scenario rebuilt from a full
+        dump (every key written) has none, except a sonar's null speed of sound."""
         out: dict[str, object] = {}
         for key in keys:
-            if key in self.model_fields_set:
+            # a key written as null (``propagation_speed_m_s: null``, as ``scenario write`` puts it)
+            # takes the default as much as a key left out
+            if key in self.model_fields_set and getattr(self, key) is not None:
                 continue
             if key == "propagation_speed_m_s" and self.medium == "radar":
                 continue  # the speed of light: a constant, not an assumption (sound's 1500 m/s is)

@@ -362,3 +362,21 @@ def test_the_html_report_states_what_the_monte_carlo_was_judged_against(tmp_path
     for key in ("acceptance", "lever_arm", "window_resolution"):
         assert judged[key] in page, key
     assert f"azimuth {_taylor_3db_width_cells() * 0.05:.3g} m" in page
+
+
+def test_a_speed_of_sound_written_as_null_is_stated_as_the_default_it_takes(tmp_path, capsys):
+    # `scenario write` puts `propagation_speed_m_s: null` in the file; a sonar then runs on 1500 m/s:
+    # λ = 1500 / 100 kHz = 0.015 m and Tc = λ R / (2 δℓ V) = 0.015·100/(2·0.05·1.5) = 10 s
+    out = tmp_path / "sas.yaml"
+    assert main(["scenario", "write", "--preset", "sas_100khz", str(out)]) == 0
+    assert "propagation_speed_m_s: null" in out.read_text()
+    capsys.readouterr()
+    s = budget.load_scenario(str(out))
+    assert s.tc_s == pytest.approx(1500.0 / 100e3 * 100.0 / (2 * 0.05 * 1.5), rel=1e-12)
+    assert s.defaults_taken() == {"propagation_speed_m_s": 1500.0}
+    assert main(["bounds", "--scenario", str(out)]) == 0
+    assert "propagation_speed_m_s = 1500 m/s (sonar)" in capsys.readouterr().out
+    # written out, it is the user's own
+    given = tmp_path / "sas_c.yaml"
+    given.write_text(out.read_text().replace("propagation_speed_m_s: null", "propagation_speed_m_s: 1480.0"))
+    assert budget.load_scenario(str(given)).defaults_taken() == {}
