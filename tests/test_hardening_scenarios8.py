@@ -380,3 +380,12 @@ def test_a_speed_of_sound_written_as_null_is_stated_as_the_default_it_takes(tmp_
     given = tmp_path / "sas_c.yaml"
     given.write_text(out.read_text().replace("propagation_speed_m_s: null", "propagation_speed_m_s: 1480.0"))
     assert budget.load_scenario(str(given)).defaults_taken() == {}
+
+
+def test_the_report_marks_a_null_speed_of_sound_as_default(tmp_path):
+    import html as html_lib
+
+    out = tmp_path / "sas.yaml"
+    assert main(["scenario", "write", "--preset", "sas_100khz", str(out)]) == 0
+    page = html_lib.unescape(budget.build_report(str(out), ["HG9900"]).html())
+    assert "default (1500 m/s, sonar)" in page

@@ -74,9 +74,9 @@ def _comparisons(rep) -> str:
 
 
 def _set_by(scenario, key: str) -> str:
-    """'scenario' for a key the scenario wrote, 'default' for one it left (the propagation speed
-    with the medium's value it stands for)."""
-    if key in scenario.model_fields_set:
+    """'scenario' for a key the scenario wrote, 'default' for one it left or wrote as null (the
+    propagation speed with the medium's value it stands for)."""
+    if key in scenario.model_fields_set and getattr(scenario, key, None) is not None:
         return "scenario"
     if key == "propagation_speed_m_s":
         return f"default ({scenario.c_m_s:g} m/s, {scenario.medium})"
