@@ -104,7 +104,8 @@ def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = Non
     if abs(scenario.platform_accel_m_s2 - G0) > 1e-6 * G0:
         extra.append(f"platform_accel_m_s2 = {scenario.platform_accel_m_s2:g}")
     if extra:
-        text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) {'are' if len(extra) > 1 else 'is'} not simulated "
+        verb = "are" if len(extra) > 1 else "is"
+        text += (f"; the scenario's {' and '.join(extra)} (used by the analytic bounds) {verb} not simulated "
                  "(McOptions.platform_motion, --platform-motion: oscillation or attitude_change flies a rotation)")
     return text
 
