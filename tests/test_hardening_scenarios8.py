@@ -389,3 +389,13 @@ def test_the_report_marks_a_null_speed_of_sound_as_default(tmp_path):
     assert main(["scenario", "write", "--preset", "sas_100khz", str(out)]) == 0
     page = html_lib.unescape(budget.build_report(str(out), ["HG9900"]).html())
     assert "default (1500 m/s, sonar)" in page
+
+
+def test_bounds_cli_json_states_the_defaults_once_inside_and_beside_the_table(tmp_path, capsys):
+    path = _write(tmp_path, "ka.json", KA_UAV)
+    assert main(["bounds", "--scenario", path, "--json", "-"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    # paper mode rests on Tc's keys: the Ka-band file leaves out medium and squint
+    assert out["scenario_defaults"] == out["bounds"]["scenario_defaults"] == {"medium": "radar", "squint_deg": 0.0}
+    assert main(["bounds", "--scenario", path]) == 0
+    assert capsys.readouterr().out.count("taken at their defaults") == 1

@@ -104,8 +104,10 @@ def run(args) -> int:
             lever = LeverArmAssumptions.from_scenario(s)
     assumed = lever if args.tc or lever is not None else scenario_assumptions(args.mode, s)
     table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=assumed)
-    if not args.tc:  # the table says which scenario it is for, as the library's compute_bounds does
-        table = replace(table, scenario=s.model_dump(mode="json"))
+    if not args.tc:  # the table says which scenario it is for and its defaults, as budget.compute_bounds does
+        keys = scenario_keys(args.mode)
+        table = replace(table, scenario=s.model_dump(mode="json"), scenario_defaults=s.defaults_taken(keys),
+                        defaults_note=s.defaults_note(keys))
     # fast-phase limits at these Tc, weighted by the window the verdict images with (a scenario's:
     # Taylor on radar) or unweighted, the conservative side, for bare --tc
     window = LeverArmAssumptions.from_scenario(s).aperture_window if not args.tc else "rect"
@@ -131,6 +133,4 @@ def run(args) -> int:
             print(lever_arm_terms(float(t), dr, lam, lever).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if fast is not None:
         print(fast.summary())
-    if not args.tc and s.defaults_note(scenario_keys(args.mode)):
-        print(s.defaults_note(scenario_keys(args.mode)))
     return 0
