@@ -10,6 +10,11 @@ signal" level at 80–96 cells, and the fast-phase stage's cut-back then fitted 
 up to 42 beyond the aperture band, leaving 27–32° at the aperture's ends. The stage now counts a
 bin as signal only when it is joined to the peak by bins at most 10 dB below that level
 (:func:`budget.sar.pga._connected_band`).
+
+Accel VRW at 0.05× passed 0.50 / 0.09 / 0.03 at 48 / 96 / 192 cells: PGA's smallest window was 8
+samples, so its bandwidth K = W·n_ap/(2n) fell from 2.05 to 1.47 cycles per aperture as the image
+was sampled more finely. The chain now gives PGA a floor of 4 resolution cells (K = 2;
+:func:`budget.mc.chain.pga_min_window`): 0.50 / 0.56 / 0.62.
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from budget.mc.chain import ChainSetup, run_chunk
+from budget.mc.chain import PGA_MIN_WINDOW_CELLS, ChainSetup, pga_min_window, run_chunk
 from budget.mc.consistency import single_term_model
 from budget.mc.options import McOptions
 from budget.mc.runner import resolve_unspecified
@@ -26,13 +31,14 @@ from budget.presets import PRESETS
 from budget.sar import SarGeometry
 from budget.sar.pga import _connected_band
 from budget.sar.pga_lines import _Lines
+from budget.sar.residual import pga_bandwidth_cycles
 
 TRIALS = 32
 SEED = 1
 
 
-def _p_pass(monkeypatch, extent_cells: float, scale: float) -> tuple[int, int]:
-    """(passes, trials) of the gyro-bias single-term model at ``scale`` × its paper bound on
+def _p_pass(monkeypatch, extent_cells: float, scale: float, term: str = "gyro_bias") -> tuple[int, int]:
+    """(passes, trials) of the single-term model ``term`` at ``scale`` × its paper bound on
     automotive_77ghz with lever arm 0, points scene, the simulated scene ``extent_cells`` wide."""
     original = SarGeometry.from_scenario.__func__
 
@@ -43,7 +49,7 @@ def _p_pass(monkeypatch, extent_cells: float, scale: float) -> tuple[int, int]:
     monkeypatch.setattr(SarGeometry, "from_scenario", classmethod(sized))
     scen = PRESETS["automotive_77ghz"].model_copy(update={"lever_arm_m": (0.0, 0.0, 0.0)})
     opts = McOptions(scene="points", unspecified="zero")
-    model = resolve_unspecified(single_term_model(scen, "gyro_bias", scale), "zero").model
+    model = resolve_unspecified(single_term_model(scen, term, scale), "zero").model
     setup = ChainSetup.build(scen, opts)
     assert setup.geom.scene_extent_m[0] == pytest.approx(extent_cells * scen.azimuth_resolution_m)
     out = run_chunk(setup, model, SEED, 0, TRIALS)
@@ -60,6 +66,32 @@ def test_gyro_bias_verdict_does_not_depend_on_scene_extent(monkeypatch):
     lo2, hi2 = wilson_interval(k2, n2)
     assert lo2 <= k1 / n1 <= hi2, counts
     assert lo1 <= k2 / n2 <= hi1, counts
+
+
+def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
+    """Accel VRW at 0.05× the bound (fast phase: what PGA's window sees decides): P(pass) on 48 and
+    96-cell scenes within each other's 95 % Wilson intervals (0.50 against 0.09 with a floor of 8
+    samples, 0.50 against 0.56 now)."""
+    counts = {ext: _p_pass(monkeypatch, ext, 0.05, "accel_vrw") for ext in (48.0, 96.0)}
+    (k1, n1), (k2, n2) = counts[48.0], counts[96.0]
+    lo1, hi1 = wilson_interval(k1, n1)
+    lo2, hi2 = wilson_interval(k2, n2)
+    assert lo2 <= k1 / n1 <= hi2, counts
+    assert lo1 <= k2 / n2 <= hi1, counts
+
+
+def test_pga_min_window_is_four_cells():
+    """n/n_ap samples per resolution cell: 4 cells (K = 2 cycles per aperture), rounded up."""
+    assert PGA_MIN_WINDOW_CELLS == 4.0
+    assert pga_min_window(189, 97) == 8  # automotive_77ghz default: 7.8
+    assert pga_min_window(462, 313) == 6  # airborne_xband default: 5.9
+    assert pga_min_window(320, 129) == 10  # 96-cell scene: 9.9
+    assert pga_min_window(847, 227) == 15  # 192-cell scene: 14.9
+    assert pga_min_window(400, 200) == 8  # exactly 8 samples
+    assert pga_min_window(10, 40) == 3  # PGA's smallest (1 sample of 4 cells)
+    for n, n_ap in ((189, 97), (462, 313), (320, 129), (847, 227)):
+        w = pga_min_window(n, n_ap)
+        assert pga_bandwidth_cycles(w, n, n_ap) >= 2.0 > pga_bandwidth_cycles(w - 1, n, n_ap)
 
 
 def _lines_with_energy(energy_centred: np.ndarray) -> _Lines:

@@ -19,7 +19,7 @@ import pytest
 from budget.catalog.io import get_part
 from budget.mc import McOptions, run_mc
 from budget.mc.runner import work_units
-from budget.mc.chain import (AZ_SEARCH_CELLS, FORMATION_BATCH, REASONS, ChainSetup, _pga_kwargs,
+from budget.mc.chain import (AZ_SEARCH_CELLS, FORMATION_BATCH, REASONS, ChainSetup, _pga_kwargs, pga_min_window,
                              apply_phase_estimate, run_trial_errors, run_trials)
 from budget.presets import get_preset
 from budget.sar import evaluate, form_image, measure_targets, pga, phase_on_bins, residual_phase_rad
@@ -89,7 +89,8 @@ def _per_trial_reference(setup: ChainSetup, error_m: np.ndarray, peak_range_cell
     img = form_image(g, setup.clean_echoes, measured, method=opt.image_method)
     ev_before = evaluate(measure_targets(img, g, setup.clean_scene, azimuth_search_cells=AZ_SEARCH_CELLS),
                          opt.acceptance)
-    res = pga(img.data, **_pga_kwargs(opt))
+    floor = pga_min_window(img.aperture_mask().size, int(img.aperture_mask().sum()))  # 4 resolution cells
+    res = pga(img.data, **_pga_kwargs(opt, floor))
     estimate = np.zeros(img.data.shape[0]) if res.usable_lines == 0 else np.asarray(res.phase_error_rad, float)
     after = img.with_data(apply_phase_estimate(img.data, estimate))
     m_after = measure_targets(after, g, setup.clean_scene, azimuth_search_cells=AZ_SEARCH_CELLS)

@@ -48,10 +48,12 @@ import scipy.fft as sfft
 
 from .windows import Window
 
-#: PGA's smallest window (samples, :func:`budget.sar.pga.pga` ``min_window``) and the fraction of
-#: the image's azimuth samples inside the aperture band on the presets (0.51–0.68, 1/oversample ×
-#: the scene-extent margin): with them (1) gives K ≈ 2.0–2.7 cycles. The analytic bounds use
-#: this default when no PGA run tells them the settled window.
+#: K of (1) the analytic bounds use when no PGA run tells them the settled window. The Monte
+#: Carlo gives PGA a smallest window of 4 resolution cells
+#: (:data:`budget.mc.chain.PGA_MIN_WINDOW_CELLS`), so a settled window at that floor sees K = 2
+#: whatever the image's sampling (PGA's own floor of 8 samples gave K ≈ 2.0–2.7 on the presets'
+#: default images, 1.5 on a finely sampled one); the bounds' 2.5 credits PGA with more than
+#: that floor.
 DEFAULT_PGA_BANDWIDTH_CYCLES = 2.5
 
 
