@@ -57,6 +57,7 @@ from ..rng import STREAMS, trial_generator
 from ..sar import (SarGeometry, Scene, evaluate, pga, phase_on_bins, residual_phase_rad,
                    simulate_echoes)
 from ..sar.acceptance import failed_checks
+from ..sar.pga import DEFAULT_MIN_WINDOW
 from ..sar.residual import pga_bandwidth_cycles, pga_residual_rms_rad
 from ..scenario import Scenario
 from .notes import navigation_note, range_ambiguity_note, wideband_note
@@ -75,7 +76,7 @@ REFERENCE_STREAM = STREAMS["sar_reference"]
 #: is tens of cells, and a box that missed the target would score empty sidelobe as defocus.
 AZ_SEARCH_CELLS = math.inf
 #: PGA's smallest window (samples): the settled window when a PGA result does not report one.
-PGA_MIN_WINDOW = 8
+PGA_MIN_WINDOW = DEFAULT_MIN_WINDOW
 #: PGA's smallest window in resolution cells, the floor the chain gives PGA
 #: (:func:`pga_min_window`): a window of W samples spans W·n_ap/n cells of an image of n azimuth
 #: samples, n_ap of them in the aperture band, and sees K = W·n_ap/(2n) cycles per aperture

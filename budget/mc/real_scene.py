@@ -85,6 +85,7 @@ from ..sar.acceptance import Acceptance
 from ..sar.acquisition import Acquisition, describe_acquisition
 from ..sar.focus import FocusOptions
 from ..sar.phase_history import C_M_S, PhaseHistory
+from ..sar.pga import DEFAULT_MIN_WINDOW
 from ..sar.residual import highpass_phase, pga_bandwidth_cycles, pga_residual_rms_rad
 from ..sar.windows import Window
 from ..scenario import Scenario
@@ -102,8 +103,6 @@ DEFAULT_SPEED_REASON = ("the files carry no pulse times, so the speed is assumed
 #: Default image patch (m, ground range × cross range) and spacing: one backprojection per trial.
 DEFAULT_EXTENT_M = 60.0
 DEFAULT_SPACING_M = 0.25
-#: PGA's smallest window (samples): the settled window when a PGA run reports none.
-PGA_MIN_WINDOW = 8
 #: Failure reasons, in the order reported (the Monte Carlo's names where they are the same check).
 REASONS = ("range_migration", "residual_phase_noise", "peak_loss", "pga_failed", "pga_not_converged")
 #: Acceptance checks that a real scene cannot measure, and why (stated in every result).
@@ -203,7 +202,7 @@ def _cutoff(result) -> float:
     img = result.before
     w = img.bin_rad_m
     n_ap = max(int(round(np.ptp(img.pulse_bin_rad_m) / (w[1] - w[0]))), 1)
-    return pga_bandwidth_cycles(PGA_MIN_WINDOW, w.size, n_ap)
+    return pga_bandwidth_cycles(DEFAULT_MIN_WINDOW, w.size, n_ap)  # focus runs PGA with its default floor
 
 
 def _pulse_energy(ph: PhaseHistory, options: FocusOptions) -> np.ndarray:

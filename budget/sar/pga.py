@@ -173,6 +173,8 @@ _FIRST_SCALE = 3.0
 #: The capture check's other runs (module docstring, "Restarts"): (label, first window, shrink);
 #: ``None``: the default.
 _RESTARTS = (("measured start", "measured", None), ("slower shrink (0.7)", None, 0.7))
+#: PGA's smallest window (samples) when the caller gives none.
+DEFAULT_MIN_WINDOW = 8
 #: Depth (dB below the fast-phase stage's level) of the gap that cuts a bin off from the aperture
 #: band (:func:`_connected_band`). Noise alone rarely digs it: the level is at least twice the
 #: 5th percentile, ≈ 0.1 × the mean of one line's exponential noise energy, and a bin falls 10 dB
@@ -398,7 +400,7 @@ def _iterate(d: _Lines, phi_c: np.ndarray, width: int, max_iter: int, first: str
 
 def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 0.05,
         line_fraction: float = 0.3, min_lines: int = 8, max_lines: int = 64, min_scr_db: float = 6.0,
-        win_db: float = 10.0, win_scale: float = 1.5, shrink: float = 0.5, min_window: int = 8, band_db: float = 30.0,
+        win_db: float = 10.0, win_scale: float = 1.5, shrink: float = 0.5, min_window: int = DEFAULT_MIN_WINDOW, band_db: float = 30.0,
         smooth: float = 1.0, first_window: str = "auto", fast_phase: bool = True,
         band_snr: float = 9.0, corrected_image: bool = True, restarts: bool = True) -> PgaResult:
     """Autofocus a complex image (azimuth along axis 0); see the module docstring for the steps,
