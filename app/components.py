@@ -4,6 +4,8 @@
 * :func:`model_inputs` — one keyed widget per field of a pydantic model, labelled with its unit;
   :func:`keep` / :func:`keep_model_state` keep their values across runs and pages.
 * :func:`shipped_catalog`, :func:`grades`, :func:`session_catalog` — cached catalog access.
+* :func:`run_on_demand` — a slow library call run only when its button is pressed, its result
+  kept in the session and shown until the next run (with a note once the inputs changed).
 """
 
 from __future__ import annotations
@@ -11,14 +13,15 @@ from __future__ import annotations
 import logging
 import types
 import typing
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Hashable, Iterable
+from typing import Any, NamedTuple
 
 import streamlit as st
 from pydantic import BaseModel, ValidationError
 
 from budget.catalog.io import load_catalog, load_grades
 from budget.catalog.schema import GradeSpec, PartSpec
-from budget.errors import from_validation_error
+from budget.errors import InputError, OutputError, from_validation_error
 
 log = logging.getLogger("sar_budget.dashboard")
 
@@ -60,6 +63,58 @@ def refused_run(run: str, scenarios: list[str], parts: list[str], text: str) -> 
     scenario(s) (:func:`scenario_named`), for which parts, and the library's message."""
     which = f"scenario{'s' if len(scenarios) > 1 else ''} {', '.join(scenarios)}"
     return f"{run} of {which} for {', '.join(parts)} not run: {text}"
+
+
+# --- run on demand, keep the last result ------------------------------------------------------
+
+#: What :func:`run_on_demand` shows as a message (the library's refusals: bad input, an output it
+#: cannot write); anything else goes on to the page's boundary (:func:`guarded`).
+REFUSALS: tuple[type[BaseException], ...] = (InputError, OutputError)
+
+
+class LastRun(NamedTuple):
+    """The result shown by :func:`run_on_demand` and the inputs it was computed from."""
+
+    inputs: Hashable
+    result: Any
+
+
+def stale_note(label: str) -> str:
+    """The note above a result computed from other inputs than those on the page now."""
+    return f"The inputs changed since the last run; press **{label}** to update. Showing the last run."
+
+
+def run_on_demand(key: str, inputs: Hashable, label: str, run: Callable[[], Any], *, button_key: str,
+                  prompt: str | None = None, refused: Callable[[str], str] | None = None, container=st,
+                  **button) -> LastRun | None:
+    """Draw the button ``label`` (in ``container``); when it is pressed, call ``run()`` and keep
+    ``(inputs, result)`` in ``st.session_state[key]``. → the last run kept (None before the first).
+
+    ``run`` is called only on the button, never on a rerun; a later change of ``inputs`` (any
+    comparable value that identifies what ``run`` computes) shows :func:`stale_note` instead of
+    re-running. A refusal (:data:`REFUSALS`) is one ``st.error`` line — the library's message, passed
+    through ``refused`` if given (e.g. to name the scenario and parts) — and the last run stays.
+    Before any run ``prompt`` is shown (``st.info``) if given. ``button`` goes to ``st.button``
+    (``type`` defaults to primary; ``help``, ``disabled`` …)."""
+    from uploads import error_text  # the CLI's one-line messages (budget.errors.describe_error)
+
+    button.setdefault("type", "primary")
+    failed = False
+    if container.button(label, key=button_key, **button):
+        try:
+            st.session_state[key] = (inputs, run())
+        except REFUSALS as err:
+            text = error_text(err)
+            st.error(refused(text) if refused else text, icon=":material/error:")
+            failed = True
+    last = st.session_state.get(key)
+    if last is None:
+        if prompt and not failed:
+            st.info(prompt)
+        return None
+    if last[0] != inputs:
+        st.info(stale_note(label))
+    return LastRun(*last)
 
 
 # --- pydantic model ↔ widgets ------------------------------------------------------------------

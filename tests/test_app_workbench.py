@@ -148,7 +148,7 @@ def test_sweep_page_runs_and_shows_the_library_table():
     at.button(key="sw_run_grid").click().run()
     _ok(at)
     ref = sweep(["STIM300"], ["automotive_24ghz", "automotive_77ghz"], 2, int(at.number_input(key="sw_seed").value))
-    shown = at.session_state["sw_grid_result"]
+    shown = at.session_state["sw_grid_last"][1]  # (inputs, table)
     assert shown["p_pass_after"].tolist() == ref["p_pass_after"].tolist()
     assert at.get("plotly_chart")
 

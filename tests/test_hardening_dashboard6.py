@@ -64,7 +64,7 @@ def test_sweep_with_the_sidebar_preset_also_in_the_list_runs_it_once():
     assert any("also picked in the list: swept once" in c for c in _texts(at.caption))
     at.button(key="sw_run_grid").click().run()
     assert not at.exception and not at.error, _texts(at.error)
-    table = at.session_state["sw_grid_result"]
+    table = at.session_state["sw_grid_last"][1]  # (inputs, table)
     assert table["scenario"].tolist() == ["automotive_77ghz"]
 
 

@@ -7,6 +7,7 @@ per-trial outcomes, the floor and the assumptions). Every number from ``budget.s
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import tempfile
@@ -40,8 +41,9 @@ DEFAULT_VERDICT_PART = "STIM300"
 #: Trials the verdict section starts with: one backprojection each, so few.
 DEFAULT_VERDICT_TRIALS = 8
 MAX_VERDICT_TRIALS = 1000
-#: Session-state key of the verdict shown: (inputs, RealSceneVerdict), kept until the next run.
-VERDICT_KEY = "focus_verdict_last"
+#: Session-state keys of the image and of the verdict shown: (inputs, FocusResult) and (inputs,
+#: RealSceneVerdict), each kept until the next run of its button (:func:`components.run_on_demand`).
+FOCUS_KEY, VERDICT_KEY = "focus_image_last", "focus_verdict_last"
 
 
 def _files_in(directory: str) -> list[Path]:
@@ -170,16 +172,33 @@ def _source(src: str) -> tuple[str, object] | None:
     return "uploads", tuple((n, by_name[n].getvalue()) for n in name_order(by_name))
 
 
-def _focus_section(source: tuple[str, object], options: FocusOptions, autofocus: str, inject) -> None:
-    run = st.button("Focus", type="primary", key="focus_run")
-    if not run and "focus_last" not in st.session_state:
-        return
+def _identity(source: tuple[str, object]) -> tuple:
+    """What identifies the phase history in a run's inputs: the directory, or each uploaded file's
+    name and content digest (files of one pass often share their size)."""
     kind, value = source
     if kind == "paths":
-        result = _run_paths(tuple(str(p) for p in _files_in(value)), options.model_dump_json(), autofocus, inject)
-    else:
-        result = _run_uploads(value, options.model_dump_json(), autofocus, inject)
-    st.session_state["focus_last"] = True
+        return kind, value
+    return kind, tuple((n, hashlib.sha256(b).hexdigest()) for n, b in value)
+
+
+def _focus(source: tuple[str, object], options: FocusOptions, autofocus: str, inject):
+    kind, value = source
+    if kind == "paths":
+        return _run_paths(tuple(str(p) for p in _files_in(value)), options.model_dump_json(), autofocus, inject)
+    return _run_uploads(value, options.model_dump_json(), autofocus, inject)
+
+
+def _focus_section(source: tuple[str, object], identity: tuple, options: FocusOptions, autofocus: str,
+                   inject) -> None:
+    """The image before/after autofocus; runs when **Focus** is pressed and keeps that result until
+    the next run."""
+    inputs = (identity, options.model_dump_json(), autofocus, inject)
+    last = c.run_on_demand(FOCUS_KEY, inputs, "Focus", lambda: _focus(source, options, autofocus, inject),
+                           button_key="focus_run",
+                           prompt="Press **Focus** to backproject and autofocus the phase history.")
+    if last is None:
+        return
+    result = last.result
     s = result.scalars()
     m1, m2, m3, m4 = st.columns(4)
     m1.metric("pulses", s["pulses"])
@@ -211,9 +230,9 @@ def _focus_section(source: tuple[str, object], options: FocusOptions, autofocus:
                        mime="application/json", key="focus_dl")
 
 
-def _verdict_inputs(options: FocusOptions) -> tuple[PartSpec, int, int, RealSceneOptions | None, bool]:
+def _verdict_inputs(options: FocusOptions) -> tuple[PartSpec, int, int, RealSceneOptions | None]:
     """Part (shipped + user catalog), trials, seed, assumed speed, patch; the options built by the
-    library (None after showing its refusal) and whether the run button was pressed."""
+    library (None after showing its refusal)."""
     catalog = c.session_catalog()
     ids, user = list(catalog), set(c.user_parts())
     a, b, c2, d, e = st.columns([2, 1, 1, 1, 1])
@@ -236,9 +255,8 @@ def _verdict_inputs(options: FocusOptions) -> tuple[PartSpec, int, int, RealScen
             **{**options.model_dump(), "range_extent_m": patch, "azimuth_extent_m": patch}))
     except InputError as err:
         st.error(error_text(err), icon=":material/error:")
-        return catalog[pid], int(trials), int(seed), None, False
-    clicked = st.button("Run the verdict", type="primary", key="focus_verdict_run")
-    return catalog[pid], int(trials), int(seed), opts, clicked
+        return catalog[pid], int(trials), int(seed), None
+    return catalog[pid], int(trials), int(seed), opts
 
 
 def _show_verdict(v: RealSceneVerdict) -> None:
@@ -275,7 +293,16 @@ def _show_verdict(v: RealSceneVerdict) -> None:
                        mime="application/json", key="focus_verdict_dl")
 
 
-def _verdict_section(source: tuple[str, object], options: FocusOptions) -> None:
+def _run_verdict(source: tuple[str, object], part: PartSpec, trials: int, seed: int,
+                 opts: RealSceneOptions) -> RealSceneVerdict:
+    kind, value = source
+    args = (part.model_dump_json(), trials, seed, opts.model_dump_json())
+    if kind == "paths":
+        return _verdict_paths(tuple(str(p) for p in _files_in(value)), *args)
+    return _verdict_uploads(value, *args)
+
+
+def _verdict_section(source: tuple[str, object], identity: tuple, options: FocusOptions) -> None:
     """A catalog part's motion error injected into these data, focused, PGA, judged (the library's
     :func:`budget.mc.real_scene.real_scene_verdict`); runs when its button is pressed and keeps that
     result until the next run."""
@@ -285,30 +312,15 @@ def _verdict_section(source: tuple[str, object], options: FocusOptions) -> None:
                "and judges what PGA adds to the scene's own floor; the data as recorded (no known phase "
                f"error injected). Cost: ≈ 1 s per trial for the {DEFAULT_EXTENT_M:g} m patch on 2 threads "
                "(growing with the patch's area), plus one reference run.")
-    part, trials, seed, opts, clicked = _verdict_inputs(options)
+    part, trials, seed, opts = _verdict_inputs(options)
     if opts is None:
         return
-    kind, value = source
-    identity = value if kind == "paths" else tuple((n, len(b)) for n, b in value)
-    request = (kind, identity, part.model_dump_json(), trials, seed, opts.model_dump_json())
-    if clicked:
-        try:
-            if kind == "paths":
-                v = _verdict_paths(tuple(str(p) for p in _files_in(value)), *request[2:])
-            else:
-                v = _verdict_uploads(value, *request[2:])
-        except InputError as err:
-            st.error(error_text(err), icon=":material/error:")
-            return
-        st.session_state[VERDICT_KEY] = (request, v)
-    got = st.session_state.get(VERDICT_KEY)
-    if got is None:
-        st.info("Pick a part, trials, seed, speed and patch, then press **Run the verdict**.")
-        return
-    if got[0] != request:
-        st.info("The inputs changed since the verdict shown; press **Run the verdict** to update. "
-                "Showing the last run.")
-    _show_verdict(got[1])
+    inputs = (identity, part.model_dump_json(), trials, seed, opts.model_dump_json())
+    last = c.run_on_demand(VERDICT_KEY, inputs, "Run the verdict",
+                           lambda: _run_verdict(source, part, trials, seed, opts), button_key="focus_verdict_run",
+                           prompt="Pick a part, trials, seed, speed and patch, then press **Run the verdict**.")
+    if last is not None:
+        _show_verdict(last.result)
 
 
 def render() -> None:
@@ -322,8 +334,9 @@ def render() -> None:
     source = _source(src)
     if source is None:
         return
-    _focus_section(source, options, autofocus, inject)
-    _verdict_section(source, options)
+    identity = _identity(source)
+    _focus_section(source, identity, options, autofocus, inject)
+    _verdict_section(source, identity, options)
 
 
 run_page(render, sidebar=False)  # the phase history carries its own geometry

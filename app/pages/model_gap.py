@@ -38,7 +38,7 @@ EXAMPLE_EFFECT = {"name": "sinusoid", "channel": "gyro_z",
                   "params": {"frequency_hz": 0.7, "amplitude": float(np.radians(0.02))}}
 #: Rows read from an uploaded log by default (10⁶ = a real ADIS16405 log at 100 Hz, whole).
 DEFAULT_MAX_ROWS = 1_000_000
-#: Session-state key of the last run: (request tuple, GapReport).
+#: Session-state key of the last run: (request tuple, GapReport) (:func:`components.run_on_demand`).
 RESULT_KEY = "gap_result"
 #: The choice of the measurement's channels the workflow compares (``run_gap(channels=)``); the
 #: library's messages name it (``budget.errors.GAP_CHANNELS_WAY``).
@@ -225,17 +225,12 @@ def render() -> None:
     if channels is None:
         return
     request = (key, model.model_dump_json(), from_catalog, seed, realizations, tuple(channels))
-    if right.button("Run", type="primary", key="gap_run"):
-        report = _run(model.model_dump_json(), from_catalog, seed, realizations, measured, rate_hz, samples,
-                      channels)
-        st.session_state[RESULT_KEY] = (request, report)
-    last = st.session_state.get(RESULT_KEY)
-    if last is None:
-        st.info("Press **Run** to compare.")
-        return
-    if last[0] != request:
-        st.info("The inputs changed since the last run; press **Run** to update. Showing the last run.")
-    _show(last[1])
+    last = c.run_on_demand(RESULT_KEY, request, "Run",
+                           lambda: _run(model.model_dump_json(), from_catalog, seed, realizations, measured,
+                                        rate_hz, samples, channels),
+                           button_key="gap_run", prompt="Press **Run** to compare.", container=right)
+    if last is not None:
+        _show(last.result)
 
 
 run_page(render, sidebar=False)

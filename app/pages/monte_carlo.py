@@ -3,6 +3,8 @@ distributions and the worst trials (images and phase error), all from :func:`bud
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import pandas as pd
 import streamlit as st
 
@@ -29,8 +31,8 @@ DEFAULT_PART = "ADIS16405"
 #: Platform motions the page offers (a custom disturbance needs a file: CLI or API).
 PLATFORM_MOTIONS = tuple(k for k in KINDS if k != "custom")
 MAX_TRIALS = 100_000
-#: Session-state key of the last run request (scenario JSON, part ids, trials, seed).
-RUN_KEY = "mc_request"
+#: Session-state key of the last run: (request, McRun) (:func:`components.run_on_demand`).
+RUN_KEY = "mc_last_run"
 #: Session-state key of the last built report: (inputs key, HTML text).
 REPORT_KEY = "mc_report"
 
@@ -53,7 +55,32 @@ def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: 
         bar.empty()
 
 
-def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str, bool]:
+class McRun(NamedTuple):
+    """One press of **Run Monte Carlo**: the scenario and seed run, each part's result, and one
+    line per distinct refusal (naming the scenario and the parts it hit)."""
+
+    scenario: Scenario
+    seed: int
+    results: dict[str, McResult]
+    refusals: list[str]
+
+
+def _run_all(scenario: Scenario, parts: list[PartSpec], trials: int, seed: int, prefilter: str, motion: str,
+             origin: str | None) -> McRun:
+    """Every part's verdict; a part the library refuses is left out and its message kept."""
+    scenario_json = scenario.model_dump_json()
+    results: dict[str, McResult] = {}
+    failed: dict[str, list[str]] = {}  # one message per distinct error, with the parts it hit
+    for part in parts:
+        try:
+            results[part.part_id] = _run(scenario_json, part.model_dump_json(), trials, seed, prefilter, motion)
+        except InputError as err:
+            failed.setdefault(error_text(err), []).append(part.part_id)
+    return McRun(scenario, seed, results,
+                 [run_error(scenario.name, origin, pids, text) for text, pids in failed.items()])
+
+
+def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str]:
     ids = list(catalog)
     default = [DEFAULT_PART] if DEFAULT_PART in catalog else ids[:1]
     parts = st.multiselect("parts", ids, default=default, key="mc_parts")
@@ -70,8 +97,7 @@ def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str
                                 "have no effect); oscillation: roll/pitch/yaw at the scenario's platform "
                                 "rate, 10 s period; attitude_change: a roll through 1 rad over the aperture "
                                 "(the gyro-scale-factor bound's manoeuvre)")
-    clicked = st.button("Run Monte Carlo", key="mc_run", type="primary", disabled=not parts)
-    return parts, int(trials), int(seed), prefilter, motion, clicked
+    return parts, int(trials), int(seed), prefilter, motion
 
 
 def summary_frame(results: dict[str, McResult]) -> pd.DataFrame:
@@ -218,38 +244,24 @@ def render() -> None:
                 "forms the image with the IMU-measured track and runs PGA autofocus. Does autofocus "
                 "absorb what the IMU leaves? The scenario comes from the sidebar.")
     catalog = c.session_catalog()
-    parts, trials, seed, prefilter, motion, clicked = _inputs(catalog)
-    request = (s.model_dump_json(), tuple(parts), trials, seed, prefilter, motion)
-    if clicked:
-        st.session_state[RUN_KEY] = request
-    last = st.session_state.get(RUN_KEY)
+    parts, trials, seed, prefilter, motion = _inputs(catalog)
+    chosen = [catalog[p] for p in parts]
+    request = (s.model_dump_json(), tuple(p.model_dump_json() for p in chosen), trials, seed, prefilter, motion)
+    origin = st.session_state.get(sidebar.BASE_ORIGIN_KEY)
+    last = c.run_on_demand(RUN_KEY, request, "Run Monte Carlo",
+                           lambda: _run_all(s, chosen, trials, seed, prefilter, motion, origin), button_key="mc_run",
+                           prompt="Pick parts, trials and seed, then press **Run Monte Carlo**.", disabled=not parts)
     if last is None:
-        st.info("Pick parts, trials and seed, then press **Run Monte Carlo**.")
         return
-    if last != request:
-        st.info("The inputs changed since the last run; press **Run Monte Carlo** to update. "
-                "Showing the last run.")
-    scen_json, run_parts, run_trials, run_seed, run_prefilter, run_motion = last
-    run_scenario = Scenario.model_validate_json(scen_json)
-    results: dict[str, McResult] = {}
-    failed: dict[str, list[str]] = {}  # one message per distinct error, with the parts it hit
-    for pid in run_parts:
-        if pid not in catalog:
-            st.warning(f"{pid} is no longer in the catalog.")
-            continue
-        try:
-            results[pid] = _run(scen_json, catalog[pid].model_dump_json(), run_trials, run_seed,
-                                run_prefilter, run_motion)
-        except InputError as err:
-            failed.setdefault(error_text(err), []).append(pid)
-    origin = st.session_state.get(sidebar.BASE_ORIGIN_KEY) if last == request else None
-    for text, pids in failed.items():
-        st.error(run_error(run_scenario.name, origin, pids, text), icon=":material/error:")
+    run = last.result
+    for text in run.refusals:
+        st.error(text, icon=":material/error:")
+    results = run.results
     if not results:
         return
-    _summary(results, run_scenario, run_seed)
-    _check_vs_mc(results, run_scenario, catalog, ctx.mode)
-    _downloads(results, run_scenario, catalog, ctx.mode, last)
+    _summary(results, run.scenario, run.seed)
+    _check_vs_mc(results, run.scenario, catalog, ctx.mode)
+    _downloads(results, run.scenario, catalog, ctx.mode, last.inputs)
     _percentiles(results)
     _distribution(results)
     _inspector(results)

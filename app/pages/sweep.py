@@ -1,7 +1,8 @@
 """Page: trade study — P(pass) over parts × scenarios (heat map) and P(pass) against slant range,
 speed or azimuth resolution (Tc follows), from :func:`budget.sweep`; downloads as CSV/JSON.
 
-Runs only when its button is pressed; the last result stays until the next run.
+Runs only when its button is pressed; the last result stays until the next run
+(:func:`components.run_on_demand`).
 """
 
 from __future__ import annotations
@@ -9,9 +10,8 @@ from __future__ import annotations
 import numpy as np
 import streamlit as st
 
-from budget.api import VARIABLE_FIELDS, sweep_over
+from budget.api import VARIABLE_FIELDS, load_scenarios, sweep_over
 from budget.api import sweep as run_sweep
-from budget.errors import InputError
 from budget.fileio import json_text
 from budget.safe_text import frame_csv_text
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS
@@ -23,11 +23,11 @@ import components as c
 import sidebar
 from formatting import tidy
 from page_frame import run_page
-from uploads import error_text
 
 DEFAULT_PARTS = ("ADIS16405", "STIM300")
 CURRENT = "current scenario (sidebar)"
-GRID_KEY, LINE_KEY = "sw_grid_result", "sw_line_result"
+#: Session-state keys of the last runs: (inputs, table) and (inputs, (field, table)).
+GRID_KEY, LINE_KEY = "sw_grid_last", "sw_line_last"
 MAX_CELLS = 200
 
 
@@ -61,20 +61,29 @@ def _progress():
     return bar, cb
 
 
-def _guarded_run(what: str, scenarios: list[str], parts: list, run):
-    """``run(progress)`` with a progress bar; a refusal (a motion run beyond its memory limit, a
-    scenario the simulator cannot form) is one line on the page naming the scenario(s) and parts
-    as the Monte Carlo page does, the bar is removed either way and the rest of the page (and the
-    last result) stays. → the table, or None when refused."""
+def _with_progress(run):
+    """``run(progress)`` with a progress bar, removed when done or refused."""
     bar, cb = _progress()
     try:
         return run(cb)
-    except InputError as err:
-        st.error(c.refused_run(what, scenarios, [p.part_id for p in parts], error_text(err)),
-                 icon=":material/error:")
-        return None
     finally:
         bar.empty()
+
+
+def _on_demand(key: str, inputs: tuple, label: str, run, *, button_key: str, prompt: str, what: str,
+               scenarios: list[str], parts: list, disabled: bool):
+    """:func:`components.run_on_demand` of ``run(progress)`` with a progress bar; a refusal (a motion
+    run beyond its memory limit, a scenario the simulator cannot form) is one line naming the
+    scenario(s) and parts as the Monte Carlo page does, and the rest of the page (and the last
+    result) stays."""
+    return c.run_on_demand(key, inputs, label, lambda: _with_progress(run), button_key=button_key, prompt=prompt,
+                           refused=lambda text: c.refused_run(what, scenarios, [p.part_id for p in parts], text),
+                           disabled=disabled)
+
+
+def _inputs_key(scenario, parts: list, trials: int, seed: int, mode: str | None) -> tuple:
+    """What every sweep depends on: the sidebar scenario, the parts, trials, seed, aiding mode."""
+    return scenario.model_dump_json(), tuple(p.model_dump_json() for p in parts), trials, seed, mode
 
 
 def _sidebar_scenario(s) -> str:
@@ -106,20 +115,17 @@ def _grid(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
     st.caption(f"{n} cells × {trials} trials (≈ {n * trials / 20:.0f} s at 20 trials/s)")
     if same:  # the library refuses a scenario given twice; here it is one row of the list
         st.caption(f"The sidebar scenario is the preset **{same}**, also picked in the list: swept once.")
-    if st.button("Run the sweep", key="sw_run_grid", type="primary", disabled=not (parts and names) or n > MAX_CELLS):
-        scens = [ctx.scenario if s == CURRENT else s for s in names if not (same and s == CURRENT)]
-        from budget.api import load_scenarios
-
-        described = [_sidebar_scenario(s) if s is ctx.scenario else s for s in scens]
-        table = _guarded_run("Sweep", described, parts,
-                             lambda cb: run_sweep(parts, _with_mode(load_scenarios(scens), mode), trials, seed,
-                                                  progress=cb))
-        if table is not None:
-            st.session_state[GRID_KEY] = table
-    table = st.session_state.get(GRID_KEY)
-    if table is None:
-        st.info("Pick parts and scenarios, then press **Run the sweep**.")
+    scens = [ctx.scenario if s == CURRENT else s for s in names if not (same and s == CURRENT)]
+    described = [_sidebar_scenario(s) if s is ctx.scenario else s for s in scens]
+    last = _on_demand(GRID_KEY, (_inputs_key(ctx.scenario, parts, trials, seed, mode), tuple(names)),
+                      "Run the sweep",
+                      lambda cb: run_sweep(parts, _with_mode(load_scenarios(scens), mode), trials, seed, progress=cb),
+                      button_key="sw_run_grid", prompt="Pick parts and scenarios, then press **Run the sweep**.",
+                      what="Sweep", scenarios=described, parts=parts,
+                      disabled=not (parts and names) or n > MAX_CELLS)
+    if last is None:
         return
+    table = last.result
     st.markdown(f"<span id='sweep-grid-done'>{len(table)} cells</span>", unsafe_allow_html=True)
     for name, status in not_simulated(table).items():
         st.warning(f"**{name}**: {status} (its cells are empty; the analytic check still applies)")
@@ -140,17 +146,14 @@ def _line(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
     x_tc = st.checkbox("x axis: Tc instead of the varied quantity", key="sw_x_tc")
     values = np.geomspace(now * lo, now * hi, points) if lo < hi else np.array([now])
     st.caption(f"{field} = " + ", ".join(f"{v:.4g}" for v in values) + f" on scenario **{s.name}**")
-    if st.button("Run", key="sw_run_line", type="primary", disabled=not parts):
-        base = _with_mode([s], mode)[0]
-        table = _guarded_run(f"Sweep over {field}", [_sidebar_scenario(s)], parts,
-                             lambda cb: sweep_over(parts, base, field, values, trials, seed, progress=cb))
-        if table is not None:
-            st.session_state[LINE_KEY] = (field, table)
-    got = st.session_state.get(LINE_KEY)
-    if got is None:
-        st.info("Press **Run** to draw P(pass) against the chosen quantity.")
+    last = _on_demand(LINE_KEY, (_inputs_key(s, parts, trials, seed, mode), field, tuple(values.tolist())), "Run",
+                      lambda cb: (field, sweep_over(parts, _with_mode([s], mode)[0], field, values, trials, seed,
+                                                    progress=cb)),
+                      button_key="sw_run_line", prompt="Press **Run** to draw P(pass) against the chosen quantity.",
+                      what=f"Sweep over {field}", scenarios=[_sidebar_scenario(s)], parts=parts, disabled=not parts)
+    if last is None:
         return
-    f, table = got
+    f, table = last.result
     x = "tc_s" if x_tc else f
     for name, status in not_simulated(table).items():
         st.warning(f"**{name}**: {status}")
