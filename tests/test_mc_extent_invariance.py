@@ -9,7 +9,7 @@ whose level (−29 to −34 dB at 80–128 cells, by image size and PRF) crossed
 signal" level at 80–96 cells, and the fast-phase stage's cut-back then fitted its basis over bins
 up to 42 beyond the aperture band, leaving 27–32° at the aperture's ends. The stage now counts a
 bin as signal only when it is joined to the peak by bins at most 10 dB below that level
-(:func:`budget.sar.pga._connected_band`).
+(:func:`budget.sar.pga_fast._joined_to_peak`).
 
 Accel VRW at 0.05× passed 0.50 / 0.09 / 0.03 at 48 / 96 / 192 cells: PGA's smallest window was 8
 samples, so its bandwidth K = W·n_ap/(2n) fell from 2.05 to 1.47 cycles per aperture as the image
@@ -29,8 +29,7 @@ from budget.mc.runner import resolve_unspecified
 from budget.mc.stats import wilson_interval
 from budget.presets import PRESETS
 from budget.sar import SarGeometry
-from budget.sar.pga import _connected_band
-from budget.sar.pga_lines import _Lines
+from budget.sar.pga_fast import _BAND_GAP_DB, _joined_to_peak
 from budget.sar.residual import pga_bandwidth_cycles
 
 TRIALS = 32
@@ -94,30 +93,22 @@ def test_pga_min_window_is_four_cells():
         assert pga_bandwidth_cycles(w, n, n_ap) >= 2.0 > pga_bandwidth_cycles(w - 1, n, n_ap)
 
 
-def _lines_with_energy(energy_centred: np.ndarray) -> _Lines:
-    """A one-line ``_Lines`` whose energy per bin is ``energy_centred`` (centred order)."""
-    hist = np.sqrt(np.fft.ifftshift(energy_centred)).astype(complex)[:, None]
-    return _Lines(hist=hist, c_line=np.ones(1), kernel="ml", tol_rad=0.05, win_db=10.0, win_scale=1.5,
-                  shrink=0.5, min_window=8, band_db=30.0, smooth=1.0)
-
-
-def test_connected_band_drops_an_isolated_line_only():
-    """A bin at −29 dB cut off from the band by bins at −60 dB (30 dB below the −30 dB level, deeper
-    than the 10 dB gap allowed) is capped below that level
-    (0.75 × it); the band, the floor's 5th percentile and every other bin are unchanged; without
-    such a bin the lines come back as they are."""
+def test_joined_to_peak_drops_an_isolated_line_only():
+    """At the stage's level (30 dB below the peak), a bin at −29 dB cut off from the band by bins at
+    −60 dB (30 dB below the level, deeper than the 10 dB gap allowed) is not joined to the peak; a
+    bin reached through bins less than the gap below the level is; without any gap every bin is."""
     n = 128
     energy = np.full(n, 1e-6)
     energy[40:88] = np.hanning(50)[1:-1] ** 2 + 1e-3  # the band, connected to its peak
     energy[10] = 10 ** (-2.9)  # isolated line within 30 dB of the peak
-    d = _lines_with_energy(energy)
-    out = np.fft.fftshift(_connected_band(d).energy)
-    peak = float(np.fft.fftshift(d.energy).max())
-    assert out[10] == pytest.approx(0.75 * 1e-3 * peak)
-    keep = np.ones(n, bool)
-    keep[10] = False
-    np.testing.assert_allclose(out[keep], np.fft.fftshift(d.energy)[keep], rtol=1e-12)
-    assert np.percentile(out, 5) == pytest.approx(np.percentile(np.fft.fftshift(d.energy), 5))
+    level = 1e-3 * float(energy.max())
+    assert _BAND_GAP_DB == 10.0
+    assert _joined_to_peak(energy, level) == (40, 88)
     energy[10] = 1e-6
-    d2 = _lines_with_energy(energy)
-    assert _connected_band(d2) is d2
+    assert _joined_to_peak(energy, level) == (40, 88)
+    energy[88:95] = 0.2 * level  # 7 dB below the level: a shallow gap
+    energy[95] = 2.0 * level
+    assert _joined_to_peak(energy, level) == (40, 96)
+    energy[91] = 0.09 * level  # one bin deeper than the gap cuts the rest off
+    assert _joined_to_peak(energy, level) == (40, 91)
+    assert _joined_to_peak(np.full(n, 1.0), 2.0) == (0, n)

@@ -60,10 +60,10 @@ where the candidate lines' energy is within 10 dB of its peak and at least twice
 percentile (signal ≥ noise: on a noisy image the out-of-band bins hold receiver noise only, and a
 basis stretched over them cannot follow the in-band phase) the bands below are estimated. First,
 over every bin with signal (within 30 dB of the peak energy and above that noise floor, a wider
-interval than the span: a weighted aperture's ends lie below the span's 10 dB; a bin counts only
-when it is joined to the peak by bins at most 10 dB below that level, :func:`_connected_band` —
-an isolated spectral line outside the aperture band stretched the interval 42 bins beyond the
-band on a 96-cell simulated scene and left 27–32° at the aperture's ends), the accumulated
+interval than the span: a weighted aperture's ends lie below the span's 10 dB; both count only
+the bins joined to the peak, :func:`~budget.sar.pga_fast._joined_to_peak` — an isolated spectral
+line outside the aperture band stretched the interval 42 bins beyond the band on a 96-cell
+simulated scene and left 27–32° at the aperture's ends), the accumulated
 estimate is cut back to what the settled window sees (Legendre terms to the cubic and DCT
 cosines up to W·L/(2n) cycles over those L bins, least squares weighted by the lines' energy per
 bin): what the early, wider windows left above it is, on clutter, mostly their clutter × clutter
@@ -150,7 +150,6 @@ dispatch, which on 128-sample lines cost a quarter of the transform.
 
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -158,7 +157,7 @@ import pandas as pd
 import scipy.fft as sfft
 
 from ..errors import InputError
-from .pga_fast import _SPAN_FLOOR, _fast_bands, _percentile
+from .pga_fast import _fast_bands
 from .pga_kernels import (line_sums, measured_width, ml_step, refine_ramp, smoothed_rms, weights_and_lines,
                           window_in_place, wrms)
 from .sharpness import image_sharpness
@@ -175,11 +174,6 @@ _FIRST_SCALE = 3.0
 _RESTARTS = (("measured start", "measured", None), ("slower shrink (0.7)", None, 0.7))
 #: PGA's smallest window (samples) when the caller gives none.
 DEFAULT_MIN_WINDOW = 8
-#: Depth (dB below the fast-phase stage's level) of the gap that cuts a bin off from the aperture
-#: band (:func:`_connected_band`). Noise alone rarely digs it: the level is at least twice the
-#: 5th percentile, ≈ 0.1 × the mean of one line's exponential noise energy, and a bin falls 10 dB
-#: below that with probability ≈ 1 % (less for a sum of lines).
-_BAND_GAP_DB = 10.0
 
 
 @dataclass
@@ -470,7 +464,7 @@ def _outcome(g: np.ndarray, d: _Lines, run: dict, lines: np.ndarray, clutter: fl
     phi_c = _detrend(run["phi"], run["weight"])
     bands: list[dict] = []
     if fast_phase and run["converged"]:
-        phi_c, bands = _fast_bands(_connected_band(d), phi_c, width, lines, band_snr)
+        phi_c, bands = _fast_bands(d, phi_c, width, lines, band_snr)
         phi_c = _detrend(phi_c, run["weight"])
     support = run["weight"] >= run["weight"].max() * 0.01
     last = history[-1]["rms_increment_rad"]
@@ -483,34 +477,6 @@ def _outcome(g: np.ndarray, d: _Lines, run: dict, lines: np.ndarray, clutter: fl
                      predicted_noise_rad=_predicted_noise(scr[scr >= 10 ** (min_scr_db / 10)]),
                      history=history, support=support, fast_bands=bands, start_window=run["start"])
 
-
-def _connected_band(d: _Lines) -> _Lines:
-    """``d`` as the fast-phase stage sees it (module docstring, "Fast-phase stage"): a bin above
-    the stage's level (within ``band_db`` of the peak energy and above the noise floor) counts as
-    signal only when it is joined to the peak by bins no more than :data:`_BAND_GAP_DB` below
-    that level. A spectral line cut off from the aperture band by a deep gap — the noise-free
-    simulated images show one at −29 to −34 dB, 36–96 Hz outside the band, behind bins 15–26 dB
-    below the level — is not signal: its energy is set to 0.75 × the level (below the level;
-    above the 5th percentile, since the floor is twice it, so the floor does not move). On
-    clutter and noise the bins around the band fluctuate about the floor and stay joined. The
-    lines come back unchanged when no bin is cut off."""
-    energy = np.fft.fftshift(d.energy)
-    level = max(10 ** (-d.band_db / 10) * float(energy.max()), _SPAN_FLOOR * _percentile(energy, 5.0))
-    joined = energy >= level * 10 ** (-_BAND_GAP_DB / 10)
-    lo = hi = int(np.argmax(energy))
-    while lo > 0 and joined[lo - 1]:
-        lo -= 1
-    while hi < energy.size - 1 and joined[hi + 1]:
-        hi += 1
-    cut = energy >= level
-    cut[lo:hi + 1] = False
-    if not cut.any():
-        return d
-    energy = energy.copy()
-    energy[cut] = 0.75 * level
-    out = copy.copy(d)  # the same lines and settings; only the energy the stage reads differs
-    out.energy = np.fft.ifftshift(energy)
-    return out
 
 def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaResult, np.ndarray]:
     """Capture check (module docstring, "Restarts"): the run from the clutter-limited start and

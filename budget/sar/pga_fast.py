@@ -28,6 +28,13 @@ _MIN_GROUPS = 3
 _SPAN_FLOOR = 2.0
 
 
+#: Depth (dB below the stage's level) of the gap that cuts a bin off from the aperture band
+#: (:func:`_joined_to_peak`). Noise alone rarely digs it: the level is at least twice the 5th
+#: percentile, ≈ 0.1 × the mean of one line's exponential noise energy, and a bin falls 10 dB
+#: below that with probability ≈ 1 % (less for a sum of lines).
+_BAND_GAP_DB = 10.0
+
+
 # Compiled loops of a band (as in :mod:`budget.sar.pga_kernels`).
 
 
@@ -125,6 +132,21 @@ def _percentile(x: np.ndarray, q: float) -> float:
     return float(b - diff * (1 - t) if t >= 0.5 else a + diff * t)
 
 
+def _joined_to_peak(energy: np.ndarray, level: float) -> tuple[int, int]:
+    """(first, last + 1) of the bins joined to the peak of ``energy`` (centred bins): the run
+    around the peak bin in which no bin lies more than :data:`_BAND_GAP_DB` below ``level`` (the
+    stage's "bins with signal" level, :func:`_fast_bands`). Only the bins inside it count as
+    signal: a spectral line cut off from the aperture band by a deeper gap — the noise-free
+    simulated images show one at −29 to −34 dB of the peak, 36–96 Hz outside the band, behind
+    bins 15–26 dB below the level — is not the aperture's, and a basis fitted out to it would
+    follow no phase of the aperture over the gap. On clutter and noise the bins around the band
+    fluctuate about the floor and stay joined."""
+    peak = int(np.argmax(energy))
+    gaps = np.flatnonzero(energy < level * 10 ** (-_BAND_GAP_DB / 10))
+    at = int(np.searchsorted(gaps, peak))  # never the peak: the level is at most twice the peak energy
+    return (int(gaps[at - 1]) + 1 if at else 0), (int(gaps[at]) if at < gaps.size else energy.size)
+
+
 def _groups(lines: np.ndarray) -> np.ndarray:
     """Jackknife group per candidate line (sorted range indices): runs of adjacent range lines
     share one, since their clutter and their scatterer are correlated (range oversampling)."""
@@ -191,14 +213,24 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     """The fast-phase stage: the bands beyond the settled window ``width`` estimated one octave at
     a time, band (m_{j−1}, m_j] of the DCT over the span at window 2^j·W, the narrowest window that
     sees it (m_j = ⌊2^j W · span/n⌋: W samples see W/2 cycles per n bins), each kept only where
-    significant (:func:`_band`). Returns the estimate with the kept bands added, and the records."""
+    significant (:func:`_band`). The span and the interval of the cut-back hold only bins joined
+    to the peak (:func:`_joined_to_peak`). Returns the estimate with the kept bands added, and the
+    records."""
     n = d.hist.shape[0]
     energy = np.fft.fftshift(d.energy)
-    # the span: bins within 10 dB of the peak energy that also hold at least as much signal as
-    # noise (twice the floor, the 5th percentile: out-of-band bins of a noisy image are noise
-    # only, and a basis stretched over them cannot follow the in-band phase)
+    peak = energy.max()
+    # the noise floor: twice the 5th percentile (out-of-band bins of a noisy image are noise
+    # only, and a basis stretched over them cannot follow the in-band phase); the level of the
+    # bins with signal: within the iterations' band_db of the peak energy — below it no bin
+    # carries a gradient — and above the floor; only bins joined to the peak count
+    # (:func:`_joined_to_peak`), so both intervals below lie inside [j_lo, j_hi)
     floor = _SPAN_FLOOR * _percentile(energy, 5.0)
-    idx = np.nonzero(energy >= max(_SPAN_FRACTION * energy.max(), floor))[0]
+    level = max(10 ** (-d.band_db / 10) * peak, floor)
+    j_lo, j_hi = _joined_to_peak(energy, level)
+    joined = energy[j_lo:j_hi]
+    # the span: bins within 10 dB of the peak energy that also hold at least as much signal as
+    # noise
+    idx = np.nonzero(joined >= max(_SPAN_FRACTION * peak, floor))[0] + j_lo
     groups = _groups(lines)
     if idx.size < 16:
         return phi_c, []
@@ -209,11 +241,9 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     # there — on clutter mostly their clutter × clutter random walk, largest at the weighted
     # aperture's ends, where the lines have least energy and the increments are not smoothed.
     # It must pass the same test as any other phase there: drop it over every bin with signal
-    # (within the iterations' band_db of the peak energy — below it no bin carries a gradient —
-    # and above the noise floor; weighted by the lines'
-    # energy, so bins with little signal do not steer the fit) and let the bands below
-    # re-estimate over the span what is significant.
-    full = np.nonzero(energy >= max(10 ** (-d.band_db / 10) * energy.max(), floor))[0]
+    # (at or above the level; weighted by the lines' energy, so bins with little signal do not
+    # steer the fit) and let the bands below re-estimate over the span what is significant.
+    full = np.nonzero(joined >= level)[0] + j_lo
     c_lo, c_hi = int(full[0]), int(full[-1]) + 1
     phi_c = phi_c.copy()
     phi_c[c_lo:c_hi] -= highpass_phase(phi_c[c_lo:c_hi], width * (c_hi - c_lo) / (2.0 * n), energy[c_lo:c_hi])
