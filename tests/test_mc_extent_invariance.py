@@ -19,16 +19,21 @@ was sampled more finely. The chain now gives PGA a floor of 4 resolution cells (
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
-from budget.mc.chain import PGA_MIN_WINDOW_CELLS, ChainSetup, pga_min_window, run_chunk
+import budget.mc.chain as chain
+from budget.mc.chain import (PGA_MIN_WINDOW_CELLS, ChainSetup, chain_plan, pga_min_window, run_chunk, run_trials,
+                             settled_window)
 from budget.mc.consistency import single_term_model
 from budget.mc.options import McOptions
 from budget.mc.runner import resolve_unspecified
 from budget.mc.stats import wilson_interval
 from budget.presets import PRESETS
 from budget.sar import SarGeometry
+from budget.sar.pga import DEFAULT_MIN_WINDOW, PgaResult
 from budget.sar.pga_fast import _BAND_GAP_DB, _joined_to_peak
 from budget.sar.residual import pga_bandwidth_cycles
 
@@ -91,6 +96,51 @@ def test_pga_min_window_is_four_cells():
     for n, n_ap in ((189, 97), (462, 313), (320, 129), (847, 227)):
         w = pga_min_window(n, n_ap)
         assert pga_bandwidth_cycles(w, n, n_ap) >= 2.0 > pga_bandwidth_cycles(w - 1, n, n_ap)
+
+
+def test_settled_window_falls_back_to_the_chain_floor():
+    """A result that reports no window (a zero image: PGA never iterated) is read at the floor the
+    chain gave PGA, not at PGA's own 8 samples; a reported window is read as it is."""
+    none = PgaResult(image=np.zeros((16, 1), complex), phase_error_rad=np.zeros(16), iterations=0,
+                     converged=False, reason="no usable scatterers: the image is zero", usable_lines=0)
+    assert settled_window(none, 6) == 6 != DEFAULT_MIN_WINDOW
+    assert settled_window(none, 10) == 10
+    assert settled_window(replace(none, history=[{"window": 24}, {"window": 12}]), 6) == 12
+    assert settled_window(replace(none, final_window=9, history=[{"window": 12}]), 6) == 9
+
+
+def test_chain_reads_a_windowless_result_at_its_floor(monkeypatch):
+    """Through the chain (airborne_xband, points: floor 6 samples): PGA results without a window
+    are judged at K of the floor the chain passed; results with one at K of their own window."""
+    setup = ChainSetup.build(PRESETS["airborne_xband"], McOptions(scene="points"))
+    mask = chain_plan(setup).mask
+    n, n_ap = mask.size, int(mask.sum())
+    floor = pga_min_window(n, n_ap)
+    assert floor == 6
+    zero = np.zeros((2, setup.geom.n_pulses, 3))
+    real = chain.pga
+    seen = []
+
+    def reporting(img, **kw):
+        assert kw["min_window"] == floor
+        res = real(img, **kw)
+        seen.append(res.final_window)
+        return res
+
+    monkeypatch.setattr(chain, "pga", reporting)
+    out = run_trials(setup, zero, range(2), SEED, np.zeros(2), keep_detail=True)
+    assert all(w > 0 for w in seen)
+    assert [o.detail["pga_bandwidth_cycles"] for o in out] == [pga_bandwidth_cycles(w, n, n_ap) for w in seen]
+
+    def windowless(img, **kw):
+        return PgaResult(image=img, phase_error_rad=np.zeros(img.shape[0]), iterations=0, converged=False,
+                         reason="no usable scatterers: the image is zero", usable_lines=0)
+
+    monkeypatch.setattr(chain, "pga", windowless)
+    out = run_trials(setup, zero, range(2), SEED, np.zeros(2), keep_detail=True)
+    assert [o.detail["pga_bandwidth_cycles"] for o in out] == [pga_bandwidth_cycles(floor, n, n_ap)] * 2
+    assert pga_bandwidth_cycles(floor, n, n_ap) != pga_bandwidth_cycles(DEFAULT_MIN_WINDOW, n, n_ap)
+    assert all("pga_failed" in o.reasons for o in out)
 
 
 def test_joined_to_peak_drops_an_isolated_line_only():

@@ -75,7 +75,8 @@ REFERENCE_STREAM = STREAMS["sar_reference"]
 #: free-inertial velocity error — only shifts a target; at long range or with fine cells the shift
 #: is tens of cells, and a box that missed the target would score empty sidelobe as defocus.
 AZ_SEARCH_CELLS = math.inf
-#: PGA's smallest window (samples): the settled window when a PGA result does not report one.
+#: PGA's own smallest window (samples): :func:`_pga_kwargs`' floor when it is given none (the chain
+#: gives PGA :func:`pga_min_window`).
 PGA_MIN_WINDOW = DEFAULT_MIN_WINDOW
 #: PGA's smallest window in resolution cells, the floor the chain gives PGA
 #: (:func:`pga_min_window`): a window of W samples spans W·n_ap/n cells of an image of n azimuth
@@ -261,6 +262,16 @@ def pga_min_window(n_bins: int, n_aperture_bins: int) -> int:
     return int(max(3, math.ceil(PGA_MIN_WINDOW_CELLS * n_bins / n_aperture_bins - 1e-9)))
 
 
+def settled_window(res, floor: int) -> int:
+    """PGA's settled window (samples) as the verdict reads it: the result's ``final_window``, else
+    its last iteration's window, else ``floor``, the smallest window the chain gave PGA (a result
+    that never iterated — a zero image — reports none)."""
+    window = getattr(res, "final_window", 0)
+    if not window:
+        window = res.history[-1]["window"] if res.history else floor
+    return int(window)
+
+
 def _pga_kwargs(opt: McOptions, min_window: int = PGA_MIN_WINDOW) -> dict:
     kw = {"kernel": opt.pga_kernel, "max_iter": opt.pga_max_iter, "corrected_image": False,  # applied in the chain
           "min_window": int(min_window)}
@@ -368,10 +379,7 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
         before["residual_phase_rms_deg"] = _weighted_rms_deg(truth[mask], energy[b][mask])
         before["pga_error_rms_deg"] = math.nan
         failed = res.usable_lines == 0
-        window = getattr(res, "final_window", 0)
-        if not window:
-            window = res.history[-1]["window"] if res.history else PGA_MIN_WINDOW
-        cutoff = pga_bandwidth_cycles(window, mask.size, int(mask.sum()))
+        cutoff = pga_bandwidth_cycles(settled_window(res, pga_kw["min_window"]), mask.size, int(mask.sum()))
         after["residual_phase_rms_deg"] = math.degrees(pga_residual_rms_rad(estimate, truth, mask, energy[b], cutoff))
         after["pga_error_rms_deg"] = _weighted_rms_deg((estimate - truth)[mask], energy[b][mask])
         # the analytic bounds' counterpart: the TRUE phase beyond PGA's window (PGA credited with nothing)
