@@ -8,6 +8,7 @@ unless ``mc_results`` are passed, e.g. by the dashboard which already ran them).
 from __future__ import annotations
 
 import datetime as _dt
+import math
 import platform
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -36,7 +37,10 @@ def check_vs_mc(record: Mapping, mc, target: float = MC_PASS_TARGET) -> dict:
     interval: a disagreement is stated only when the interval lies wholly on the other side of
     ``target``. The check's own flag (its seed 004 verdict differs from its fast-phase /
     lever-arm verdict, ``flag``/``flag_reason``) is carried as ``check_flag`` and
-    ``check_flag_reason``: it predicts such a disagreement without a simulation.
+    ``check_flag_reason``: it predicts such a disagreement without a simulation. When the check
+    passes and the Monte Carlo fails, ``space_variance`` (:mod:`budget.mc.space_variance`, None
+    when the result does not carry its scenario) and ``filled_terms_share``
+    (:func:`filled_terms_share`) hold the figures the ``reason`` rests on.
     """
     analytic = record.get("verdict")
     p, (lo, hi) = mc.p_pass_after, mc.ci_after
@@ -49,7 +53,7 @@ def check_vs_mc(record: Mapping, mc, target: float = MC_PASS_TARGET) -> dict:
     elif analytic == mc_verdict:
         out.update(agree=True, reason="")
     else:
-        why = _disagreement_causes(record, mc, analytic)
+        why = _disagreement_causes(record, mc, analytic, out)
         out.update(agree=False, reason=f"analytic check says {analytic}, Monte Carlo P(pass after PGA) = "
                                        f"{p:.2f} [{lo:.2f}, {hi:.2f}] (target {target:g}): " + " ".join(why))
     return out
@@ -57,39 +61,106 @@ def check_vs_mc(record: Mapping, mc, target: float = MC_PASS_TARGET) -> dict:
 
 #: Check columns that act only through the platform's rotation (none in straight, level flight).
 _ROTATION_TERMS = ("gyro_scale_factor_ppm", "gyro_misalignment_mrad")
+#: Rise of the part's combined use of the bounds (:func:`filled_terms_share`) from its filled
+#: datasheet terms at or above which they are named as a possible cause of a disagreement: below
+#: it the motion error they add is within a tenth of what the given terms make.
+FILLED_SHARE_MATERIAL = 0.1
 
 
-def _disagreement_causes(record: Mapping, mc, analytic: str) -> list[str]:
+def filled_terms_share(mc) -> float | None:
+    """How much the datasheet terms the Monte Carlo filled (``budget.catalog.fill``) add to what
+    the part spends of seed 004's paper bounds at the run's Tc and δr.
+
+    Each checked term j spends u_j = spec_j / bound_j (1 / margin: 1 is the whole budget, a
+    range error of δr); the part spends U = √(Σ_j u_j²), the terms' errors taken as independent.
+    Returns U_simulated / U_given − 1 — the part as simulated (``mc.model_spec``, fills in)
+    against the part as given (the filled columns empty) — over the terms the simulation
+    exercises (the gyro scale factor and misalignment only when it flies a rotation); ``inf`` when
+    nothing else is given; None when the result does not say what it simulated or filled.
+    """
+    from ..bounds import paper_bounds
+    from ..catalog.schema import PartSpec
+    from ..check import PARAM_NAMES, bound_matrix, spec_matrix
+
+    filled = ((getattr(mc, "extra", None) or {}).get("unspecified_terms") or {}).get("filled") or []
+    spec, scenario = getattr(mc, "model_spec", None), getattr(mc, "scenario", None)
+    if not filled or not isinstance(spec, Mapping) or scenario is None:
+        return None
+    try:
+        simulated = PartSpec.model_validate(dict(spec))
+        given = simulated.model_copy(update={f["column"]: None for f in filled})
+        bounds = bound_matrix(paper_bounds(np.array([scenario.tc_s]), scenario.range_resolution_m))[0]
+    except (ValueError, TypeError, KeyError, InputError):
+        return None
+    options = getattr(mc, "options", None)
+    rotates = options is not None and options.platform_motion.rotates
+    keep = np.array([rotates or name not in _ROTATION_TERMS for name in PARAM_NAMES])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        use = np.nan_to_num(spec_matrix([simulated, given]) / bounds[None, :], nan=0.0)[:, keep]
+    u_sim, u_given = np.sqrt(np.sum(use ** 2, axis=1))
+    if u_given == 0.0:
+        return math.inf if u_sim > 0.0 else 0.0
+    return float(u_sim / u_given - 1.0)
+
+
+def _rise(share: float) -> str:
+    """The rise :func:`filled_terms_share` in words."""
+    what = "they raise the part's use of the paper bounds, √Σ(spec/bound)²,"
+    if math.isinf(share):
+        return f"{what} from nothing"
+    return f"{what} {1 + share:.3g}-fold" if share >= 1 else f"{what} by {100 * share:.2g} %"
+
+
+def _disagreement_causes(record: Mapping, mc, analytic: str, out: dict | None = None) -> list[str]:
     """Sentences naming what is known to differ between the check and the Monte Carlo for this
     part — each from a fact of the two results, none by default: the MC's main failure reason,
-    datasheet terms the MC filled (the check leaves them out), the check's own flag, the
+    space variance over the simulated scene's range depth when it is material
+    (:mod:`budget.mc.space_variance`; the bounds assume one phase error for the whole scene),
+    datasheet terms the MC filled (the check leaves them out) when they add materially to the
+    part's use of the bounds (:func:`filled_terms_share`), the check's own flag, the
     straight-level flight of the simulation (its ``platform_motion``) when the check's binding
-    term needs rotation."""
+    term needs rotation. ``out`` (the comparison dict) receives the figures: ``space_variance``
+    and ``filled_terms_share``."""
+    from ..mc.space_variance import FOCUS_REASONS, space_variance_of
+
+    figures = {} if out is None else out
     reasons = mc.agg.failure_reasons() if hasattr(mc, "agg") else {}
     top = max(reasons, key=reasons.get) if reasons and max(reasons.values()) > 0 else None
-    out = []
+    why = []
     if analytic == "pass":
-        out.append(f"the Monte Carlo fails mostly on {top} ({reasons[top]} of {mc.trials} trials)."
+        why.append(f"the Monte Carlo fails mostly on {top} ({reasons[top]} of {mc.trials} trials)."
                    if top else "the Monte Carlo fails.")
+        sv = space_variance_of(mc)
+        figures["space_variance"] = None if sv is None else sv.to_dict()
         filled = ((getattr(mc, "extra", None) or {}).get("unspecified_terms") or {}).get("filled") or []
-        if filled:
-            out.append("It filled datasheet terms the check leaves out (unspecified there): "
-                       + ", ".join(f"{f['column']} = {f['value']:.4g} {f['unit']}" for f in filled)
+        share = filled_terms_share(mc)
+        figures["filled_terms_share"] = share
+        fills_matter = bool(filled) and (share is None or share >= FILLED_SHARE_MATERIAL)
+        listing = ", ".join(f"{f['column']} = {f['value']:.4g} {f['unit']}" for f in filled)
+        if fills_matter:
+            why.append("It filled datasheet terms the check leaves out (unspecified there): " + listing
+                       + ("" if share is None else f" ({_rise(share)})")
                        + " — run it with unspecified='zero' to see their share.")
+        # a space-variant residual defocuses the edge lines: named when the trials fail mostly on
+        # focus, not on range migration or on what PGA's window cannot see
+        if sv is not None and sv.material and top in FOCUS_REASONS:
+            why.append(sv.sentence(sole=not fills_matter))
+        if filled and not fills_matter:
+            why.append(f"The datasheet terms it filled ({listing}) are not the cause: {_rise(share)}.")
         if top == "residual_phase_noise" and not record.get("flag"):
-            out.append("The check's bounds in this mode do not limit the fast phase error PGA cannot "
+            why.append("The check's bounds in this mode do not limit the fast phase error PGA cannot "
                        "remove; the PGA-limited check does.")
     else:
-        out.append("the simulated chain passes where a bound fails.")
+        why.append("the simulated chain passes where a bound fails.")
         options = getattr(mc, "options", None)
         rotates = options is not None and options.platform_motion.rotates
         if record.get("binding") in _ROTATION_TERMS and not rotates:
-            out.append(f"The check's binding term, {record['binding']}, acts through the platform's "
+            why.append(f"The check's binding term, {record['binding']}, acts through the platform's "
                        "rotation, and the Monte Carlo flies straight, level and unrotated: it cannot "
                        "fail on it (McOptions.platform_motion flies a rotation).")
     if record.get("flag"):
-        out.append(f"The check flags it too: {record['flag_reason']}.")
-    return out
+        why.append(f"The check flags it too: {record['flag_reason']}.")
+    return why
 
 
 @dataclass
