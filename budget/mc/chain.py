@@ -141,7 +141,11 @@ class ChainSetup:
               scene: Scene | None = None) -> "ChainSetup":
         options = options or McOptions()
         disturbance = options.platform_motion.disturbance_for(scenario)  # refused before the echoes
-        geom = SarGeometry.from_scenario(scenario, window=options.window_for(scenario))
+        # "auto" is resolved by run_mc from the part (budget.mc.defocus); a setup built without a
+        # part keeps the default room
+        room = options.defocus_room_cells
+        geom = SarGeometry.from_scenario(scenario, window=options.window_for(scenario),
+                                         defocus_room_cells=0.0 if room == "auto" else room)
         kind = options.scene
         if kind == "auto":
             kind = "realistic" if realistic_scene_available() else "points"
@@ -184,6 +188,7 @@ class ChainSetup:
                 "clutter_to_target_db": self.scene.clutter_to_target_db, "snr_db": self.snr_db,
                 "window": self.geom.window_azimuth.label, "image_method": self.options.image_method,
                 "n_pulses": int(self.geom.n_pulses),
+                "defocus_room_cells": self.geom.defocus_room_cells, "n_azimuth": int(self.geom.n_azimuth),
                 "fractional_bandwidth": self.geom.range_bandwidth_hz / self.geom.carrier_frequency_hz,
                 **({"wideband_note": note} if (note := wideband_note(self.geom)) else {}),
                 **({"ambiguity_note": note} if (note := range_ambiguity_note(self.geom)) else {}),

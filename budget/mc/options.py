@@ -89,6 +89,12 @@ class McOptions(BaseModel):
                                                                      "scene (None: one per 3 range cells, 16)")
     scene_seed: int = Field(0, ge=0, description="seed of the realistic scene's layout and clutter "
                                                  "(the same scene for every trial)")
+    defocus_room_cells: Literal["auto"] | float = Field(
+        "auto", description="how far a motion error may move a response in azimuth beyond the "
+                            "scene and stay in the simulated image and its PRF, resolution cells "
+                            "(0 … 1024; budget.sar.SarGeometry); auto: sized by run_mc from the "
+                            "part's errors (budget.mc.defocus; said in the result's judged_on), 0 "
+                            "for a setup built without a part")
     window: Literal["auto", "rect", "taylor"] = Field(
         "auto", description="azimuth/range weighting: auto = Taylor −35 dB, n̄ = 4 for radar (what an "
                             "imaging radar uses), the scenario's own choice for sonar")
@@ -116,6 +122,13 @@ class McOptions(BaseModel):
                                                        "with trials; sweeps turn it off)")
 
     _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
+
+    @field_validator("defocus_room_cells")
+    @classmethod
+    def _room_in_range(cls, v):
+        if v != "auto" and not (isinstance(v, float) and 0.0 <= v <= 1024.0):
+            raise ValueError("expected 'auto' or a number of resolution cells in 0 … 1024")
+        return v
 
     @classmethod
     def build(cls, **kwargs) -> "McOptions":

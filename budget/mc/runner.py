@@ -36,6 +36,7 @@ from ..errors import InputError, whole_number
 from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
+from .defocus import RoomChoice, defocus_room
 from .notes import run_notes
 from .options import McOptions
 from .result import McResult
@@ -118,6 +119,17 @@ def check_options(options) -> McOptions:
                      expected="a budget.mc.McOptions, a mapping of its fields, or None")
 
 
+def resolve_defocus_room(scenario: Scenario, options: McOptions, model) -> tuple[McOptions, RoomChoice | None]:
+    """``options`` with a ``defocus_room_cells`` of "auto" replaced by the room that holds the
+    defocus of ``model``'s errors (:func:`budget.mc.defocus.defocus_room`), and that choice;
+    options with a room set are returned as they are, with None."""
+    if options.defocus_room_cells != "auto":
+        return options, None
+    choice = defocus_room(scenario, model, disturbance=options.platform_motion.disturbance_for(scenario),
+                          window=options.window_for(scenario))
+    return options.model_copy(update={"defocus_room_cells": choice.cells}), choice
+
+
 def model_label(model) -> str:
     return getattr(model, "part_id", None) or getattr(model, "model", None) or "noise model"
 
@@ -157,6 +169,7 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     # No silent zeros: empty datasheet terms are filled, refused or stated zero (budget.catalog.fill)
     resolution = resolve_unspecified(model, options.unspecified)
     model = resolution.model
+    options, room = resolve_defocus_room(scenario, options, model)
     scen_json, opt_json = scenario.model_dump_json(), options.model_dump_json()
     _cached_setup(scen_json, opt_json)  # fail early (e.g. a scenario beyond the simulation limits)
     units = work_units(trials, options.chunk_trials, 1 if backend == "serial" else workers)
@@ -212,6 +225,9 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     extra["unspecified_terms"] = resolution.to_dict()
     judged = _cached_setup(scen_json, opt_json).describe()
     judged.update(run_notes(scenario, options, model))
+    if room is not None:
+        judged["defocus_room"] = room.note()
+        extra["defocus_room"] = room.to_dict()
     return McResult(scenario_name=scenario.name, model_label=model_label(model), seed=seed,
                     tc_s=scenario.tc_s, agg=agg, cancelled=cancelled or agg.n < trials, extra=extra,
                     options=options, scenario=scenario, judged_on=judged, model_spec=model_spec(model))

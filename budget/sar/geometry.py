@@ -40,6 +40,8 @@ MIN_PULSES = 16
 #: Largest image simulated (pulses × range bins): 2²² pixels, 67 MB per complex copy, 60× the
 #: largest preset's (0.066 M); the Monte Carlo's geometry-only arrays then stay below ≈ 1 GB.
 MAX_PIXELS = 1 << 22
+#: Azimuth room of the range-Doppler image beyond each edge of the scene, resolution cells.
+IMAGE_MARGIN_CELLS = 16.0
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,9 @@ class SarGeometry:
     window_range: Window
     azimuth_resolution_m: float
     range_resolution_m: float
+    #: azimuth excursion of a defocused response the image and the PRF hold beyond the scene's
+    #: edges, resolution cells (0: the default 16-cell image margin; :mod:`budget.mc.defocus`)
+    defocus_room_cells: float = 0.0
 
     # --- derived -------------------------------------------------------------------------
     @property
@@ -131,9 +136,11 @@ class SarGeometry:
     @property
     def n_azimuth(self) -> int:
         """Azimuth samples of the range-Doppler image: the pulses, zero-padded when the aperture
-        V·T is shorter than the scene plus 16 cells each side (same parity as n_pulses)."""
+        V·T is shorter than the scene plus 16 cells, or :attr:`defocus_room_cells` when more,
+        each side (same parity as n_pulses)."""
         dx = self.speed_m_s / self.prf_hz
-        need = self.scene_extent_m[0] + 32.0 * self.azimuth_cell_m()
+        room = max(IMAGE_MARGIN_CELLS, self.defocus_room_cells)
+        need = self.scene_extent_m[0] + 2.0 * room * self.azimuth_cell_m()
         if self.n_pulses * dx >= need:
             return self.n_pulses
         n = next_fast_len(int(math.ceil(need / dx)))
@@ -227,10 +234,14 @@ class SarGeometry:
     def from_scenario(cls, scenario: Scenario, *, scene_extent_cells: float = 48.0,
                       oversample: float = 1.25, window: Window | str | None = None,
                       motion_margin_cells: float = 8.0, max_pulses: int = 16384,
-                      max_range_bins: int = 4096, max_pixels: int | None = None) -> "SarGeometry":
+                      max_range_bins: int = 4096, max_pixels: int | None = None,
+                      defocus_room_cells: float = 0.0) -> "SarGeometry":
         """Sampling for ``scenario``; raises :class:`InputError` naming the field and the limit.
 
         ``scene_extent_cells``: width of the square target area in resolution cells (δℓ × δr).
+        ``defocus_room_cells``: how far (resolution cells) a motion error may move a response in
+        azimuth beyond the scene's edges and stay in the image and inside the PRF's Doppler
+        band (:mod:`budget.mc.defocus`); 0 leaves the sampling as without it.
         ``oversample``: PRF over the total Doppler band and f_s over B_r (> 1).
         ``window``: azimuth and range window; default rect when ``window_broadening`` < 1.1,
         else Taylor −35 dB, n̄ = 4. ``motion_margin_cells``: extra swath each side for APC offsets.
@@ -243,6 +254,9 @@ class SarGeometry:
         if not (4.0 <= scene_extent_cells <= 512.0):
             raise InputError("scene extent out of range", field="scene_extent_cells",
                              value=scene_extent_cells, expected="4 … 512 resolution cells")
+        if not (math.isfinite(defocus_room_cells) and 0.0 <= defocus_room_cells <= 1024.0):
+            raise InputError("defocus room out of range", field="defocus_room_cells",
+                             value=defocus_room_cells, expected="0 … 1024 azimuth cells")
         if not (0.0 <= motion_margin_cells <= 256.0):
             raise InputError("motion margin out of range", field="motion_margin_cells",
                              value=motion_margin_cells, expected="0 … 256 range cells")
@@ -294,6 +308,9 @@ class SarGeometry:
         b_a = k_a * tc
         span = 2.0 * v * x_s / (lam * r_c)
         n_min = int(math.ceil(tc * oversample * (b_a + span)))
+        # a response moved e cells (a Doppler of e/Tc) must not wrap: the band B_a + span plus
+        # the room on both sides within the PRF
+        n_min = max(n_min, int(math.ceil(tc * (b_a + span) + 2.0 * defocus_room_cells)))
         if n_min > max_pulses:
             raise InputError(f"the aperture needs {n_min} pulses (Tc = {tc:.3g} s × PRF "
                              f"{oversample * (b_a + span):.4g} Hz)", field="azimuth_resolution_m",
@@ -324,4 +341,5 @@ class SarGeometry:
                    prf_hz=prf, pulse_times_s=times, range_sample_rate_hz=fs, range_axis_m=range_axis,
                    band_bins=m, scene_extent_m=(x_s, y_s), window_azimuth=window, window_range=window,
                    azimuth_resolution_m=scenario.azimuth_resolution_m,
-                   range_resolution_m=scenario.range_resolution_m)
+                   range_resolution_m=scenario.range_resolution_m,
+                   defocus_room_cells=float(defocus_room_cells))
