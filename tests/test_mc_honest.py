@@ -221,27 +221,24 @@ _SI_FIELD = {"accel_bias": "accel_bias_m_s2", "gyro_bias": "gyro_bias_rad_s",
              "accel_vrw": "accel_vrw_m_s2_rt_hz", "gyro_arw": "gyro_arw_rad_s_rt_hz"}
 
 
-_GYRO_BIAS_77 = pytest.mark.xfail(strict=False, reason="measured: 0.97 [0.89, 0.99] — 2 of 64 trials miss "
-                                  "the Taylor azimuth PSLR limit (−32.2 dB) by ≤ 0.4 dB on the corner target with "
-                                  "PGA's residual at 0.47°: space variance (tests/test_sar_space_variance.py)")
-
-
 #: Cases where the 0.1× verdict fails less clearly than the analytic bound predicts, as measured.
 _BEYOND_WINDOW_CREDIT = {
-    ("airborne_xband", "accel_vrw"): "measured: 0.11 [0.05, 0.21] (7 of 64 pass; the consistency table's 16 trials: "
-    "0.19, 0.06 with PGA's former 8-sample window floor): the analytic fast-phase bound "
-    "(0.034× here) credits PGA with nothing beyond its settled window, and PGA's fast-phase stage removes "
-    "part of it; with the window floor in resolution cells (6 samples here) a few trials fall under 1°",
+    ("airborne_xband", "accel_vrw"): "measured: 0.31 [0.21, 0.43] (20 of 64 pass; 0.11 before PGA's row floor, "
+    "0.06 with its former 8-sample window floor): the analytic fast-phase bound (0.034× here) credits PGA "
+    "with nothing beyond its settled window, and PGA's fast-phase stage removes part of it",
 }
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("preset,term", [(p, t) for p in ("airborne_xband", "automotive_77ghz")
-                                         for t in ("accel_bias", "gyro_bias", "accel_vrw", "gyro_arw")
-                                         if (p, t) != ("automotive_77ghz", "gyro_bias")]
-                         + [pytest.param("automotive_77ghz", "gyro_bias", marks=_GYRO_BIAS_77)])
+                                         for t in ("accel_bias", "gyro_bias", "accel_vrw", "gyro_arw")])
 def test_single_term_0p1_and_10x_as_the_bounds_predict(preset, term):
-    """One term at 0.1× and 10× its paper bound, lever arm 0. At 10× every term fails. At 0.1×
+    """One term at 0.1× and 10× its paper bound, lever arm 0. At 10× every term fails: the noise
+    terms with P ≤ 0.1; a turn-on bias is a Gaussian draw with 1σ = 10× its bound, so a trial whose
+    draw falls within the crossing s₅₀ (≈ 2× on X band, above 1× on 77 GHz, P = 0.81 there at 1×)
+    passes, with probability 2Φ(0.674·s₅₀/10) − 1 ≈ 11 % for s₅₀ = 2 (measured 7/64 for the 77 GHz
+    accel bias once the image holds its defocus, budget.mc.defocus): held to P ≤ 0.25 and the
+    verdict's own rule (upper 95 % Wilson bound < 0.5), as on the sonar geometry. At 0.1×
     the verdict is the one the PGA-limited analytic bound predicts (paper ∧ fast phase ∧ lever arm,
     the definition the MC shares): pass when 0.1× sits ≥ 2× inside it, fail when ≥ 2× outside.
     The PGA-limited bound (Taylor-weighted, as the verdict images) is 1× the paper's for the
@@ -261,7 +258,10 @@ def test_single_term_0p1_and_10x_as_the_bounds_predict(preset, term):
         ten = None     # any IMU the model accepts (VRW > 100 m/s/√h, ARW > 1000 deg/√h)
     if ten is not None:
         hi = run_mc(scen, ten, 64, 1, options=McOptions(unspecified="zero"))
-        assert hi.p_pass_after <= 0.1, hi.summary()
+        if term in ("accel_bias", "gyro_bias"):
+            assert hi.p_pass_after <= 0.25 and hi.ci_after[1] < 0.5, hi.summary()
+        else:
+            assert hi.p_pass_after <= 0.1, hi.summary()
     if ratio >= 0.2:
         assert lo.ci_after[0] >= 0.9, (ratio, lo.summary())
     elif ratio <= 0.05:
