@@ -13,8 +13,9 @@ from the aperture start, gives e = 2·a·Tc²/λ.
 
 PGA can only estimate the phase of energy that is in the image. The range-Doppler image spans
 the aperture V·Tc or, when that is shorter, the scene plus a margin on each side
-(:attr:`budget.sar.SarGeometry.n_azimuth`; 16 cells by default), and its PRF holds the
-scene's Doppler band with 25 % to spare: simulation choices the user never makes. When a draw's
+(:attr:`budget.sar.SarGeometry.n_azimuth`; :data:`budget.sar.geometry.IMAGE_MARGIN_CELLS`),
+and its PRF holds the scene's Doppler band with 25 % to spare: simulation choices the user never
+makes. When a draw's
 excursion outgrows the room beyond the scene, the defocused response of the scene's outer
 points leaves the image (or wraps in Doppler) and PGA fails on the simulation, not on the IMU.
 Measured on ``automotive_77ghz`` (accelerometer bias at 0.5× its paper bound, lever arm 0, 32
@@ -29,8 +30,9 @@ width all 32 passed; a PRF 4× higher changed nothing.
 errors, at most :data:`MAX_ROOM_CELLS` and within the simulator's pulse and pixel limits
 (:attr:`budget.sar.SarGeometry.defocus_room_cells`: the image is padded and the PRF raised only
 where the default sampling holds less). The scene and its points stay as they were, and a part
-whose excursion fits the default sampling is simulated exactly as without the room. The pilot's draws are fixed (:data:`PILOT_SEED`), so
-the image depends on the scenario, the options and the part, never on the run's seed.
+whose excursion fits the default sampling is simulated exactly as without the room. The pilot's
+draws are fixed (:data:`PILOT_SEED`), so the image depends on the scenario, the options and the
+part, never on the run's seed.
 """
 
 from __future__ import annotations
