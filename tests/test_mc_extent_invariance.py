@@ -80,8 +80,12 @@ def test_gyro_bias_verdict_does_not_depend_on_scene_extent(monkeypatch):
     "0.41 dB higher at 48 cells (median −34.09 against −34.58 dB; −35.14 against −34.75 dB with no "
     "motion error), and PGA adds the same ≈ 1.7 dB at both; with the median after PGA (−32.4 / "
     "−32.9 dB) at the limit (≈ −32.2 dB), that shift decides. The fast-phase band kept or "
-    "dropped does not (band_snr 1.01–16 gives the same counts). Suspected, not shown: the "
-    "responses' fast-phase echoes wrapping at the tighter image/PRF margin of the 48-cell image"))
+    "dropped does not (band_snr 1.01–16 gives the same counts). Not echo wrap at the tight "
+    "image/PRF margin: at 48 cells a 2.5× PRF (375 pulses) gives 17/32 and an oracle PSLR of "
+    "−34.17 dB, 24 cells more azimuth room 18/32 and −34.14 dB. The oracle's 0.41 dB is one "
+    "target's: the one 20 cells off centre in azimuth and range reads −34.09 dB at 48 cells "
+    "(the other four −34.7 ± 0.1) and −34.69 at 96; the track (0.484 s) and the targets are the "
+    "same in both, the range swath is not. Cause not found"))
 def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
     """Accel VRW at 0.05× the bound (fast phase: what PGA's window sees decides): P(pass) on 48 and
     96-cell scenes within each other's 95 % Wilson intervals (0.50 against 0.09 with a floor of 8
