@@ -84,8 +84,10 @@ def test_gyro_bias_verdict_does_not_depend_on_scene_extent(monkeypatch):
     "image/PRF margin: at 48 cells a 2.5× PRF (375 pulses) gives 17/32 and an oracle PSLR of "
     "−34.17 dB, 24 cells more azimuth room 18/32 and −34.14 dB. The oracle's 0.41 dB is one "
     "target's: the one 20 cells off centre in azimuth and range reads −34.09 dB at 48 cells "
-    "(the other four −34.7 ± 0.1) and −34.69 at 96; the track (0.484 s) and the targets are the "
-    "same in both, the range swath is not. Cause not found"))
+    "(the other four −34.7 ± 0.1) and −34.69 at 96. The track (0.484 s) and the targets are the "
+    "same in both; the range swath does not matter (a 32-cell range margin at 48 cells: the same "
+    "−34.09 dB). Left: the azimuth sampling (189 samples unpadded against 242 pulses padded to "
+    "320). Cause not found"))
 def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
     """Accel VRW at 0.05× the bound (fast phase: what PGA's window sees decides): P(pass) on 48 and
     96-cell scenes within each other's 95 % Wilson intervals (0.50 against 0.09 with a floor of 8
