@@ -90,7 +90,7 @@ def _per_trial_reference(setup: ChainSetup, error_m: np.ndarray, peak_range_cell
     ev_before = evaluate(measure_targets(img, g, setup.clean_scene, azimuth_search_cells=AZ_SEARCH_CELLS),
                          opt.acceptance)
     floor = pga_min_window(img.aperture_mask().size, int(img.aperture_mask().sum()))  # 4 resolution cells
-    res = pga(img.data, **_pga_kwargs(opt, floor))
+    res = pga(img.data, **_pga_kwargs(opt, floor), aperture_bins=img.aperture_mask())
     estimate = np.zeros(img.data.shape[0]) if res.usable_lines == 0 else np.asarray(res.phase_error_rad, float)
     after = img.with_data(apply_phase_estimate(img.data, estimate))
     m_after = measure_targets(after, g, setup.clean_scene, azimuth_search_cells=AZ_SEARCH_CELLS)

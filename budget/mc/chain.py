@@ -12,7 +12,10 @@ For each trial:
    cluttered, noisy image; the point-target metrics are measured on a clutter-free copy of the
    scene, formed with the same measured track and corrected with PGA's estimate — a real system
    sees exactly that correction, and sidelobe integrals stay free of clutter energy. On the
-   **points** scene (five noise-free points) PGA and the metrics see the same image;
+   **points** scene (five noise-free points) PGA and the metrics see the same image. PGA is given
+   the processed aperture (the image former's band |t| ≤ T/2, ``aperture_mask``), over which its
+   fast-phase stage cuts its estimate back to what its settled window sees (:mod:`budget.sar.pga`,
+   "Fast-phase stage");
 4. the verdict, what a real system sees after PGA:
 
    * the image acceptance (broadening, PSLR, ISLR, peak loss; ``McOptions.acceptance``);
@@ -360,7 +363,8 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
     fail_before = failed_checks(m_before, opt.acceptance)
     worst_before = m_before.worst()
     mask = plan.mask
-    pga_kw = _pga_kwargs(opt, pga_min_window(mask.size, int(mask.sum())))
+    # the processed aperture is the image former's: PGA's fast-phase cut-back covers that band
+    pga_kw = {**_pga_kwargs(opt, pga_min_window(mask.size, int(mask.sum()))), "aperture_bins": mask}
     results, estimates = [], np.zeros(hist.shape[:2])
     for b in range(len(trials)):
         res = pga(img_pga[b], **pga_kw)

@@ -209,12 +209,15 @@ def _band(d: _Lines, centred: tuple, added: np.ndarray, width: int, lo: int, hi:
 
 
 def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
-                band_snr: float) -> tuple[np.ndarray, list[dict]]:
+                band_snr: float, aperture: tuple[int, int] | None = None) -> tuple[np.ndarray, list[dict]]:
     """The fast-phase stage: the bands beyond the settled window ``width`` estimated one octave at
     a time, band (m_{j−1}, m_j] of the DCT over the span at window 2^j·W, the narrowest window that
     sees it (m_j = ⌊2^j W · span/n⌋: W samples see W/2 cycles per n bins), each kept only where
     significant (:func:`_band`). The span and the interval of the cut-back hold only bins joined
-    to the peak (:func:`_joined_to_peak`). Returns the estimate with the kept bands added, and the
+    to the peak (:func:`_joined_to_peak`); ``aperture`` = (first, last + 1) of the processed
+    aperture's centred bins, when the caller knows it, is the cut-back's interval instead
+    (:mod:`budget.sar.pga`, "Fast-phase stage": the lines' energy cannot locate the aperture's
+    ends under receiver noise). Returns the estimate with the kept bands added, and the
     records."""
     n = d.hist.shape[0]
     energy = np.fft.fftshift(d.energy)
@@ -244,7 +247,7 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     # (at or above the level; weighted by the lines' energy, so bins with little signal do not
     # steer the fit) and let the bands below re-estimate over the span what is significant.
     full = np.nonzero(joined >= level)[0] + j_lo
-    c_lo, c_hi = int(full[0]), int(full[-1]) + 1
+    c_lo, c_hi = (int(full[0]), int(full[-1]) + 1) if aperture is None else aperture
     phi_c = phi_c.copy()
     phi_c[c_lo:c_hi] -= highpass_phase(phi_c[c_lo:c_hi], width * (c_hi - c_lo) / (2.0 * n), energy[c_lo:c_hi])
     records = []
