@@ -379,9 +379,18 @@ class Scenario(BaseModel):
         :data:`WIDE_APERTURE_RATIO` short of the straight-track aperture
         (:meth:`straight_track_aperture`) and a speed at which level flight's specific force is no
         longer ≈ g (V²/r_E > :data:`ORBITAL_SPECIFIC_FORCE_SHARE`·g: a spaceborne or ballistic
-        platform)."""
+        platform). A carrier outside the medium's typical bands (:data:`TYPICAL_CARRIER_HZ`: a kHz
+        figure written into the Hz key, 100 for a 100 kHz sonar) that the resolution checks let
+        through is noted with the unit that would put it in band (:func:`carrier_unit_hint`)."""
         out = []
         tc = self.tc_s
+        f0 = self.carrier_frequency_hz
+        band_lo, band_hi = TYPICAL_CARRIER_HZ[self.medium]
+        if not band_lo <= f0 <= band_hi:
+            out.append(f"{self.name}: a {self.medium} carrier of {f0:.4g} Hz (λ = {self.wavelength_m:.4g} m) is "
+                       f"outside the {self.medium} bands a synthetic aperture is flown in ({band_lo:g} … "
+                       f"{band_hi:g} Hz): {carrier_unit_hint(self.medium, f0)}; Tc and every bound "
+                       "scale with λ")
         delay = 2.0 * self.slant_range_m / self.c_m_s
         if delay >= tc:
             v_max = self.platform_speed_m_s * tc / delay
