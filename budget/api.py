@@ -188,9 +188,10 @@ def compute_bounds(scenario, mode: str = "paper", assumptions=None):
     ``to_dict()``; the defaults in words at the end of ``summary()``), as the CLI states them."""
     from dataclasses import replace
 
-    from .bounds import compute_bounds as _bounds, scenario_assumptions, scenario_keys
+    from .bounds import check_bounds_tc, compute_bounds as _bounds, scenario_assumptions, scenario_keys
 
     s = load_scenario(scenario)
+    check_bounds_tc(s.tc_s, field="tc_s (derived)")
     table = _bounds([s.tc_s], s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
                     assumptions=scenario_assumptions(mode, s, assumptions))
     keys = scenario_keys(mode)

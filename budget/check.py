@@ -389,6 +389,8 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     refuse_repeats(parts, lambda p: getattr(p, "part_id", None), field="parts", what="part")
     tc = np.array([s.tc_s for s in scen])
     dr = np.array([s.range_resolution_m for s in scen])
+    from .bounds import check_bounds_tc
+    check_bounds_tc(tc, field="tc_s (derived)")  # the bounds' free-inertial, flat-earth growth
     if mode in ("no-autofocus", "no_autofocus", "derived", "lever-arm", "lever_arm"):
         # per scenario: λ, the acceleration level, the lever arm and turn rate
         from .bounds import scenario_assumptions

@@ -379,7 +379,9 @@ class Scenario(BaseModel):
         :data:`WIDE_APERTURE_RATIO` short of the straight-track aperture
         (:meth:`straight_track_aperture`) and a speed at which level flight's specific force is no
         longer ≈ g (V²/r_E > :data:`ORBITAL_SPECIFIC_FORCE_SHARE`·g: a spaceborne or ballistic
-        platform). A carrier outside the medium's typical bands (:data:`TYPICAL_CARRIER_HZ`: a kHz
+        platform). So is a Tc over which the flat-earth, free-inertial error growth of the bounds is
+        off by more than :data:`budget.nav.earth.MAX_FLAT_EARTH_NEGLECT` (Tc ≳ 790 s; the
+        bounds refuse Tc beyond 3000 s, :func:`budget.bounds.check_bounds_tc`). A carrier outside the medium's typical bands (:data:`TYPICAL_CARRIER_HZ`: a kHz
         figure written into the Hz key, 100 for a 100 kHz sonar) that the resolution checks let
         through is noted with the unit that would put it in band (:func:`carrier_unit_hint`)."""
         out = []
@@ -408,7 +410,15 @@ class Scenario(BaseModel):
                        f"{reach['length_m']:.4g} m (Tc = {reach['length_m'] / self.platform_speed_m_s:.4g} s), "
                        f"{reach['length_ratio']:.3g}× the {self.aperture_length_m:.4g} m the bounds and the "
                        "simulator use (exact: δℓ = a_w λ / (4 sin(Δθ/2)))")
-        from .nav.earth import EARTH_RADIUS_M
+        from .nav.earth import (AIDED_FLAT_EARTH_MAX_TC_S, EARTH_RADIUS_M, MAX_FLAT_EARTH_NEGLECT,
+                                flat_earth_neglect)
+        neglect = flat_earth_neglect(tc, self.platform_speed_m_s)
+        if neglect > MAX_FLAT_EARTH_NEGLECT:
+            out.append(f"{self.name}: over Tc = {tc:.4g} s the Schuler, Earth-rate and transport-rate terms "
+                       f"change a free-inertial error by ≈ {100 * neglect:.0f} %: the bounds and the check "
+                       "(error growth b·t²/2, g·ε·t³/6 on a flat Earth) overstate it, and the Monte Carlo "
+                       "refuses a free-inertial coast this long (aiding that corrects inside the aperture "
+                       f"runs up to Tc = {AIDED_FLAT_EARTH_MAX_TC_S:g} s)")
         centripetal = self.platform_speed_m_s ** 2 / EARTH_RADIUS_M
         if centripetal > ORBITAL_SPECIFIC_FORCE_SHARE * G0:
             out.append(f"{self.name}: at {self.platform_speed_m_s:.4g} m/s level flight around the Earth "

@@ -43,3 +43,73 @@ def test_carriers_inside_their_bands_carry_no_carrier_note():
         assert Scenario.from_dict(SAS_50M).notes() == []
         for f0 in (1.3e9, 5.3e9, 16e9, 94e9):
             assert Scenario.from_dict({**radar, "carrier_frequency_hz": f0}).notes() == []
+
+
+# --- an aperture time of hours: beyond the bounds' free-inertial, flat-earth error growth -------
+
+#: Schuler frequency ω_s = √(g/R_E) (R_E = 6371 km): period 2π/ω_s ≈ 84.4 min.
+OMEGA_S = (9.80665 / 6_371_000.0) ** 0.5
+
+#: A held-out Ku-band UAV strip map: 16 GHz, 5 km, 0.3 m cells at 100 m/s (Tc ≈ 1.56 s).
+KU_UAV = {"name": "ku_uav", "medium": "radar", "carrier_frequency_hz": 16e9, "slant_range_m": 5000.0,
+          "azimuth_resolution_m": 0.3, "range_resolution_m": 0.3, "platform_speed_m_s": 100.0,
+          "depression_deg": 35.0, "lever_arm_m": [0.3, 0.1, -0.2], "platform_rate_deg_s": 0.5}
+
+
+def _schuler_over_flat(tc_s: float) -> float:
+    """Schuler-bounded error of an accelerometer bias, b/ω_s²·(1 − cos ω_s t), over the flat
+    b·t²/2 the bounds use: 2(1 − cos x)/x², x = ω_s·Tc."""
+    import math
+    x = OMEGA_S * tc_s
+    return 2.0 * (1.0 - math.cos(x)) / x**2
+
+
+def _at_speed(v_m_s: float) -> dict:
+    return {**KU_UAV, "name": f"ku_uav_at_{v_m_s:g}", "platform_speed_m_s": v_m_s}
+
+
+def test_an_aperture_of_hours_is_refused_by_the_check_and_the_bounds(capsys):
+    """V = 0.01 m/s (a speed in the wrong unit): Tc = λR/(2δℓV) = 0.018737·5000/(2·0.3·0.01) ≈
+    15 614 s, 4.3 h. Over Tc the Schuler loop bounds an accelerometer bias's error at a fraction
+    2(1 − cos ω_s Tc)/(ω_s Tc)² ≈ 7e-4 of the flat b·Tc²/2 the bounds assume: a margin of 1e-8 would
+    be a silently wrong number. The check, the bounds (API and CLI) refuse it, naming the derived Tc
+    and what is expected."""
+    import budget
+    from budget.check import check_parts
+    from budget.cli.main import main
+    from budget.errors import InputError
+
+    lam = 299_792_458.0 / 16e9
+    tc = lam * 5000.0 / (2 * 0.3 * 0.01)
+    assert tc > 3600.0 and _schuler_over_flat(tc) < 1e-3
+    with pytest.warns(UserWarning):
+        s = Scenario.from_dict(_at_speed(0.01))
+    assert s.tc_s == pytest.approx(tc, rel=1e-12)
+    for call in (lambda: check_parts([budget.load_part("STIM300")], s), lambda: budget.compute_bounds(s)):
+        with pytest.raises(InputError) as e:
+            call()
+        assert e.value.field == "tc_s (derived)" and "Tc ≤ 3000 s" in str(e.value)
+    assert main(["bounds", "--tc", "5000", "--range-resolution", "0.3"]) == 2
+    err = capsys.readouterr().err
+    assert "--tc" in err and "Tc ≤ 3000 s" in err and "Traceback" not in err
+
+
+def test_an_aperture_past_the_flat_earth_model_is_noted_and_a_short_one_is_quiet():
+    """Tc = 1000 s (V ≈ 0.156 m/s): the Schuler-bounded accelerometer-bias error is
+    2(1 − cos 1.24)/1.24² ≈ 0.88 of the flat one, more than 10 % off: the bounds still compute
+    (the Monte Carlo with aiding runs to 3000 s) but the scenario says the flat growth overstates
+    it. The held-out Ku-band UAV at Tc ≈ 1.56 s (flat within 2e-7) carries no such note."""
+    lam = 299_792_458.0 / 16e9
+    v = lam * 5000.0 / (2 * 0.3 * 1000.0)
+    assert 0.85 < _schuler_over_flat(1000.0) < 0.9
+    with pytest.warns(UserWarning) as w:
+        s = Scenario.from_dict(_at_speed(v))
+    assert s.tc_s == pytest.approx(1000.0, rel=1e-12)
+    text = [str(x.message) for x in w if "Schuler" in str(x.message)]
+    assert len(text) == 1 and "overstate" in text[0] and text[0] in s.notes()
+    import budget
+    assert budget.compute_bounds(s).tc_s[0] == pytest.approx(1000.0)
+    assert 1.0 - _schuler_over_flat(1.5614) < 1e-6
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert Scenario.from_dict(KU_UAV).notes() == []

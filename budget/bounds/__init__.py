@@ -11,6 +11,7 @@
 
 from collections.abc import Mapping
 
+import numpy as np
 from pydantic import ValidationError
 
 from ..errors import InputError, from_validation_error
@@ -26,7 +27,7 @@ from .rotation import RotationExcursion, motion_excursion, rotation_excursion
 __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", "derived_bounds",
            "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
            "fast_phase_residual", "FastPhaseResidual",
-           "random_walk_constants", "compute_bounds", "LeverArmAssumptions", "lever_arm_bounds",
+           "random_walk_constants", "compute_bounds", "check_bounds_tc", "max_bounds_tc_s", "LeverArmAssumptions", "lever_arm_bounds",
            "lever_arm_terms", "MODES", "scenario_assumptions", "coerce_assumptions", "scenario_keys", "RotationExcursion",
            "motion_excursion", "rotation_excursion"]
 
@@ -102,10 +103,38 @@ def scenario_keys(mode: str) -> tuple[str, ...]:
     return TC_KEYS
 
 
+def max_bounds_tc_s() -> float:
+    """Longest Tc (s) the bounds are computed for: their error growth (b·t²/2, g·ε·t³/6, the random
+    walks) is a free-inertial coast on a flat Earth, which the Schuler, Earth-rate and transport-rate
+    terms change by more than 10 % beyond Tc ≈ 790 s (a scenario notes it, :meth:`Scenario.notes`):
+    the flat model overstates the Schuler-bounded error, 2× at 3000 s. Nothing in the tool models
+    the navigation beyond 3000 s (the Monte Carlo refuses it, aided or not:
+    :data:`budget.nav.earth.AIDED_FLAT_EARTH_MAX_TC_S`)."""
+    from ..nav.earth import AIDED_FLAT_EARTH_MAX_TC_S
+    return AIDED_FLAT_EARTH_MAX_TC_S
+
+
+def check_bounds_tc(tc_s, field: str = "tc_s") -> None:
+    """Refuse a Tc beyond :func:`max_bounds_tc_s` (an :class:`InputError` naming ``field``), where
+    the bounds' flat-earth, free-inertial error growth would be a silently wrong number."""
+    tc = np.atleast_1d(np.asarray(tc_s, dtype=float))
+    hi = max_bounds_tc_s()
+    long = tc[np.isfinite(tc) & (tc > hi)]
+    if long.size:
+        raise InputError(f"an aperture time Tc = {long.max():.4g} s is beyond the bounds' navigation model: "
+                         "their error growth (b·t²/2, g·ε·t³/6) is a free-inertial coast on a flat Earth, "
+                         "which overstates the Schuler-bounded error by more than 10 % beyond ≈ 790 s "
+                         "and 2× at 3000 s", field=field,
+                         value=float(long[0]) if long.size == 1 else [float(t) for t in long],
+                         expected=f"Tc ≤ {hi:g} s (check the units of frequency, range, resolution and speed)")
+
+
 def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_m=None,
                    assumptions=None) -> BoundsTable:
     """Bounds in ``mode`` ``paper`` | ``derived`` | ``no-autofocus`` | ``lever-arm`` for arrays of
-    Tc and δr (``lever-arm`` needs the wavelength and a :class:`LeverArmAssumptions`)."""
+    Tc and δr (``lever-arm`` needs the wavelength and a :class:`LeverArmAssumptions`); a Tc beyond
+    :func:`max_bounds_tc_s` is refused (:func:`check_bounds_tc`)."""
+    check_bounds_tc(tc_s)
     if mode == "paper":
         return paper_bounds(tc_s, range_resolution_m)
     assumptions = coerce_assumptions(mode, assumptions)

@@ -58,6 +58,8 @@ def run(args) -> int:
     if np.any(tc < PLAUSIBLE_TC_S[0]) or np.any(tc > PLAUSIBLE_TC_S[1]):
         raise InputError("aperture time outside the physically plausible range", field="--tc",
                          value=list(args.tc or []), expected=f"{PLAUSIBLE_TC_S[0]:g} … {PLAUSIBLE_TC_S[1]:g} s")
+    from ..bounds import check_bounds_tc
+    check_bounds_tc(tc, field="--tc" if args.tc else "tc_s (derived)")
     lo, hi, why = PLAUSIBLE["range_resolution_m"]
     if np.isfinite(dr) and not lo <= dr <= hi:
         raise InputError("range resolution outside the physically plausible range",

@@ -20,7 +20,8 @@ from ..aiding.kalman import joseph_update
 from ..aiding_spec import AidingPlan
 from ..errors import InputError
 from ..imu.noise_model import NoiseModelSI
-from ..nav.earth import flat_earth_neglect, navigation_frame_rate
+from ..nav.earth import (AIDED_FLAT_EARTH_MAX_TC_S, MAX_FLAT_EARTH_NEGLECT, flat_earth_neglect,
+                         navigation_frame_rate)
 from ..nav.strapdown import COARSE_ALIGNMENT, InitialErrors, cross
 from ..scenario import Scenario
 from ..units import G0
@@ -29,7 +30,7 @@ from ..units import G0
 #: the flat-earth propagation leaves out (:func:`budget.nav.earth.flat_earth_neglect`) over a
 #: free-inertial coast of Tc: 10 %, reached at Tc ≈ 790 s. Beyond it the flat model's t³ growth
 #: overstates the Schuler-bounded error (2× at Tc = 3000 s), so the run is refused.
-MAX_FLAT_EARTH_NEGLECT = 0.10
+#: (Defined in :mod:`budget.nav.earth`, where the analytic bounds and the scenario's notes read it.)
 #: Aided runs that correct inside the aperture (``realtime``, ``smoothed``, and ``feedforward``
 #: with a blend time below Tc): the aiding bounds what the flat-earth neglect does, measured
 #: against a truth *and* filter with the Schuler, Earth-rate and transport-rate terms (GNSS 1 Hz
@@ -38,8 +39,8 @@ MAX_FLAT_EARTH_NEGLECT = 0.10
 #: 0.1 Hz: 1.4 % / 4.5 %), growing with Tc; not measured beyond, so longer apertures are refused.
 #: A long warm-up (3000 s, 10 deg/h, Tc = 30 s: the heading error of :data:`HEADING_TERM_NOTE`)
 #: stays inside it: 0.6 % realtime, 2.2 % smoothed, 1.7 % feedforward with a 10 s blend (worst of
-#: 4 trials; 1 deg/h: 0.3 % / 1.0 % / 0.15 %).
-AIDED_FLAT_EARTH_MAX_TC_S = 3000.0
+#: 4 trials; 1 deg/h: 0.3 % / 1.0 % / 0.15 %). (Defined in :mod:`budget.nav.earth`: the analytic
+#: bounds refuse a Tc beyond it too, :func:`budget.bounds.check_bounds_tc`.)
 AIDED_FLAT_EARTH_NOTE = ("bounded by the aiding here: measured ≤ 1.2 % of the aided error at Tc = "
                          "3000 s with a 1 deg/h gyro, ≤ 5.2 % with 10 deg/h")
 #: Aided coasts (``frozen``, ``feedforward`` blending slower than Tc) after a warm-up: a heading

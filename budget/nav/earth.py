@@ -31,6 +31,16 @@ EARTH_RATE_RAD_S = 7.292115e-5
 EARTH_RADIUS_M = 6_371_000.0
 #: Schuler angular frequency ω_s = √(g/R) (rad/s); period 2π/ω_s ≈ 84.4 min.
 SCHULER_RAD_S = math.sqrt(G0 / EARTH_RADIUS_M)
+#: Largest :func:`flat_earth_neglect` of a free-inertial coast of Tc the flat-earth propagation is
+#: used for (10 %, Tc ≈ 790 s): beyond it the motion engine refuses the run
+#: (:data:`budget.motion.flat_earth.MAX_FLAT_EARTH_NEGLECT`, where the rule is stated) and a
+#: scenario notes that the bounds' free-inertial error growth overstates the error.
+MAX_FLAT_EARTH_NEGLECT = 0.10
+#: Longest Tc (s) any navigation in the tool is modelled for: aiding that corrects inside the
+#: aperture was measured against the Earth model up to 3000 s
+#: (:data:`budget.motion.flat_earth.AIDED_FLAT_EARTH_MAX_TC_S`); the analytic bounds refuse a
+#: longer Tc (:func:`budget.bounds.check_bounds_tc`).
+AIDED_FLAT_EARTH_MAX_TC_S = 3000.0
 
 
 def flat_earth_neglect(duration_s: float, speed_m_s: float = 0.0) -> float:
