@@ -353,6 +353,15 @@ class Scenario(BaseModel):
                              expected=f"> {reach['finest_m']:.4g} m at this squint, window and wavelength "
                                       "(δℓ = a_w λ / (4 sin(Δθ/2)), the aperture within 0° … 180° of "
                                       "the velocity)")
+        for key in ("range_resolution_m", "azimuth_resolution_m"):
+            # a cell as wide as the range itself holds the whole scene and the platform: no image,
+            # and every bound (∝ δr) or Tc (∝ 1/δℓ) computed from it would be a silently wrong number
+            cell = getattr(self, key)
+            if cell >= self.slant_range_m:
+                raise InputError(f"a resolution cell of {cell:.4g} m is as wide as the slant range "
+                                 f"{self.slant_range_m:.4g} m: no image resolves anything", field=key,
+                                 expected=f"< slant_range_m = {self.slant_range_m:.4g} m (check the units of "
+                                          "the resolution and of the range)")
         if any(abs(v) > 1e3 for v in self.lever_arm_m):
             raise InputError("lever arm longer than 1 km", field="lever_arm_m",
                              value=list(self.lever_arm_m), expected="|component| ≤ 1000 m")

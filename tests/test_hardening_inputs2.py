@@ -333,7 +333,7 @@ def test_bad_scenario_file_values_name_file_field_and_expectation(tmp_path, caps
 
 
 @pytest.mark.parametrize("name, changes, field", [
-    ("tiny.yaml", {"slant_range_m": 0.05}, "slant_range_m"),        # scene larger than the range
+    ("tiny.yaml", {"slant_range_m": 1.0}, "slant_range_m"),         # scene larger than the range
     ("slowimu.yaml", {"imu_rate_hz": 0.5}, "imu_rate_hz"),          # 3 IMU samples per aperture
     ("fine.json", {"range_resolution_m": 0.02}, "range_resolution_m"),  # 7.5 GHz > carrier / 2
 ])

@@ -149,7 +149,7 @@ def test_check_table_keeps_long_binding_names_in_their_column():
 
 
 def test_scene_larger_than_the_slant_range_names_the_slant_range():
-    s = Scenario.from_dict(_scenario_dict(slant_range_m=0.05))
+    s = Scenario.from_dict(_scenario_dict(slant_range_m=1.0))  # a 0.5 m cell needs R > 0.5 m
     with pytest.raises(InputError) as e:
         SarGeometry.from_scenario(s)
     assert e.value.field == "slant_range_m" and "≥ 120 m" in str(e.value)

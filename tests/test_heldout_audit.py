@@ -113,3 +113,22 @@ def test_an_aperture_past_the_flat_earth_model_is_noted_and_a_short_one_is_quiet
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert Scenario.from_dict(KU_UAV).notes() == []
+
+
+@pytest.mark.parametrize("key", ["range_resolution_m", "azimuth_resolution_m"])
+def test_a_resolution_cell_as_wide_as_the_slant_range_is_refused(key):
+    """δr = 6 km at R = 5 km: one range cell holds the whole scene and the platform, yet the
+    paper bounds (∝ δr) would pass any IMU with margins 2·10⁴ times those of 0.3 m cells; δℓ = 6 km
+    gives L = λR/(2δℓ) = 0.0187·5000/12000 = 7.8 mm, an 'aperture' shorter than the wavelength.
+    Refused naming the field and the range; a cell just below R (a coarse mode) is accepted."""
+    from budget.errors import InputError
+
+    lam = 299_792_458.0 / 16e9
+    assert lam * 5000.0 / (2 * 6000.0) < lam
+    with pytest.raises(InputError) as e:
+        Scenario.from_dict({**KU_UAV, key: 6000.0}, source="s.json")
+    assert e.value.field == key and "slant_range_m" in str(e.value) and "s.json" in str(e.value)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        Scenario.from_dict({**KU_UAV, key: 100.0})
+
