@@ -132,3 +132,89 @@ def test_a_resolution_cell_as_wide_as_the_slant_range_is_refused(key):
         warnings.simplefilter("ignore")
         Scenario.from_dict({**KU_UAV, key: 100.0})
 
+
+# --- the bounds on held-out scenarios, from closed forms ---------------------------------------
+
+G = 9.80665
+C_LIGHT = 299_792_458.0
+
+#: Held-out scenarios (none is a preset): Ku UAV strip map, C-band wide area, W-band helicopter,
+#: L-band long aperture, and the small sonar above.
+HELD_OUT = {
+    "ku_uav": KU_UAV,
+    "c_wide": {"name": "c_wide", "medium": "radar", "carrier_frequency_hz": 5.3e9, "slant_range_m": 20000.0,
+               "azimuth_resolution_m": 3.0, "range_resolution_m": 3.0, "platform_speed_m_s": 150.0,
+               "depression_deg": 20.0},
+    "w_heli": {"name": "w_heli", "medium": "radar", "carrier_frequency_hz": 94e9, "slant_range_m": 1000.0,
+               "azimuth_resolution_m": 0.1, "range_resolution_m": 0.1, "platform_speed_m_s": 30.0,
+               "depression_deg": 15.0},
+    "l_long": {"name": "l_long", "medium": "radar", "carrier_frequency_hz": 1.3e9, "slant_range_m": 30000.0,
+               "azimuth_resolution_m": 1.0, "range_resolution_m": 1.0, "platform_speed_m_s": 120.0,
+               "depression_deg": 25.0},
+    "sas_50m": SAS_50M,
+}
+
+
+def _legendre_stats(p: int):
+    """Exact std of the Legendre coefficients c_0…c_3 and rms beyond the cubic of the unit random
+    walk e(t) = ∫₀ᵗ (t − s)^p/p! dW(s) over t ∈ [0, 1], u = 2t − 1: c_k = (2k+1)∫₀¹ e P_k(2t−1) dt,
+    so Var c_k = (2k+1)² ∫₀¹ g_k(s)² ds with g_k(s) = ∫ₛ¹ (t − s)^p/p! P_k(2t − 1) dt (polynomials,
+    integrated exactly); E[mean e²] = 1/((2p+1)(2p+2)(p!)²) less Σ Var c_k/(2k+1)."""
+    import math
+
+    import numpy as np
+    from numpy.polynomial import Polynomial as Poly, legendre as L
+
+    var = []
+    for k in range(4):
+        q = Poly(L.leg2poly(np.eye(k + 1)[k]))(Poly([-1.0, 2.0]))
+        g = Poly([0.0])
+        for i in range(p + 1):
+            r = (Poly.basis(i) * q).integ()
+            g = g + math.comb(p, i) * Poly([0.0, -1.0]) ** (p - i) * (r(1.0) - r) / math.factorial(p)
+        sq = (((2 * k + 1) * g) ** 2).integ()
+        var.append(sq(1.0) - sq(0.0))
+    mean_e2 = 1.0 / ((2 * p + 1) * (2 * p + 2) * math.factorial(p) ** 2)
+    return [v ** 0.5 for v in var], (mean_e2 - sum(v / (2 * k + 1) for k, v in enumerate(var))) ** 0.5
+
+
+@pytest.mark.parametrize("name", sorted(HELD_OUT))
+def test_held_out_bounds_match_the_closed_forms(name):
+    """Each source alone, error accumulated from the aperture start (aligned at t = 0):
+
+    * derived (range cell δr, seed 004's shares): b·Tc²/2 ≤ δr/√2 → b ≤ √2·δr/Tc²;
+      g·ε·Tc³/6 ≤ δr/√2 → ε ≤ 3√2·δr/(g·Tc³); 2·N·√(Tc³/3) ≤ δr; 2·g·N_θ·√(Tc⁵/20) ≤ δr;
+    * no autofocus (phase 4π/λ·Δr, quadratic ≤ π/4 at the aperture edge, cubic ≤ π/8, rest ≤ 1°
+      rms): b·Tc²/8 of edge quadratic → b ≤ λ/(2Tc²); g·ε·Tc³/16 edge quadratic and g·ε·Tc³/120
+      cubic → ε ≤ min(λ, 3.75λ)/(g·Tc³); VRW and ARW from the exact Legendre statistics
+      (2σ of the edge quadratic 1.5·c₂ and of the cubic c₃, 1σ of the rest)."""
+    import math
+
+    import budget
+
+    sc = HELD_OUT[name]
+    c = C_LIGHT if sc["medium"] == "radar" else 1500.0
+    lam = c / sc["carrier_frequency_hz"]
+    dr = sc["range_resolution_m"]
+    tc = lam * sc["slant_range_m"] / (2 * sc["azimuth_resolution_m"] * sc["platform_speed_m_s"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # none of them needs a note
+        s = Scenario.from_dict(sc)
+    assert s.tc_s == pytest.approx(tc, rel=1e-12)
+
+    d = budget.compute_bounds(s, "derived")
+    assert d.accel_bias_m_s2[0] == pytest.approx(math.sqrt(2) * dr / tc**2, rel=1e-9)
+    assert d.gyro_bias_rad_s[0] == pytest.approx(3 * math.sqrt(2) * dr / (G * tc**3), rel=1e-9)
+    assert d.accel_vrw_m_s2_rt_hz[0] == pytest.approx(dr / (2 * math.sqrt(tc**3 / 3)), rel=1e-9)
+    assert d.gyro_arw_rad_s_rt_hz[0] == pytest.approx(dr / (2 * G * math.sqrt(tc**5 / 20)), rel=1e-9)
+
+    n = budget.compute_bounds(s, "no-autofocus")
+    quad, cub, rest = lam / 16, lam / 32, lam / (4 * math.pi) * math.radians(1.0)
+    assert n.accel_bias_m_s2[0] == pytest.approx(lam / (2 * tc**2), rel=1e-9)
+    assert n.gyro_bias_rad_s[0] == pytest.approx(lam / (G * tc**3), rel=1e-9)
+    for (p, scale, power), got in (((1, 1.0, 1.5), n.accel_vrw_m_s2_rt_hz[0]),
+                                   ((2, G, 2.5), n.gyro_arw_rad_s_rt_hz[0])):
+        sd, resid = _legendre_stats(p)
+        per_unit = scale * tc**power
+        want = min(quad / (2 * 1.5 * sd[2] * per_unit), cub / (2 * sd[3] * per_unit), rest / (resid * per_unit))
+        assert got == pytest.approx(want, rel=2e-3)
