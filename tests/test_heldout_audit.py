@@ -218,3 +218,25 @@ def test_held_out_bounds_match_the_closed_forms(name):
         per_unit = scale * tc**power
         want = min(quad / (2 * 1.5 * sd[2] * per_unit), cub / (2 * sd[3] * per_unit), rest / (resid * per_unit))
         assert got == pytest.approx(want, rel=2e-3)
+
+
+def test_a_rotating_platform_motion_over_a_squinted_scenario_is_refused():
+    """The check's rotation (gyro scale factor, misalignment) is the broadside one: a roll error
+    tilts g cross-track, a pitch error along-track. The line of sight u = (cos ψ sin s, cos ψ cos s,
+    −sin ψ) sees the along-track error by cos ψ·sin s: 0.819·0.643 = 0.53 at ψ = 35°, s = 40° —
+    as much as the cross-track share cos ψ·cos s = 0.63 — which the broadside excursion leaves out.
+    Refused naming the squint; straight flight (no rotation) and no motion still check."""
+    import math
+
+    import budget
+    from budget.check import check_parts
+    from budget.errors import InputError
+
+    assert math.cos(math.radians(35)) * math.sin(math.radians(40)) == pytest.approx(0.5265, abs=1e-4)
+    s = Scenario.from_dict({**KU_UAV, "squint_deg": 40.0})
+    part = budget.load_part("STIM300")
+    with pytest.raises(InputError) as e:
+        check_parts([part], s, platform_motion={"kind": "oscillation"})
+    assert e.value.field == "squint_deg" and "0.53" in str(e.value)
+    check_parts([part], s, platform_motion={"kind": "straight"})
+    check_parts([part], s)
