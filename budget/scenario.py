@@ -149,9 +149,10 @@ def scenario_field(field: str | None) -> bool:
     return base in Scenario.model_fields or base == "tc_s"
 
 
-#: Carrier bands (Hz) a synthetic aperture is flown in: radar P band … W band and beyond
-#: (100 MHz … 300 GHz), sonar 1 kHz … 1 MHz. Used only to guess the unit a carrier was written in.
-TYPICAL_CARRIER_HZ = {"radar": (1e8, 3e11), "sonar": (1e3, 1e6)}
+#: Carrier bands (Hz) a synthetic aperture is flown in: radar VHF (foliage-penetrating SAR flies
+#: 20–90 MHz) … W band and beyond (20 MHz … 300 GHz), sonar 1 kHz … 1 MHz. Used only to guess the
+#: unit a carrier was written in, and to note a carrier outside them.
+TYPICAL_CARRIER_HZ = {"radar": (2e7, 3e11), "sonar": (1e3, 1e6)}
 
 
 def carrier_unit_hint(medium: str, f0_hz: float) -> str:

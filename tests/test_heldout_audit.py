@@ -45,6 +45,18 @@ def test_carriers_inside_their_bands_carry_no_carrier_note():
             assert Scenario.from_dict({**radar, "carrier_frequency_hz": f0}).notes() == []
 
 
+
+def test_a_vhf_foliage_penetrating_radar_gets_no_carrier_note():
+    """VHF SAR flies 20–90 MHz (λ = 3.3–15 m; 3 m cells need an aperture of tens of degrees, which
+    the scenario notes on its own): its carrier is no unit slip, so no note names the carrier."""
+    vhf = {"name": "vhf", "medium": "radar", "carrier_frequency_hz": 50e6, "slant_range_m": 20000.0,
+           "azimuth_resolution_m": 3.0, "range_resolution_m": 3.0, "platform_speed_m_s": 120.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        notes = Scenario.from_dict(vhf).notes()
+    assert not [n for n in notes if "carrier" in n], notes
+
+
 # --- an aperture time of hours: beyond the bounds' free-inertial, flat-earth error growth -------
 
 #: Schuler frequency ω_s = √(g/R_E) (R_E = 6371 km): period 2π/ω_s ≈ 84.4 min.
