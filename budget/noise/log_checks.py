@@ -150,6 +150,55 @@ def stamp_resolution(dt: np.ndarray, period: float) -> float | None:
     return res if res >= 0.01 * period else None
 
 
+#: Share of a log's steps that must be zero (a stamp equal to the one before on a row whose values
+#: differ) for non-decreasing stamps to be read as rounded coarser than the sampling period.
+COARSE_ZERO_SHARE = 0.05
+
+
+def coarse_resolution(t: np.ndarray, same: np.ndarray | None = None) -> float | None:
+    """The resolution (s) of time stamps rounded coarser than the sampling period — integer
+    milliseconds at 2 kHz step by 0 or 1 ms, seconds since the epoch printed to 9 digits by 0 or
+    1 s — or None. Such stamps never step back, at least :data:`COARSE_ZERO_SHARE` of their
+    steps are zero (``same``: steps whose row repeats the one before entirely, duplicate rows,
+    left out) and each positive step is a whole multiple of the smallest. Read as
+    "non-increasing time" they would send a user to a repair that drops half the samples."""
+    dt = np.diff(t)
+    if same is not None:
+        dt = dt[~same]
+    dt = dt[np.isfinite(dt)]
+    if dt.size < 3 or np.any(dt < 0):
+        return None
+    pos = dt[dt > 0]
+    if not pos.size or dt.size - pos.size < COARSE_ZERO_SHARE * dt.size:
+        return None
+    q = float(pos.min())
+    k = pos / q
+    return q if np.all(np.abs(k - np.rint(k)) <= 0.01) else None
+
+
+def coarse_time_span_check(t: np.ndarray, q: float, rate_hz: float, column: str) -> LogIssue:
+    """With a rate given for a log whose stamps are rounded to ``q`` s, coarser than its period:
+    a warning when the stamps' span is what ``t.size`` samples at ``rate_hz`` span, within the
+    stamps' resolution (and one period), else an error naming the samples missing (or the rate
+    that is wrong)."""
+    fin = t[np.isfinite(t)]
+    span = float(fin[-1] - fin[0])
+    expected = (t.size - 1) / rate_hz
+    if abs(span - expected) <= q + 1.0 / rate_hz:
+        return LogIssue("coarse_time", "warning",
+                        f"time stamps rounded to {q:.3g} s, coarser than the period {1 / rate_hz:.3g} s: "
+                        f"read at the given {rate_hz:.6g} Hz, which their span ({span:.6g} s) agrees with "
+                        f"to their resolution; missing samples are seen only in that span, fewer than "
+                        f"{q * rate_hz + 1:.0f} not at all",
+                        0, (), column)
+    missing = span * rate_hz - (t.size - 1)
+    return LogIssue("coarse_time", "error",
+                    f"time stamps rounded to {q:.3g} s span {span:.6g} s, but {t.size} samples at the given "
+                    f"{rate_hz:.6g} Hz span {expected:.6g} s: about {abs(missing):.0f} samples "
+                    f"{'missing (gaps)' if missing > 0 else 'too many'}, or the rate is "
+                    f"{(t.size - 1) / span if span > 0 else float('nan'):.6g} Hz", 0, (), column)
+
+
 def check_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
               channel_index: dict[str, int]) -> list[LogIssue]:
     """Every integrity issue of ``data`` (rows × columns, SI already), none repaired."""
@@ -330,6 +379,18 @@ def _time_issues(data: np.ndarray, ti: int) -> list[LogIssue]:
     if dup.size:
         issues.append(LogIssue("duplicate_rows", "error", f"{dup.size} row(s) repeat the previous "
                                "row exactly", int(dup.size), listed_rows(dup), None))
+    q = coarse_resolution(t, same)
+    if q is not None:  # rounded coarser than the period: zero steps are no disorder, no gap is seen
+        zero = np.flatnonzero((dt == 0) & ~same) + 1
+        fin = t[np.isfinite(t)]
+        span = float(fin[-1] - fin[0])
+        said = f" (≈ {(fin.size - 1) / span:.6g} Hz from their span)" if span > 0 else ""
+        issues.append(LogIssue("coarse_time", "error",
+                               f"time stamps are rounded to {q:.3g} s, coarser than the sampling "
+                               f"period{said}: {zero.size} of {dt.size} steps are zero, so the "
+                               "samples' rate, order and gaps cannot be read from them",
+                               int(zero.size), listed_rows(zero), "time"))
+        return issues
     back = np.flatnonzero((dt <= 0) & ~same) + 1
     if back.size:
         issues.append(LogIssue("non_monotonic_time", "error",

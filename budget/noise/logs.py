@@ -326,6 +326,20 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
                           + ([lc.LogIssue("clock_time", "info", clock.note(), 0, (), clock.column)]
                              if clock is not None else []))
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
+    coarse = next((i for i in report.issues if i.kind == "coarse_time"), None)
+    if coarse is not None:  # a repair cannot help: it would drop every row whose stamp repeats
+        if rate_given is None:
+            raise InputError(coarse.message, file=path, row=coarse.rows[0] if coarse.rows else None,
+                             field=plan.sources[plan.time_index],
+                             expected=f"stamps printed finer than the sampling period{LOG_RATE_WAY.cli}: the "
+                                      "log is then read at that rate and the stamps' span checks it")
+        t_col = data[:, plan.time_index]
+        checked = lc.coarse_time_span_check(t_col, lc.coarse_resolution(t_col), rate_given,
+                                            plan.sources[plan.time_index])
+        if checked.severity == "error":
+            raise InputError(checked.message, file=path, field=plan.sources[plan.time_index],
+                             value=rate_given, expected="the rate the sensor was logged at, or a log without gaps")
+        report.issues[report.issues.index(coarse)] = checked
     slip = lv.gravity_unit_slip(data, plan.channel_index, plan.source_units, path)
     if slip is not None:
         raise slip
@@ -348,7 +362,9 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
                            "and out-of-order rows, interpolate missing values and keep the "
                            "longest gap-free stretch", report, file=path)
         try:
-            data, _, report.repairs = lc.repair_log(data, plan.targets, plan.time_index,
+            # stamps coarser than the period (read at the given rate): no row is dropped for them
+            data, _, report.repairs = lc.repair_log(data, plan.targets,
+                                                    None if coarse is not None else plan.time_index,
                                                     plan.channel_index)
         except ValueError as err:
             raise LogError(f"cannot repair: {err}", report, file=path) from None
@@ -357,7 +373,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
         raise InputError(f"only {n} sample(s)", file=path,
                          expected=f"at least {min_samples} samples for the requested analysis")
     time_s = data[:, plan.time_index] if plan.time_index is not None else None
-    rate = _rate(time_s, rate_given, report, path)
+    rate = float(rate_given) if coarse is not None else _rate(time_s, rate_given, report, path)
     chans = {ch: data[:, plan.channel_index[ch]] for ch in CHANNELS if ch in plan.channel_index}
     temp = data[:, plan.temp_index] + plan.temp_offset_c if plan.temp_index is not None else None
     if temp is not None:

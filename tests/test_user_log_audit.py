@@ -1,0 +1,94 @@
+"""Held-out audit of the logs users bring (timing, formats, bad values), each case written by an
+independent generator here — NumPy only, not :mod:`budget.imu.generator`: white noise of a
+stated density plus flicker (bias instability) shaped by FFT to the IEEE-952 two-sided PSD
+B²/(2πf), whose Allan floor is 0.664·B. Tactical magnitudes: ARW 0.2 deg/√h, bias instability
+3 deg/h, VRW 0.05 m/s/√h, accelerometer bias instability 30 µg."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from budget.errors import InputError
+from budget.noise import allan_deviation, read_log
+
+ARW_DPH, BI_DPH, VRW, ABI_UG = 0.2, 3.0, 0.05, 30.0
+N_GYRO = math.radians(ARW_DPH) / 60.0          # rad/s/√Hz (rad/√s)
+B_GYRO = math.radians(BI_DPH) / 3600.0         # rad/s
+N_ACC = VRW / 60.0                             # m/s²/√Hz
+B_ACC = ABI_UG * 1e-6 * 9.80665                # m/s²
+HEADER = "time_s,gyro_x_dps,gyro_y_dps,gyro_z_dps,accel_x_mps2,accel_y_mps2,accel_z_mps2"
+
+
+def _flicker(n: int, fs: float, b: float, rng) -> np.ndarray:
+    spec = np.fft.rfft(rng.standard_normal(n))
+    f = np.fft.rfftfreq(n, 1.0 / fs)
+    shape = np.zeros_like(f)
+    shape[1:] = np.sqrt(b * b / (2.0 * np.pi * f[1:]) * fs)
+    return np.fft.irfft(spec * shape, n)
+
+
+def static_imu(n: int, fs: float, seed: int = 0) -> dict[str, np.ndarray]:
+    """Six channels in deg/s and m/s² (z down: accel_z ≈ −g), with turn-on biases."""
+    rng = np.random.default_rng(seed)
+    out = {}
+    for ax, bias in zip("xyz", (0.06, -0.03, 0.045)):
+        x = N_GYRO * math.sqrt(fs) * rng.standard_normal(n) + _flicker(n, fs, B_GYRO, rng)
+        out[f"gyro_{ax}_dps"] = np.degrees(x) + bias
+    for ax, g in zip("xyz", (0.05, -0.03, -9.80665)):
+        out[f"accel_{ax}_mps2"] = N_ACC * math.sqrt(fs) * rng.standard_normal(n) + _flicker(n, fs, B_ACC, rng) + g
+    return out
+
+
+def write_log(path, time: np.ndarray, ch: dict[str, np.ndarray], *, time_fmt: str = "{:.6f}",
+              header: str = HEADER, sep: str = ",") -> str:
+    lines = [header]
+    values = np.column_stack(list(ch.values()))
+    for t, row in zip(time, values):
+        lines.append(sep.join([time_fmt.format(t), *(f"{v:.9g}" for v in row)]))
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return str(path)
+
+
+def _arw_at_1s(log, ch="gyro_x") -> float:
+    r = allan_deviation(log.channels[ch], log.rate_hz, "octave")
+    i = int(np.argmin(np.abs(np.asarray(r.tau_s) - 1.0)))
+    return float(r.adev[i] * math.sqrt(r.tau_s[i]))
+
+
+# --- 1. time stamps rounded coarser than the sampling period ---------------------------------------
+
+def test_millisecond_stamps_of_a_2khz_log_are_named_and_read_at_the_given_rate(tmp_path):
+    fs, n = 2000.0, 20_000
+    path = write_log(tmp_path / "ms.csv", np.arange(n) / fs, static_imu(n, fs), time_fmt="{:.3f}")
+    with pytest.raises(InputError) as err:  # not "time goes back: --repair" (a repair drops half)
+        read_log(path)
+    text = str(err.value)
+    assert "rounded to 0.001 s, coarser than the sampling period" in text and "time_s" in text
+    assert "--rate-hz" in text and "repair" not in text
+    log = read_log(path, rate_hz=fs)
+    assert log.rate_hz == fs and log.n_samples == n
+    assert [i.kind for i in log.issues.issues if i.severity == "warning"] == ["coarse_time"]
+    assert abs(_arw_at_1s(log) / N_GYRO - 1.0) < 0.15  # white + flicker at τ ≈ 1 s, 10 s record
+    with pytest.raises(InputError, match="samples too many, or the rate is 2000"):
+        read_log(path, rate_hz=1000.0)
+
+
+def test_epoch_seconds_printed_to_nine_digits_are_coarse_not_out_of_order(tmp_path):
+    fs, n = 400.0, 8_000
+    path = write_log(tmp_path / "epoch.csv", 1.7e9 + np.arange(n) / fs, static_imu(n, fs, 1),
+                     time_fmt="{:.9g}")
+    with pytest.raises(InputError, match="coarser than the sampling period"):
+        read_log(path)
+    assert read_log(path, rate_hz=fs).rate_hz == fs
+
+
+def test_coarse_stamps_with_a_gap_the_span_shows_are_refused_at_the_given_rate(tmp_path):
+    fs, n = 2000.0, 20_000
+    t = np.arange(n + 400) / fs
+    keep = np.r_[0:10_000, 10_400:n + 400]  # 200 ms lost
+    path = write_log(tmp_path / "gap.csv", t[keep], static_imu(n, fs, 2), time_fmt="{:.3f}")
+    with pytest.raises(InputError, match=r"about 40\d samples missing"):
+        read_log(path, rate_hz=fs)
