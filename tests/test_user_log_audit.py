@@ -92,3 +92,27 @@ def test_coarse_stamps_with_a_gap_the_span_shows_are_refused_at_the_given_rate(t
     path = write_log(tmp_path / "gap.csv", t[keep], static_imu(n, fs, 2), time_fmt="{:.3f}")
     with pytest.raises(InputError, match=r"about 40\d samples missing"):
         read_log(path, rate_hz=fs)
+
+
+# --- 2. a sensor column the reader does not know, its unit written in brackets ---------------------
+
+def test_gyro_columns_named_gx_with_a_rate_unit_are_a_warning_naming_their_mapping(tmp_path):
+    fs, n = 400.0, 8_000
+    ch = static_imu(n, fs, 3)
+    for ax in "xyz":
+        ch[f"gyro_{ax}_dps"] = np.radians(ch[f"gyro_{ax}_dps"])      # rad/s
+        ch[f"accel_{ax}_mps2"] = ch[f"accel_{ax}_mps2"] / 9.80665    # g
+    header = "time(s),gx(rad/s),gy(rad/s),gz(rad/s),acc_x[g],acc_y[g],acc_z[g]"
+    path = write_log(tmp_path / "gx.csv", np.arange(n) / fs, ch, header=header)
+    log = read_log(path)
+    assert sorted(log.channels) == ["accel_x", "accel_y", "accel_z"]
+    warned = {i.column: i.message for i in log.issues.issues if i.severity == "warning"}
+    assert set(warned) == {"gx(rad/s)", "gy(rad/s)", "gz(rad/s)"}  # not an info note: a sensor is missing
+    assert '{"columns": {"gy(rad/s)": "gyro_y_rps"}}' in warned["gy(rad/s)"]
+    from budget.noise import LogMapping
+    mapped = read_log(path, LogMapping(columns={f"g{a}(rad/s)": f"gyro_{a}_rps" for a in "xyz"}))
+    assert np.allclose(mapped.channels["gyro_y"], ch["gyro_y_dps"], rtol=1e-8, atol=0)  # rad/s as written
+    # a column whose bracket is no channel unit stays an info note
+    other = write_log(tmp_path / "mag.csv", np.arange(n) / fs, {**static_imu(n, fs, 4), "mag": np.ones(n)},
+                      header=HEADER + ",mag_x [uT]")
+    assert [i.severity for i in read_log(other).issues.issues if i.column == "mag_x [uT]"] == ["info"]

@@ -220,6 +220,19 @@ def suggest_mapping(header: list[str]) -> dict[str, str]:
     return found
 
 
+def unread_channel(column: str) -> str | None:
+    """For a column the reader leaves out whose header writes a rate or specific-force unit
+    (``gx(rad/s)``, ``AccX [g]``), the canonical name a mapping would give it (``gyro_x_rps``;
+    ``gyro_?_rps`` when its name says no axis); None when it writes no such unit. Such a column is
+    a sensor the result would silently lack: the reader warns and names the mapping."""
+    base, written = u.split_header_unit(column)
+    said = _written_channel_unit(written) if written is not None else None
+    if said is None:
+        return None
+    m = _SENSOR_NAME.fullmatch(base.strip().lower())
+    return f"{said[0]}_{m.group('axis') if m else '?'}_{said[1]}"
+
+
 def mapped_columns(header: list[str], keys) -> dict[str, str]:
     """Each mapping key of ``keys`` → the header column it names: the column of that name, or the
     one column whose name it is without the unit written after it (``"t"`` names ``t [ms]``, whose

@@ -32,7 +32,7 @@ from . import log_checks as lc
 from . import log_values as lv
 from .log_clock import ClockColumn, clock_kind, is_clock_text
 from .log_mapping import (ColumnPlan, LogMapping, clock_candidates, mapping_by_column, plan_columns,
-                          time_unit_hint)
+                          time_unit_hint, unread_channel)
 
 CHUNK_ROWS = 250_000
 
@@ -318,10 +318,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     data = _read_chunks(path, plan, mapping, max_rows, chunk_rows, kind, fmt, clock)
     if data.shape[0] == 0:
         raise InputError("no data rows after the header", file=path)
-    report = lc.LogReport(issues=[lc.LogIssue("ignored_column", "info", "column not read: not a "
-                                              "canonical name (time_s, gyro_x_dps, accel_x_mps2, temp_c, "
-                                              f"…) {LOG_MAPPING_WAY.cli}", 0, (), c)
-                                  for c in plan.ignored]
+    report = lc.LogReport(issues=[_ignored_column_issue(c) for c in plan.ignored]
                           + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes]
                           + ([lc.LogIssue("clock_time", "info", clock.note(), 0, (), clock.column)]
                              if clock is not None else []))
@@ -380,6 +377,21 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
         report.issues += lv.implausible_temperature(temp, plan.sources[plan.temp_index])
     return ImuLog(str(path), chans, rate, time_s, temp, report,
                   {c: plan.source_units[c] for c in chans})
+
+
+def _ignored_column_issue(column: str) -> lc.LogIssue:
+    """The note on a column the reader leaves out; a warning when its header writes a rate or
+    specific-force unit (``gx(rad/s)``): a sensor missing from every result, with its mapping."""
+    target = unread_channel(column)
+    if target is None:
+        return lc.LogIssue("ignored_column", "info", "column not read: not a canonical name (time_s, "
+                           f"gyro_x_dps, accel_x_mps2, temp_c, …) {LOG_MAPPING_WAY.cli}", 0, (), column)
+    kind = "an angular-rate" if target.startswith("gyro") else "a specific-force"
+    return lc.LogIssue("unread_channel", "warning",
+                       f"column not read although its header writes {kind} unit: its name is no channel "
+                       f"the reader knows (gyro_x, accel_x, acc_x … before the bracket) {LOG_MAPPING_WAY.cli} — "
+                       f"every figure of this sensor is missing from the result; a mapping "
+                       f'{{"columns": {{"{column}": "{target}"}}}} reads it', 0, (), column)
 
 
 def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
