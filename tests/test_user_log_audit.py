@@ -116,3 +116,24 @@ def test_gyro_columns_named_gx_with_a_rate_unit_are_a_warning_naming_their_mappi
     other = write_log(tmp_path / "mag.csv", np.arange(n) / fs, {**static_imu(n, fs, 4), "mag": np.ones(n)},
                       header=HEADER + ",mag_x [uT]")
     assert [i.severity for i in read_log(other).issues.issues if i.column == "mag_x [uT]"] == ["info"]
+
+
+# --- 3. a run of full-scale values (the unit knocked), below the share a noise tail is refused at --
+
+def test_a_run_at_full_scale_is_refused_naming_its_rows_whatever_its_share(tmp_path):
+    fs, n = 400.0, 8_000
+    ch = static_imu(n, fs, 5)
+    ch["gyro_z_dps"][3000:3030] = 500.0  # 30 samples (0.4 %) held at a ±500 deg/s range limit
+    path = write_log(tmp_path / "sat.csv", np.arange(n) / fs, ch)
+    with pytest.raises(InputError) as err:  # before: a warning, and a bias instability of ~10⁴ deg/h
+        read_log(path)
+    text = str(err.value)
+    assert "gyro_z_dps" in text and "30 consecutive samples (rows 3002–3031)" in text and "500" in text
+    assert read_log(path, channels=["gyro_x", "gyro_y"]).n_samples == n  # the way out it names
+    # a noise tail clipped at 3σ (isolated samples at the limit) stays a warning
+    tail = static_imu(n, fs, 6)
+    x = tail["gyro_y_dps"]
+    limit = np.mean(x) + 3.0 * np.std(x)
+    tail["gyro_y_dps"] = np.minimum(x, limit)
+    log = read_log(write_log(tmp_path / "tail.csv", np.arange(n) / fs, tail))
+    assert [i.kind for i in log.issues.issues if i.column == "gyro_y_dps"] == ["clipped"]

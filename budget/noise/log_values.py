@@ -147,6 +147,28 @@ CLIP_PILE = 3.0
 CLIP_MIN_LEVELS = 8
 
 
+#: Consecutive samples at a channel's extreme value that make it saturated whatever their share
+#: of the record (a unit knocked against a ±500 deg/s range limit for 75 ms read a bias instability
+#: of 1.8·10⁴ deg/h with only a warning): a noise distribution clipped in its tail reaches its
+#: limit in isolated samples (ten in a row at a limit crossed by 7 % of them: 6e-12), a held
+#: input stays there …
+CLIP_RUN = 10
+#: … when the value held lies beyond this many robust standard deviations of the channel (no
+#: Gaussian tail reaches 8 σ in 10¹⁴ samples; a run nearer the noise, such as a light knock, stays
+#: a warning).
+CLIP_RUN_SIGMAS = 8.0
+
+
+def _longest_run(mask: np.ndarray) -> tuple[int, int]:
+    """(start, stop) data indices of the longest run of True in ``mask`` ((0, 0) when none)."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
+    if not edges.size:
+        return 0, 0
+    starts, stops = edges[::2], edges[1::2]
+    i = int(np.argmax(stops - starts))
+    return int(starts[i]), int(stops[i])
+
+
 def clipped(data: np.ndarray, names: tuple[str, ...], channel_index: dict[str, int], path,
             factors: tuple[float, ...] | None = None) -> tuple[InputError | None, list[LogIssue]]:
     """Channels clipped at a range limit (a sensor or ADC at full scale, a logger's integer
@@ -154,7 +176,9 @@ def clipped(data: np.ndarray, names: tuple[str, ...], channel_index: dict[str, i
     and :data:`CLIP_PILE` × the next value inward, on a channel with at least
     :data:`CLIP_MIN_LEVELS` distinct values (a noise distribution thins towards its extremes;
     clipping piles the tail beyond the limit onto it). A white gyro clipped at 1.5 σ read an ARW
-    0.88× its own. ``factors``: each column's factor to SI, to state the value in the column's
+    0.88× its own. A run of :data:`CLIP_RUN` consecutive samples there, beyond
+    :data:`CLIP_RUN_SIGMAS` robust σ of the channel, is an error whatever its share (a held,
+    saturated input, not a noise tail). ``factors``: each column's factor to SI, to state the value in the column's
     own unit. (error for the first channel with at least :data:`CLIP_SHARE` of its samples there,
     or None; warnings for the others)."""
     warn: list[LogIssue] = []
@@ -172,6 +196,17 @@ def clipped(data: np.ndarray, names: tuple[str, ...], channel_index: dict[str, i
                 continue
             share = k / col.size
             shown = values[end] / factors[j] if factors else values[end]
+            a, b = _longest_run(data[:, j] == values[end])
+            med = float(np.median(col))
+            spread = 1.4826 * float(np.median(np.abs(col - med)))
+            if b - a >= CLIP_RUN and spread > 0 and abs(values[end] - med) > CLIP_RUN_SIGMAS * spread:
+                # held far beyond the noise, not a tail: any share of the record spoils the channel
+                return InputError(f"{b - a} consecutive samples (rows {a + 2}–{b + 1}) sit at the channel's "
+                                  f"{side} value {shown:.6g}, of {k} there in all — saturated (the unit "
+                                  "knocked or moved, the sensor at its range limit): every noise figure of "
+                                  "this channel would be off", file=path, field=names[j],
+                                  expected=f"a static log without the event (its rows before row {a + 2}, or "
+                                  f"a new record), or {LOG_CHANNEL_WAY.cli}"), warn
             text = (f"{k} of {col.size} samples ({100 * share:.3g} %) sit at the channel's {side} value "
                     f"{shown:.6g}, {k / counts[inner]:.3g}× the next value inward — clipped at a "
                     "range limit (sensor full scale, saturated ADC)?")
