@@ -137,3 +137,17 @@ def test_a_run_at_full_scale_is_refused_naming_its_rows_whatever_its_share(tmp_p
     tail["gyro_y_dps"] = np.minimum(x, limit)
     log = read_log(write_log(tmp_path / "tail.csv", np.arange(n) / fs, tail))
     assert [i.kind for i in log.issues.issues if i.column == "gyro_y_dps"] == ["clipped"]
+
+
+# --- 4. a whitespace-delimited log: the refusal names the delimiter, not preamble lines -----------
+
+def test_a_space_delimited_log_is_refused_naming_the_delimiter_that_reads_it(tmp_path):
+    fs, n = 400.0, 4_000
+    ch = static_imu(n, fs, 7)
+    path = write_log(tmp_path / "ws.txt", np.arange(n) / fs, ch, header=HEADER.replace(",", "   "), sep="   ")
+    with pytest.raises(InputError) as err:
+        read_log(path)
+    assert '"delimiter": " "' in str(err.value) and "skip_rows" not in str(err.value)
+    from budget.noise import LogMapping
+    log = read_log(path, LogMapping(delimiter=" "))
+    assert log.rate_hz == fs and np.allclose(log.channels["accel_z"], ch["accel_z_mps2"], rtol=1e-8)

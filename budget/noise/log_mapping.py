@@ -464,6 +464,10 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str,
         if other:
             hint = (f"; the header holds {other[0]!r}: a file delimited by it needs a mapping with "
                     f"\"delimiter\": {other[0]!r}")
+        elif len(header) == 1 and (words := header[0].split())[1:] and (
+                any(is_channel_column(w) or w in TIME_COLUMNS for w in words) or suggest_mapping(words)):
+            hint = ("; the header is one field of names separated by spaces: a file delimited by "
+                    "spaces (aligned columns too) needs a mapping with \"delimiter\": \" \"")
         elif suggested := suggest_mapping(header):
             hint = ("; the header looks like sensor columns: a mapping such as {\"columns\": {"
                     + ", ".join(f'"{src}": "{dst}"' for src, dst in suggested.items())
