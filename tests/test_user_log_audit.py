@@ -151,3 +151,26 @@ def test_a_space_delimited_log_is_refused_naming_the_delimiter_that_reads_it(tmp
     from budget.noise import LogMapping
     log = read_log(path, LogMapping(delimiter=" "))
     assert log.rate_hz == fs and np.allclose(log.channels["accel_z"], ch["accel_z_mps2"], rtol=1e-8)
+
+
+# --- 5. a time stamp printed twice (the sample in its place), a clock reset ------------------------
+
+def test_a_repeated_stamp_is_restamped_by_the_repair_and_a_clock_reset_names_what_it_dropped(tmp_path):
+    from budget.noise import LogError
+
+    fs, n = 400.0, 8_000
+    ch = static_imu(n, fs, 8)
+    t = np.arange(n) / fs
+    t[4001] = t[4000]  # the logger read its clock twice; the sample is the 4002nd
+    path = write_log(tmp_path / "dup.csv", t, ch)
+    with pytest.raises(LogError, match=r"non_monotonic_time.*rows 4003"):
+        read_log(path)
+    log = read_log(path, repair=True)  # before: "would keep only 4,001 of 8,000 samples (50 %)"
+    assert log.n_samples == n and log.rate_hz == fs
+    assert any("re-stamped 1 row(s)" in r and "4003" in r for r in log.issues.repairs)
+    assert np.allclose(log.channels["gyro_x"], np.radians(ch["gyro_x_dps"]), rtol=1e-8)  # no sample lost
+    reset = t.copy()
+    reset[4001] = t[4001]
+    reset[5000:] -= reset[5000]  # clock reset: a refusal that says what the repair would drop
+    with pytest.raises(LogError, match=r"keep only 5,000 of 8,000.*dropped 3000 row\(s\) whose time stamp"):
+        read_log(write_log(tmp_path / "reset.csv", reset, ch), repair=True)
