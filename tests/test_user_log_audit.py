@@ -174,3 +174,31 @@ def test_a_repeated_stamp_is_restamped_by_the_repair_and_a_clock_reset_names_wha
     reset[5000:] -= reset[5000]  # clock reset: a refusal that says what the repair would drop
     with pytest.raises(LogError, match=r"keep only 5,000 of 8,000.*dropped 3000 row\(s\) whose time stamp"):
         read_log(write_log(tmp_path / "reset.csv", reset, ch), repair=True)
+
+
+# --- 6. '#': NumPy's savetxt header, comment lines --------------------------------------------------
+
+def test_a_savetxt_header_and_comment_lines_are_read_or_named(tmp_path):
+    fs, n = 400.0, 4_000
+    ch = static_imu(n, fs, 9)
+    cols = np.column_stack([np.arange(n) / fs, *ch.values()])
+    path = tmp_path / "savetxt.csv"
+    np.savetxt(path, cols, delimiter=",", header=HEADER, fmt="%.9g")  # "# time_s,gyro_x_dps,…"
+    log = read_log(path)  # before: "no time column and no sampling rate"
+    assert log.rate_hz == fs and sorted(log.channels) == sorted(c.rsplit("_", 1)[0] for c in ch)
+    assert [i.kind for i in log.issues.issues] == ["header_comment_mark"]
+    no_time = tmp_path / "no_time.csv"  # without a time column the first channel was dropped unsaid
+    np.savetxt(no_time, cols[:, 1:], delimiter=",", header=HEADER.split(",", 1)[1], fmt="%.9g")
+    assert "gyro_x" in read_log(no_time, rate_hz=fs).channels
+    # comment lines: the refusal names the mapping's "comment"
+    text = path.read_text().replace("# time_s", "# logger 1.2\ntime_s", 1)
+    (tmp_path / "pre.csv").write_text(text)
+    with pytest.raises(InputError, match='"comment": "#" skips them'):
+        read_log(tmp_path / "pre.csv")
+    lines = text.splitlines()
+    lines.insert(100, "# resync")
+    (tmp_path / "mid.csv").write_text("\n".join(lines[1:]) + "\n")
+    with pytest.raises(InputError, match=r"row 100.*'#' is a comment a mapping's \"comment\": \"#\" skips"):
+        read_log(tmp_path / "mid.csv")
+    from budget.noise import LogMapping
+    assert read_log(tmp_path / "mid.csv", LogMapping(comment="#")).n_samples == n

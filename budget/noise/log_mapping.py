@@ -361,6 +361,7 @@ class ColumnPlan:
     temp_offset_c: float = 0.0        # added after the factor: °C = factor·value + offset (K, °F)
     temp_notes: tuple[str, ...] = ()  # what the reader chose about temperature (said in the log's notes)
     time_clock: str | None = None     # the time column when it holds clock text (read by log_clock)
+    header_notes: tuple[str, ...] = ()  # how the header row was read (a leading comment mark)
 
 
 def plan_columns(header: list[str], mapping: LogMapping | None, path: str,
@@ -400,8 +401,13 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str,
                           + ", ".join(repr(c) for c in temps if c != chosen)
                           + " (a mapping to temp_c chooses another)")
     clock_unmapped = None
-    for col in header:
+    header_notes = []
+    for k, col in enumerate(header):
         name = rename.get(col, col)
+        if k == 0 and col not in rename and col.startswith("#") and (bare := _commented_name(col, path)):
+            name = bare  # "# time_s,gyro_x_dps,…": the header as NumPy's savetxt writes it
+            header_notes.append(f"the header row starts with a comment mark (as NumPy's savetxt writes it): "
+                                f"its first column {col!r} read as {bare!r}")
         if col in rename:
             _check_mapped_unit(col, name, path, 1 + (mapping.skip_rows if mapping else 0))
         if name == TIME_TARGET and col in rename:
@@ -473,6 +479,9 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str,
                     + ", ".join(f'"{src}": "{dst}"' for src, dst in suggested.items())
                     + "}} reads them — write the unit each holds (gyro: dps, rps, dph; accel: "
                       "mps2, g; raw counts: with a \"scale\")")
+        elif header and header[0].lstrip().startswith("#"):
+            hint = ("; the file starts with comment lines ('#'): a mapping's \"comment\": \"#\" skips them "
+                    "(and any further ones), \"skip_rows\" a fixed number of preamble lines")
         elif len(header) <= 2 or not any(h.replace("_", "").isalnum() for h in header):
             hint = ("; if the file starts with preamble lines (device, date, units), a mapping's "
                     "\"skip_rows\" skips them")
@@ -481,4 +490,16 @@ def plan_columns(header: list[str], mapping: LogMapping | None, path: str,
                          expected=f"columns like gyro_x_dps … accel_z_mps2, {LOG_NAMES_WAY.cli}")
     return ColumnPlan(tuple(sources), tuple(targets), tuple(factors), time_index, temp_index,
                       channel_index, source_units, tuple(ignored), temp_offset, tuple(temp_notes),
-                      time_clock)
+                      time_clock, tuple(header_notes))
+
+
+def _commented_name(column: str, path) -> str | None:
+    """The name after the comment mark of a first header column (``# time_s`` → ``time_s``) when
+    it is a time or channel column the reader knows, else None (``#timestamp`` of a layout read
+    through a mapping stays as it is unless it writes a time unit, ``#timestamp [ns]``)."""
+    bare = column.lstrip("#").strip()
+    if not bare:
+        return None
+    if bare in TIME_COLUMNS or _time_column(bare, path) is not None or is_channel_column(bare):
+        return bare
+    return None

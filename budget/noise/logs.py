@@ -153,6 +153,9 @@ def _bad_cell(series: pd.Series, base_row: int, path: Path, col: str) -> None:
         if clock_kind(series.iloc[i]) is not None:
             expected = ("a number in the column's unit; clock text is read from a time column whose "
                         "header writes no unit (Time, Time (UTC)) or that a mapping sends to \"time\"")
+        elif str(series.iloc[i]).lstrip().startswith("#"):
+            expected = ("a number; a line starting with '#' is a comment a mapping's \"comment\": \"#\" "
+                        "skips")
         elif decimal_comma(series.iloc[i]):
             expected = ("a number with a decimal point; a log written with decimal commas is read "
                         "with a mapping's \"decimal\": \",\" (and its \"delimiter\", e.g. \";\")")
@@ -320,6 +323,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
         raise InputError("no data rows after the header", file=path)
     report = lc.LogReport(issues=[_ignored_column_issue(c) for c in plan.ignored]
                           + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes]
+                          + [lc.LogIssue("header_comment_mark", "info", t) for t in plan.header_notes]
                           + ([lc.LogIssue("clock_time", "info", clock.note(), 0, (), clock.column)]
                              if clock is not None else []))
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
@@ -410,7 +414,7 @@ def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
         pos.get(plan.temp_index) if plan.temp_index is not None else None,
         {c: pos[plan.channel_index[c]] for c in wanted},
         {c: plan.source_units[c] for c in wanted}, plan.ignored, plan.temp_offset_c, plan.temp_notes,
-        plan.time_clock)
+        plan.time_clock, plan.header_notes)
 
 
 #: Below this rate (Hz) derived from the time stamps, the log says it may be a time unit slip.
