@@ -167,7 +167,7 @@ def test_a_repeated_stamp_is_restamped_by_the_repair_and_a_clock_reset_names_wha
         read_log(path)
     log = read_log(path, repair=True)  # before: "would keep only 4,001 of 8,000 samples (50 %)"
     assert log.n_samples == n and log.rate_hz == fs
-    assert any("re-stamped 1 row(s)" in r and "4003" in r for r in log.issues.repairs)
+    assert any("re-stamped 1 row(s) whose time stamp repeated" in r and "4003" in r for r in log.issues.repairs)
     assert np.allclose(log.channels["gyro_x"], np.radians(ch["gyro_x_dps"]), rtol=1e-8)  # no sample lost
     reset = t.copy()
     reset[4001] = t[4001]
@@ -202,3 +202,15 @@ def test_a_savetxt_header_and_comment_lines_are_read_or_named(tmp_path):
         read_log(tmp_path / "mid.csv")
     from budget.noise import LogMapping
     assert read_log(tmp_path / "mid.csv", LogMapping(comment="#")).n_samples == n
+
+
+def test_a_blank_stamp_mid_log_is_restamped_by_the_repair_not_cut_at(tmp_path):
+    fs, n = 400.0, 8_000
+    ch = static_imu(n, fs, 10)
+    path = write_log(tmp_path / "blank.csv", np.arange(n) / fs, ch)
+    lines = open(path).read().splitlines()
+    lines[4001] = "," + lines[4001].split(",", 1)[1]  # row 4002: its time cell empty
+    open(path, "w").write("\n".join(lines) + "\n")
+    log = read_log(path, repair=True)  # before: dropped, a gap, "would keep only 4,000 of 7,999 (50 %)"
+    assert log.n_samples == n and log.rate_hz == fs
+    assert any("re-stamped 1 row(s) without a time stamp" in r and "4002" in r for r in log.issues.repairs)

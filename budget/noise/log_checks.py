@@ -11,9 +11,9 @@ Rows are reported as spreadsheet rows of the file (header = row 1, first sample 
 or comment lines shift this numbering).
 
 Repairs happen only on request and every one is listed: exact duplicate rows are dropped;
-a row whose stamp repeats the one before while the next is two periods later (the sample in its
-place, its stamp misprinted) is given the midpoint of its neighbours' stamps; other rows whose
-time does not increase are dropped (the first occurrence kept); rows without a time
+a row whose stamp repeats the one before or is missing while its neighbours' stamps are two
+periods apart (the sample in its place, its stamp misprinted) is given the midpoint of theirs;
+other rows whose time does not increase are dropped (the first occurrence kept); rows without a time
 stamp are dropped; missing channel values are linearly interpolated between neighbours; and
 across gaps only the longest gap-free stretch is kept (interpolating across a gap would invent
 low-noise data and bias the Allan variance). Implausible samples are treated as missing. A
@@ -429,21 +429,25 @@ def _time_issues(data: np.ndarray, ti: int) -> list[LogIssue]:
     return issues
 
 
-def _misprinted_stamps(t: np.ndarray, same: np.ndarray) -> np.ndarray:
-    """Data indices of rows whose stamp repeats the previous one on a row that is no duplicate,
-    while the next stamp lies two nominal periods after it (within half a period): the sample is
-    in its place on the grid and only its stamp is wrong (a logger's clock read twice). Dropping
-    it would open a one-sample gap, and the repair would then keep only one side of it."""
+def _misprinted_stamps(t: np.ndarray, same: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Data indices of rows whose stamp is wrong while the sample is in its place on the grid —
+    the neighbours' stamps lie two nominal periods apart (within half a period): (rows whose stamp
+    repeats the previous one on a row that is no duplicate — a logger's clock read twice —, rows
+    whose stamp is missing). Dropping such a row would open a one-sample gap, and the repair
+    would then keep only one side of it."""
+    none = np.zeros(0, dtype=np.int64)
     n = t.size
     if n < 3:
-        return np.zeros(0, dtype=np.int64)
+        return none, none
     period = nominal_period(t)
     if period is None:
-        return np.zeros(0, dtype=np.int64)
+        return none, none
     i = np.arange(1, n - 1)
     with np.errstate(invalid="ignore"):
-        hit = (t[i] == t[i - 1]) & ~same[i] & (np.abs(t[i + 1] - t[i - 1] - 2.0 * period) < 0.5 * period)
-    return i[hit]
+        placed = np.abs(t[i + 1] - t[i - 1] - 2.0 * period) < 0.5 * period
+        repeated = (t[i] == t[i - 1]) & ~same[i] & placed
+    blank = ~np.isfinite(t[i]) & placed
+    return i[repeated], i[blank]
 
 
 def repair_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
@@ -464,15 +468,15 @@ def repair_log(data: np.ndarray, names: tuple[str, ...], time_index: int | None,
         same[1:] = np.all((data[1:] == data[:-1]) | (np.isnan(data[1:]) & np.isnan(data[:-1])), axis=1)
         if same.any():
             done.append(f"dropped {int(same.sum())} exact duplicate row(s)")
-        restamped = _misprinted_stamps(t, same)
-        if restamped.size:
-            t = data[:, time_index]
-            t[restamped] = 0.5 * (t[restamped - 1] + t[restamped + 1])
-            done.append(f"re-stamped {restamped.size} row(s) whose time stamp repeated the one before "
-                        "while the next stamp is two periods later (the sample in its place on the "
-                        "grid, its stamp misprinted): given the midpoint of their neighbours' stamps (rows "
-                        + ", ".join(map(str, listed_rows(restamped))) + (", …" if restamped.size > MAX_ROWS_LISTED
-                                                                       else "") + ")")
+        repeated, blank = _misprinted_stamps(t, same)
+        for rows, what in ((repeated, "whose time stamp repeated the one before"),
+                           (blank, "without a time stamp")):
+            if rows.size:
+                t[rows] = 0.5 * (t[rows - 1] + t[rows + 1])  # t: a view of the repaired copy
+                more = ", …" if rows.size > MAX_ROWS_LISTED else ""
+                done.append(f"re-stamped {rows.size} row(s) {what} while their neighbours' stamps are "
+                            "two periods apart (the sample in its place on the grid): given the midpoint "
+                            f"of those stamps (rows {', '.join(map(str, listed_rows(rows)))}{more})")
         nan_t = ~np.isfinite(t)
         if nan_t.any():
             done.append(f"dropped {int(nan_t.sum())} row(s) without a time stamp")
