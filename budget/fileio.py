@@ -16,6 +16,7 @@ Limits (each refused with an :class:`~budget.errors.InputError` naming the file)
 from __future__ import annotations
 
 import bz2
+import codecs
 import contextlib
 import gzip
 import io
@@ -231,10 +232,28 @@ def text_encoding(head: bytes) -> str:
     return next((codec for bom, codec in BYTE_ORDER_MARKS if head.startswith(bom)), "utf-8")
 
 
+#: Bytes at the start of a file looked at for its 8-bit encoding (:func:`input_encoding`).
+ENCODING_PROBE_BYTES = 1 << 16
+#: The codec of delimited text without a byte-order mark that is not UTF-8: Windows' 8-bit code
+#: page (Latin-1 with printable 0x80–0x9F), in which Windows loggers and spreadsheet exports write
+#: ``°/s`` and ``µg`` (0xB0, 0xB5) — read as UTF-8 they became ``�/s``, a unit refused as unknown.
+EIGHT_BIT_CODEC = "cp1252"
+
+
 def input_encoding(path: str | Path) -> str:
-    """:func:`text_encoding` of ``path``'s (decompressed) first bytes."""
+    """:func:`text_encoding` of ``path``'s (decompressed) first bytes; without a byte-order mark,
+    :data:`EIGHT_BIT_CODEC` when the first :data:`ENCODING_PROBE_BYTES` are not UTF-8 (a
+    multi-byte character cut at the probe's end is no evidence)."""
     with open_input(path) as fh:
-        return text_encoding(fh.read(4))
+        head = fh.read(ENCODING_PROBE_BYTES)
+    codec = text_encoding(head[:4])
+    if codec != "utf-8":
+        return codec
+    try:
+        codecs.getincrementaldecoder("utf-8")().decode(head, final=False)
+    except UnicodeDecodeError:
+        return EIGHT_BIT_CODEC
+    return codec
 
 
 def read_text(path: Path, max_bytes: int = 10_000_000, expected: str | None = None, *,

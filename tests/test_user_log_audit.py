@@ -214,3 +214,21 @@ def test_a_blank_stamp_mid_log_is_restamped_by_the_repair_not_cut_at(tmp_path):
     log = read_log(path, repair=True)  # before: dropped, a gap, "would keep only 4,000 of 7,999 (50 %)"
     assert log.n_samples == n and log.rate_hz == fs
     assert any("re-stamped 1 row(s) without a time stamp" in r and "4002" in r for r in log.issues.repairs)
+
+
+# --- 7. a header written by Windows (cp1252): ° and µ are one byte ------------------------------
+
+def test_a_windows_1252_header_with_degree_and_micro_signs_is_read_in_its_units(tmp_path):
+    fs, n = 400.0, 4_000
+    ch = static_imu(n, fs, 11)
+    for ax in "xyz":
+        ch[f"accel_{ax}_mps2"] = ch[f"accel_{ax}_mps2"] / 9.80665 * 1e6  # µg
+    header = ("time [s],gyro_x [°/s],gyro_y [°/s],gyro_z [°/s],accel_x [µg],accel_y [µg],accel_z [µg]")
+    path = tmp_path / "win.csv"
+    write_log(path, np.arange(n) / fs, ch, header=header)
+    path.write_bytes(path.read_text(encoding="utf-8").encode("cp1252"))
+    log = read_log(path)  # before: "unit '\ufffd/s' not understood for gyro_x; accepted: deg/s, °/s, …"
+    assert log.source_units == {**{f"gyro_{a}": "dps" for a in "xyz"}, **{f"accel_{a}": "ug" for a in "xyz"}}
+    assert np.allclose(log.channels["gyro_z"], np.radians(ch["gyro_z_dps"]), rtol=1e-8)
+    assert np.allclose(log.channels["accel_z"], ch["accel_z_mps2"] * 9.80665e-6, rtol=1e-8)
+    assert "text_encoding" in [i.kind for i in log.issues.issues]

@@ -26,7 +26,8 @@ import numpy as np
 import pandas as pd
 
 from ..errors import LOG_MAPPING_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, REPAIR_WAY, InputError
-from ..fileio import check_input_file, compression_of, input_encoding, open_input, require_file
+from ..fileio import (EIGHT_BIT_CODEC, check_input_file, compression_of, input_encoding, open_input,
+                      require_file)
 from ..units import CHANNELS
 from . import log_checks as lc
 from . import log_values as lv
@@ -94,10 +95,10 @@ _PANDAS_COMPRESSION = {None: None, "gzip": "gzip", "bzip2": "bz2", "xz": "xz", "
 def _text_format(path: Path, kind: str | None) -> dict:
     """How pandas reads ``path``: its compression as detected by content (``kind``, not the
     suffix: a gzip log named ``log`` or ``log.gzip`` is still gzip), the text encoding its
-    byte-order mark names (UTF-8 without one; :func:`~budget.fileio.input_encoding`, shared with
-    the Allan-table reader), and bytes that are not valid in it replaced (a Latin-1 ``°`` in a
-    column the reader ignores must not refuse the log; in a number it is reported as not a
-    number, with its row)."""
+    byte-order mark names (UTF-8 without one, Windows-1252 when the file's start is not UTF-8:
+    ``gyro_x [°/s]`` written by a Windows logger; :func:`~budget.fileio.input_encoding`), and
+    bytes that are not valid in it replaced (a stray byte in a column the reader ignores must not
+    refuse the log; in a number it is reported as not a number, with its row)."""
     return {"compression": _PANDAS_COMPRESSION[kind], "encoding": input_encoding(path),
             "encoding_errors": "replace"}
 
@@ -324,6 +325,9 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     report = lc.LogReport(issues=[_ignored_column_issue(c) for c in plan.ignored]
                           + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes]
                           + [lc.LogIssue("header_comment_mark", "info", t) for t in plan.header_notes]
+                          + ([lc.LogIssue("text_encoding", "info", "the file is not UTF-8 and has no byte-order "
+                                          f"mark: read as {EIGHT_BIT_CODEC} (Windows' 8-bit text, where ° and µ "
+                                          "are one byte each)")] if fmt["encoding"] == EIGHT_BIT_CODEC else [])
                           + ([lc.LogIssue("clock_time", "info", clock.note(), 0, (), clock.column)]
                              if clock is not None else []))
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
