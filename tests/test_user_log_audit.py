@@ -130,6 +130,10 @@ def test_a_run_at_full_scale_is_refused_naming_its_rows_whatever_its_share(tmp_p
     text = str(err.value)
     assert "gyro_z_dps" in text and "30 consecutive samples (rows 3002–3031)" in text and "500" in text
     assert read_log(path, channels=["gyro_x", "gyro_y"]).n_samples == n  # the way out it names
+    ch["gyro_z_dps"][3000:3030] = static_imu(n, fs, 5)["gyro_z_dps"][3000:3030]
+    ch["gyro_z_dps"][5000:5006] = -500.0  # 15 ms: past the 3-sample bursts the spike filter replaces
+    with pytest.raises(InputError, match=r"6 consecutive samples \(rows 5002–5007\).*smallest value -500"):
+        read_log(write_log(tmp_path / "sat6.csv", np.arange(n) / fs, ch))
     # a noise tail clipped at 3σ (isolated samples at the limit) stays a warning
     tail = static_imu(n, fs, 6)
     x = tail["gyro_y_dps"]

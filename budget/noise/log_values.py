@@ -148,14 +148,13 @@ CLIP_MIN_LEVELS = 8
 
 
 #: Consecutive samples at a channel's extreme value that make it saturated whatever their share
-#: of the record (a unit knocked against a ±500 deg/s range limit for 75 ms read a bias instability
-#: of 1.8·10⁴ deg/h with only a warning): a noise distribution clipped in its tail reaches its
-#: limit in isolated samples (ten in a row at a limit crossed by 7 % of them: 6e-12), a held
-#: input stays there …
-CLIP_RUN = 10
-#: … when the value held lies beyond this many robust standard deviations of the channel (no
-#: Gaussian tail reaches 8 σ in 10¹⁴ samples; a run nearer the noise, such as a light knock, stays
-#: a warning).
+#: of the record (a unit knocked against a ±500 deg/s range limit for 22 ms, 9 samples at 400 Hz,
+#: read an ARW of 15.6 deg/√h for 0.2 and a bias instability of 8.7·10³ deg/h with only a misfit
+#: warning): one more than the burst of adjacent spikes :mod:`budget.noise.spikes` replaces (3) …
+CLIP_RUN = 4
+#: … when the value held lies beyond this many robust standard deviations of the channel: no
+#: Gaussian tail reaches 8 σ in 10¹⁴ samples, let alone in a run of one repeated value (a run nearer
+#: the noise, such as a light knock, stays a warning).
 CLIP_RUN_SIGMAS = 8.0
 
 
@@ -190,23 +189,23 @@ def clipped(data: np.ndarray, names: tuple[str, ...], channel_index: dict[str, i
         values, counts = np.unique(col, return_counts=True)
         if values.size < CLIP_MIN_LEVELS:
             continue
+        med = float(np.median(col))
+        spread = 1.4826 * float(np.median(np.abs(col - med)))
         for end, inner, side in ((-1, -2, "largest"), (0, 1, "smallest")):
             k = int(counts[end])
+            shown = values[end] / factors[j] if factors else values[end]
+            if k >= CLIP_RUN and spread > 0 and abs(values[end] - med) > CLIP_RUN_SIGMAS * spread:
+                a, b = _longest_run(data[:, j] == values[end])
+                if b - a >= CLIP_RUN:  # held far beyond the noise, not a tail: any share spoils the channel
+                    return InputError(f"{b - a} consecutive samples (rows {a + 2}–{b + 1}) sit at the "
+                                      f"channel's {side} value {shown:.6g}, of {k} there in all — saturated "
+                                      "(the unit knocked or moved, the sensor at its range limit): every noise "
+                                      "figure of this channel would be off", file=path, field=names[j],
+                                      expected=f"a static log without the event (its rows before row {a + 2}, "
+                                      f"or a new record), or {LOG_CHANNEL_WAY.cli}"), warn
             if k < CLIP_MIN_SAMPLES or k < CLIP_PILE * counts[inner]:
                 continue
             share = k / col.size
-            shown = values[end] / factors[j] if factors else values[end]
-            a, b = _longest_run(data[:, j] == values[end])
-            med = float(np.median(col))
-            spread = 1.4826 * float(np.median(np.abs(col - med)))
-            if b - a >= CLIP_RUN and spread > 0 and abs(values[end] - med) > CLIP_RUN_SIGMAS * spread:
-                # held far beyond the noise, not a tail: any share of the record spoils the channel
-                return InputError(f"{b - a} consecutive samples (rows {a + 2}–{b + 1}) sit at the channel's "
-                                  f"{side} value {shown:.6g}, of {k} there in all — saturated (the unit "
-                                  "knocked or moved, the sensor at its range limit): every noise figure of "
-                                  "this channel would be off", file=path, field=names[j],
-                                  expected=f"a static log without the event (its rows before row {a + 2}, or "
-                                  f"a new record), or {LOG_CHANNEL_WAY.cli}"), warn
             text = (f"{k} of {col.size} samples ({100 * share:.3g} %) sit at the channel's {side} value "
                     f"{shown:.6g}, {k / counts[inner]:.3g}× the next value inward — clipped at a "
                     "range limit (sensor full scale, saturated ADC)?")
