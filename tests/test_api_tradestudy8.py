@@ -92,7 +92,7 @@ def test_consistency_table_by_name_and_bad_scales():
 def test_sweep_table_carries_its_seed_and_options(tmp_path):
     t = budget.sweep(["STIM300"], "automotive_24ghz", trials=2, seed=7, workers=1)
     assert list(t["seed"]) == [7]
-    assert t.attrs["seed"] == 7 and t.attrs["options"]["scene"] == "points"
+    assert t.attrs["seed"] == 7 and t.attrs["options"]["scene"] == "realistic"  # the default scene
     path = tmp_path / "t.csv"
     t.to_csv(path, index=False)
     assert pd.read_csv(path)["seed"].tolist() == [7]
@@ -159,5 +159,5 @@ def test_sweep_rows_say_what_the_verdict_was_judged_on():
     from budget.presets import get_preset
     t = sweep([get_part("STIM300")], [get_preset("automotive_77ghz")], 2, 1)
     row = t.iloc[0]
-    assert row["scene"] == "points" and row["window"].startswith("taylor")
+    assert row["scene"] == "realistic" and row["window"].startswith("taylor")  # the default scene
     assert row["navigation"].startswith("free inertial")

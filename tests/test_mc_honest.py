@@ -369,8 +369,11 @@ def test_cli_bad_acceptance_spec_is_a_clear_error(tmp_path, capsys):
 
 
 def test_cli_clutter_level_on_the_points_scene_is_refused(capsys):
+    """``--clutter-db`` applies to the realistic scene (the default): with ``--scene points`` it is
+    refused naming the option."""
     from budget.cli.main import main
-    assert main(["mc", "--preset", "automotive_24ghz", "--part", "ADIS16405", "--clutter-db", "-3"]) == 2
+    assert main(["mc", "--preset", "automotive_24ghz", "--part", "ADIS16405", "--scene", "points",
+                 "--clutter-db", "-3"]) == 2
     assert "--clutter-db" in capsys.readouterr().err
 
 

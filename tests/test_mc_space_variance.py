@@ -117,9 +117,12 @@ def test_30_m_disagreement_names_space_variance_with_its_figure_not_the_filled_t
     passes 14 of 32 (0.44 [0.28, 0.61]; 0.39 with 64), failing on PSLR. The comparison names space
     variance with its figure (8.5° measured with 64 trials; asserted 4–15°, against the 1° limit)
     and says the filled gyro turn-on bias (1.7 deg/h; its margin 765 against the binding 5.4) is
-    not the cause (measured: with it taken as 0 the Monte Carlo passes 0.33 of 64)."""
+    not the cause (measured: with it taken as 0 the Monte Carlo passes 0.33 of 64). On the points
+    scene: on the realistic scene (the default) the spec is relative to what a perfect IMU gets
+    there, whose clutter-limited PGA error already costs PSLR, and the Monte Carlo passes 0.94
+    [0.80, 0.98] (32 trials), in agreement with the check."""
     scen, part = Scenario(**AUTO24_SLOW), get_part("STIM300")
-    res = run_mc(scen, part, 32, 1)
+    res = run_mc(scen, part, 32, 1, options=McOptions(scene="points"))
     rec = check_parts([part], scen).to_dict()["scenarios"][0]["parts"][0]
     assert rec["verdict"] == "pass"
     out = check_vs_mc(rec, res)

@@ -31,6 +31,8 @@ DEFAULT_PART = "ADIS16405"
 #: Platform motions the page offers (a custom disturbance needs a file: CLI or API).
 PLATFORM_MOTIONS = tuple(k for k in KINDS if k != "custom")
 MAX_TRIALS = 100_000
+#: Scenes the page offers, the library's default first (budget.mc.McOptions.scene).
+SCENES = (McOptions().scene, *(k for k in ("realistic", "points") if k != McOptions().scene))
 #: Session-state key of the last run: (request, McRun) (:func:`components.run_on_demand`).
 RUN_KEY = "mc_last_run"
 #: Session-state key of the last built report: (inputs key, HTML text).
@@ -39,7 +41,7 @@ REPORT_KEY = "mc_report"
 
 @st.cache_data(show_spinner=False, max_entries=16)
 def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: str = "none",
-         platform_motion: str = "straight") -> McResult:
+         platform_motion: str = "straight", scene: str = SCENES[0]) -> McResult:
     """One part's verdict, cached on scenario, part, trials, seed and options (worst trials with images)."""
     part = PartSpec.model_validate_json(part_json)
     bar = st.progress(0.0, text=f"{part.part_id}: 0 / {trials} trials")
@@ -49,7 +51,8 @@ def _run(scenario_json: str, part_json: str, trials: int, seed: int, prefilter: 
 
     try:  # a refused run (e.g. beyond the motion engine's memory limit) leaves no stale bar
         return run_mc(Scenario.model_validate_json(scenario_json), part, trials, seed,
-                      options=McOptions(prefilter=prefilter, platform_motion={"kind": platform_motion}),
+                      options=McOptions(prefilter=prefilter, platform_motion={"kind": platform_motion},
+                                        scene=scene),
                       progress=progress, keep_detail=True)
     finally:
         bar.empty()
@@ -66,25 +69,26 @@ class McRun(NamedTuple):
 
 
 def _run_all(scenario: Scenario, parts: list[PartSpec], trials: int, seed: int, prefilter: str, motion: str,
-             origin: str | None) -> McRun:
+             origin: str | None, scene: str = SCENES[0]) -> McRun:
     """Every part's verdict; a part the library refuses is left out and its message kept."""
     scenario_json = scenario.model_dump_json()
     results: dict[str, McResult] = {}
     failed: dict[str, list[str]] = {}  # one message per distinct error, with the parts it hit
     for part in parts:
         try:
-            results[part.part_id] = _run(scenario_json, part.model_dump_json(), trials, seed, prefilter, motion)
+            results[part.part_id] = _run(scenario_json, part.model_dump_json(), trials, seed, prefilter, motion,
+                                         scene)
         except InputError as err:
             failed.setdefault(error_text(err), []).append(part.part_id)
     return McRun(scenario, seed, results,
                  [run_error(scenario.name, origin, pids, text) for text, pids in failed.items()])
 
 
-def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str]:
+def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str, str]:
     ids = list(catalog)
     default = [DEFAULT_PART] if DEFAULT_PART in catalog else ids[:1]
     parts = st.multiselect("parts", ids, default=default, key="mc_parts")
-    left, mid, right, far = st.columns([1, 1, 1, 1])
+    left, mid, right, far, last = st.columns([1, 1, 1, 1, 1])
     trials = left.number_input("trials", min_value=1, max_value=MAX_TRIALS, value=DEFAULT_TRIALS, step=64,
                                key="mc_trials", help="a run of 64 trials takes about 10 s per part")
     seed = mid.number_input("seed", min_value=0, value=DEFAULT_SEED, step=1, key="mc_seed",
@@ -97,7 +101,10 @@ def _inputs(catalog: dict[str, PartSpec]) -> tuple[list[str], int, int, str, str
                                 "have no effect); oscillation: roll/pitch/yaw at the scenario's platform "
                                 "rate, 10 s period; attitude_change: a roll through 1 rad over the aperture "
                                 "(the gyro-scale-factor bound's manoeuvre)")
-    return parts, int(trials), int(seed), prefilter, motion
+    scene = last.selectbox("scene", SCENES, key="mc_scene",
+                           help="realistic: clutter, receiver noise and 16 dominant scatterers — what PGA "
+                                "meets in practice; points: five noise-free points, PGA's best case")
+    return parts, int(trials), int(seed), prefilter, motion, scene
 
 
 def summary_frame(results: dict[str, McResult]) -> pd.DataFrame:
@@ -111,7 +118,8 @@ def summary_frame(results: dict[str, McResult]) -> pd.DataFrame:
 
 def _summary(results: dict[str, McResult], scenario: Scenario, seed: int) -> None:
     st.subheader("P(pass)")
-    st.caption(f"scenario **{scenario.name}** (Tc = {scenario.tc_s:.4g} s) · seed {seed} · "
+    scene = next(iter(results.values())).judged_on.get("scene", "")
+    st.caption(f"scenario **{scenario.name}** (Tc = {scenario.tc_s:.4g} s) · scene **{scene}** · seed {seed} · "
                "95 % Wilson intervals. Pass = image acceptance after PGA, range migration ≤ 1 cell, "
                "fast residual phase ≤ 1° rms (seed 004).")
     if len(results) == 1:
@@ -244,12 +252,14 @@ def render() -> None:
                 "forms the image with the IMU-measured track and runs PGA autofocus. Does autofocus "
                 "absorb what the IMU leaves? The scenario comes from the sidebar.")
     catalog = c.session_catalog()
-    parts, trials, seed, prefilter, motion = _inputs(catalog)
+    parts, trials, seed, prefilter, motion, scene = _inputs(catalog)
     chosen = [catalog[p] for p in parts]
-    request = (s.model_dump_json(), tuple(p.model_dump_json() for p in chosen), trials, seed, prefilter, motion)
+    request = (s.model_dump_json(), tuple(p.model_dump_json() for p in chosen), trials, seed, prefilter, motion,
+               scene)
     origin = st.session_state.get(sidebar.BASE_ORIGIN_KEY)
     last = c.run_on_demand(RUN_KEY, request, "Run Monte Carlo",
-                           lambda: _run_all(s, chosen, trials, seed, prefilter, motion, origin), button_key="mc_run",
+                           lambda: _run_all(s, chosen, trials, seed, prefilter, motion, origin, scene),
+                           button_key="mc_run",
                            prompt="Pick parts, trials and seed, then press **Run Monte Carlo**.", disabled=not parts)
     if last is None:
         return

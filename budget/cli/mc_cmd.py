@@ -33,7 +33,7 @@ def _options(args) -> McOptions:
     for name in ("scene", "clutter_to_target_db", "snr_db", "window"):
         if getattr(args, name, None) is not None:
             upd[name] = getattr(args, name)
-    if upd.get("clutter_to_target_db") is not None and upd.get("scene", "points") == "points":
+    if upd.get("clutter_to_target_db") is not None and upd.get("scene", McOptions().scene) == "points":
         raise InputError("the points scene has no clutter", field="--clutter-db", value=upd["clutter_to_target_db"],
                          expected="--scene realistic (or auto) with --clutter-db, or no --clutter-db")
     motion = platform_motion_from_args(args)
@@ -123,8 +123,9 @@ def _add_verdict_options(p) -> None:
     p.add_argument("--no-fast-phase", action="store_true",
                    help="judge by the image alone (drop the 1° limit on what PGA cannot remove)")
     p.add_argument("--scene", choices=("auto", "realistic", "points"), default=None,
-                   help="points: five noise-free points (the default); realistic: clutter + noise + "
-                        "many scatterers, judged against a perfect IMU on the same scene; auto: realistic")
+                   help="realistic (the default): clutter + noise + many scatterers, judged against a "
+                        "perfect IMU on the same scene; points: five noise-free points (PGA's best case); "
+                        "auto: realistic")
     p.add_argument("--clutter-db", dest="clutter_to_target_db", type=float, default=None,
                    help="realistic scene: clutter-to-target ratio in dB (default −25)")
     p.add_argument("--snr-db", dest="snr_db", type=float, default=None,
