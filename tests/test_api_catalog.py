@@ -18,6 +18,12 @@ from budget.catalog.io import part_origins, shipped_catalog_dir
 from budget.cli.main import main
 from budget.errors import InputError
 
+from budget.mc import McOptions
+
+#: The scene does not matter to these tests (what a result says, which part a catalog gives):
+#: PGA's best case, the five noise-free points, keeps them fast.
+POINTS = McOptions(scene="points")
+
 SHIPPED_CSV = shipped_catalog_dir() / "parts.csv"
 BASE_ID = "ADIS16405"  # a shipped row with gyro and accel noise figures
 SCEN = "automotive_77ghz"  # where BASE_ID passes every trial (few trials: fast)
@@ -66,10 +72,10 @@ def test_user_part_is_found_by_every_api_function(tmp_path):
     assert budget.load_part("MY-ADIS", catalog=budget.load_catalog(path)) == part
     assert [p.part_id for p in budget.load_parts(["MY-ADIS", "STIM300"], path)] == ["MY-ADIS", "STIM300"]
 
-    r = budget.run_mc(SCEN, "MY-ADIS", trials=4, seed=2, catalog=path)
+    r = budget.run_mc(SCEN, "MY-ADIS", trials=4, seed=2, catalog=path, options=POINTS)
     assert r.model_label == "MY-ADIS" and r.trials == 4
 
-    table = budget.sweep(["MY-ADIS", "STIM300"], SCEN, trials=4, seed=2, catalog=path)
+    table = budget.sweep(["MY-ADIS", "STIM300"], SCEN, trials=4, seed=2, catalog=path, options=POINTS)
     assert list(table["part_id"]) == ["MY-ADIS", "STIM300"]
     row = table.set_index("part_id").loc["MY-ADIS"]
     assert row["p_pass_after"] == r.p_pass_after and row["ci_after_lo"] == r.ci_after[0]
@@ -86,14 +92,14 @@ def test_user_part_is_found_by_every_api_function(tmp_path):
     assert rep.check.part_ids == ("MY-ADIS",)
 
     with pytest.raises(InputError, match="unknown part 'MY-ADIS'"):  # not in the shipped catalog
-        budget.run_mc(SCEN, "MY-ADIS", trials=4)
+        budget.run_mc(SCEN, "MY-ADIS", trials=4, options=POINTS)
 
 
 def test_sweep_of_the_whole_user_catalog_matches_the_cli(tmp_path):
     path = _user_csv(tmp_path)
-    api = budget.sweep(None, SCEN, trials=4, seed=5, catalog=path)
+    api = budget.sweep(None, SCEN, trials=4, seed=5, catalog=path, options=POINTS)
     out = tmp_path / "cli.csv"
-    assert main(["sweep", "--preset", SCEN, "--catalog", str(path), "--trials", "4", "--seed", "5",
+    assert main(["sweep", "--scene", "points", "--preset", SCEN, "--catalog", str(path), "--trials", "4", "--seed", "5",
                  "--out", str(out), "--quiet"]) == 0
     cli = pd.read_csv(out)
     with_noise = [p.part_id for p in budget.load_catalog(path).values()
@@ -106,9 +112,9 @@ def test_sweep_of_the_whole_user_catalog_matches_the_cli(tmp_path):
 
 def test_run_mc_matches_the_cli_mc_for_a_user_part(tmp_path):
     path = _user_csv(tmp_path)
-    r = budget.run_mc(SCEN, "MY-ADIS", trials=6, seed=11, catalog=path)
+    r = budget.run_mc(SCEN, "MY-ADIS", trials=6, seed=11, catalog=path, options=POINTS)
     out = tmp_path / "mc.json"
-    assert main(["mc", "--preset", SCEN, "--part", "MY-ADIS", "--catalog", str(path), "--trials", "6",
+    assert main(["mc", "--scene", "points", "--preset", SCEN, "--part", "MY-ADIS", "--catalog", str(path), "--trials", "6",
                  "--seed", "11", "--json", str(out), "--quiet"]) == 0
     cli = json.loads(out.read_text())
     assert cli["model"] == "MY-ADIS"
@@ -118,7 +124,7 @@ def test_run_mc_matches_the_cli_mc_for_a_user_part(tmp_path):
 
 def test_ten_times_worse_user_part_never_passes_more_often(tmp_path):
     path = _ten_times_worse(tmp_path)
-    table = budget.sweep([BASE_ID, "WORSE"], [SCEN, "airborne_xband"], trials=8, seed=3, catalog=path)
+    table = budget.sweep([BASE_ID, "WORSE"], [SCEN, "airborne_xband"], trials=8, seed=3, catalog=path, options=POINTS)
     for scen, rows in table.groupby("scenario"):
         by = rows.set_index("part_id")
         assert by.loc["WORSE", "ci_after_lo"] <= by.loc[BASE_ID, "ci_after_lo"], scen
@@ -133,10 +139,10 @@ def test_a_user_row_with_a_shipped_id_replaces_it_in_the_api_as_on_the_cli(tmp_p
     assert part_origins(path)["STIM300"] == "user, replaces shipped"
     assert budget.load_part("STIM300", catalog=path).gyro_arw_deg_rt_h == 1.5  # the user's row
     assert budget.load_part("STIM300").gyro_arw_deg_rt_h != 1.5
-    table = budget.sweep(["STIM300"], SCEN, trials=4, seed=7, catalog=path)
+    table = budget.sweep(["STIM300"], SCEN, trials=4, seed=7, catalog=path, options=POINTS)
     assert table["grade"].iloc[0] == _shipped_row()[1]["grade"]  # the copied row's grade
     out = tmp_path / "mc.json"
-    assert main(["mc", "--preset", SCEN, "--part", "STIM300", "--catalog", str(path), "--trials", "4",
+    assert main(["mc", "--scene", "points", "--preset", SCEN, "--part", "STIM300", "--catalog", str(path), "--trials", "4",
                  "--seed", "7", "--json", str(out), "--quiet"]) == 0
     assert json.loads(out.read_text())["p_pass_after"] == table["p_pass_after"].iloc[0]
     capsys.readouterr()
@@ -151,8 +157,8 @@ def test_a_user_row_with_a_shipped_id_replaces_it_in_the_api_as_on_the_cli(tmp_p
 
 def test_unknown_id_names_the_user_catalog_searched(tmp_path):
     path = _user_csv(tmp_path)
-    for call in (lambda: budget.run_mc(SCEN, "MY-ADIZ", trials=4, catalog=path),
-                 lambda: budget.sweep(["MY-ADIZ"], SCEN, trials=4, catalog=path),
+    for call in (lambda: budget.run_mc(SCEN, "MY-ADIZ", trials=4, catalog=path, options=POINTS),
+                 lambda: budget.sweep(["MY-ADIZ"], SCEN, trials=4, catalog=path, options=POINTS),
                  lambda: budget.check_parts(["MY-ADIZ"], SCEN, catalog=path),
                  lambda: budget.sweep_over(["MY-ADIZ"], SCEN, "slant_range_m", [300.0], trials=4, catalog=path)):
         with pytest.raises(InputError) as err:
@@ -167,8 +173,8 @@ def test_unknown_id_names_the_user_catalog_searched(tmp_path):
 
 def test_missing_and_malformed_catalog_files_are_named(tmp_path, capsys):
     missing = tmp_path / "none.csv"
-    for call in (lambda c: budget.run_mc(SCEN, "STIM300", trials=4, catalog=c),
-                 lambda c: budget.sweep(None, SCEN, trials=4, catalog=c),
+    for call in (lambda c: budget.run_mc(SCEN, "STIM300", trials=4, catalog=c, options=POINTS),
+                 lambda c: budget.sweep(None, SCEN, trials=4, catalog=c, options=POINTS),
                  lambda c: budget.check_parts(None, SCEN, catalog=c)):
         with pytest.raises(InputError, match="file not found") as err:
             call(missing)
@@ -177,7 +183,7 @@ def test_missing_and_malformed_catalog_files_are_named(tmp_path, capsys):
     bad = _write(tmp_path / "bad.csv", header, [{**row, "part_id": "OK-1"},
                                                  {**row, "part_id": "BAD-1", "accel_vrw_m_s_rt_h": "fast"}])
     with pytest.raises(InputError) as err:
-        budget.sweep(["OK-1"], SCEN, trials=4, catalog=bad)
+        budget.sweep(["OK-1"], SCEN, trials=4, catalog=bad, options=POINTS)
     e = err.value
     assert (e.file, e.row, e.field, e.value) == (str(bad), 3, "accel_vrw_m_s_rt_h", "fast")
     assert "number" in e.expected
@@ -190,9 +196,9 @@ def test_missing_and_malformed_catalog_files_are_named(tmp_path, capsys):
 
 @pytest.mark.parametrize("bad", [5, 2.5, True, ["mine.csv"], b"mine.csv", ""])
 def test_a_catalog_argument_of_a_wrong_type_is_an_input_error(bad):
-    for call in (lambda: budget.run_mc(SCEN, "STIM300", trials=4, catalog=bad),
-                 lambda: budget.sweep(["STIM300"], SCEN, trials=4, catalog=bad),
-                 lambda: budget.sweep(None, SCEN, trials=4, catalog=bad),
+    for call in (lambda: budget.run_mc(SCEN, "STIM300", trials=4, catalog=bad, options=POINTS),
+                 lambda: budget.sweep(["STIM300"], SCEN, trials=4, catalog=bad, options=POINTS),
+                 lambda: budget.sweep(None, SCEN, trials=4, catalog=bad, options=POINTS),
                  lambda: budget.check_parts(["STIM300"], SCEN, catalog=bad),
                  lambda: budget.load_part(budget.load_part("STIM300"), catalog=bad)):
         with pytest.raises(InputError) as err:
@@ -202,7 +208,7 @@ def test_a_catalog_argument_of_a_wrong_type_is_an_input_error(bad):
 
 def test_a_mapping_of_something_else_than_parts_is_refused():
     with pytest.raises(InputError, match="'X' is not a part") as err:
-        budget.sweep(["X"], SCEN, trials=4, catalog={"X": {"gyro_arw_deg_rt_h": 1.0}})
+        budget.sweep(["X"], SCEN, trials=4, catalog={"X": {"gyro_arw_deg_rt_h": 1.0}}, options=POINTS)
     assert err.value.field == "catalog"
     # a plain dict of parts (e.g. a filtered catalog) is accepted
     cat = {k: v for k, v in budget.load_catalog().items() if k == "STIM300"}

@@ -16,6 +16,12 @@ import pytest
 import budget
 from budget.cli.main import main
 
+from budget.mc import McOptions
+
+#: The scene does not matter to these tests (what a result says, which part a catalog gives):
+#: PGA's best case, the five noise-free points, keeps them fast.
+POINTS = McOptions(scene="points")
+
 C = 299_792_458.0
 
 #: a Ka-band (35 GHz) UAV at 2 km, Taylor-like a_w = 1.2, lever arm given; no squint or medium key
@@ -91,7 +97,7 @@ def test_api_check_states_the_scenario_defaults_once(tmp_path, capsys):
 def test_sweep_rows_state_the_scenario_defaults_their_verdict_rests_on(tmp_path):
     path = _write(tmp_path, "auto24.json", AUTO24_SLOW)
     full = {**KA_UAV, "medium": "radar", "squint_deg": 0.0}
-    table = budget.sweep(["HG9900"], [path, _write(tmp_path, "ka.json", full)], trials=2, seed=1)
+    table = budget.sweep(["HG9900"], [path, _write(tmp_path, "ka.json", full)], trials=2, seed=1, options=POINTS)
     auto, ka = table["scenario_defaults"].tolist()
     # the slow automotive file leaves out medium, squint, window, lever arm and IMU rate
     for text in ("medium = radar", "squint_deg = 0 (broadside)", "window_broadening = 1",
@@ -154,7 +160,7 @@ def test_an_orbital_scenario_notes_its_specific_force_once_per_run(tmp_path):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         s = budget.load_scenario(path)
-        budget.run_mc(s, "HG9900", trials=2, seed=3, workers=1)
+        budget.run_mc(s, "HG9900", trials=2, seed=3, workers=1, options=POINTS)
     notes = [str(w.message) for w in caught if "level flight around the Earth" in str(w.message)]
     assert len(notes) == 1  # when the scenario is read, not again when the simulator rebuilds it
     # hand: Tc = λ R / (2 δℓ V) = 0.6286 s; g − V²/r_E = 9.80665 − 7500²/6.371e6 ≈ 0.978 m/s²
@@ -235,14 +241,14 @@ def test_a_user_row_without_a_bias_convention_is_told_which_one_it_got(tmp_path)
     stated.write_text(head + "accel_vrw_m_s_rt_h,source,bias_instability_convention\nHW-1,Acme,H1,"
                       + body + ",total_1sigma\n")
     ka = _write(tmp_path, "ka.json", KA_UAV)
-    r = budget.run_mc(ka, "HW-1", trials=2, seed=1, workers=1, catalog=str(bare))
+    r = budget.run_mc(ka, "HW-1", trials=2, seed=1, workers=1, catalog=str(bare), options=POINTS)
     text = r.unspecified_summary()
     assert "bias_instability_convention not given" in text
     assert "gyro_bias_instability_deg_h = 1 deg/h" in text and "accel_bias_instability_ug = 1000 µg" in text
-    r2 = budget.run_mc(ka, "HW-1", trials=2, seed=1, workers=1, catalog=str(stated))
+    r2 = budget.run_mc(ka, "HW-1", trials=2, seed=1, workers=1, catalog=str(stated), options=POINTS)
     assert "bias_instability_convention" not in r2.unspecified_summary()
     # the shipped rows all state theirs
-    r3 = budget.run_mc(ka, "STIM300", trials=2, seed=1, workers=1)
+    r3 = budget.run_mc(ka, "STIM300", trials=2, seed=1, workers=1, options=POINTS)
     assert "bias_instability_convention" not in r3.unspecified_summary()
 
 
@@ -282,20 +288,20 @@ def test_an_aided_scenario_states_the_aiding_keys_it_left_out(tmp_path):
     path = _write(tmp_path, "heli.json", heli)
     s = budget.load_scenario(path)
     assert s.tc_s == pytest.approx((C / 9.6e9) * 1000.0 / (2 * 0.3 * 10.0), rel=1e-12)
-    r = budget.run_mc(s, "HG9900", trials=2, seed=1, workers=1)
+    r = budget.run_mc(s, "HG9900", trials=2, seed=1, workers=1, options=POINTS)
     note = r.judged_on["aiding_defaults"]
     for text in ("aiding_mode = frozen", "aiding_warmup_s = 60", "latency_s = 0",
                  "correlated_sigma_m = 0.0 (white position noise only)", "lever_arm_m = [0.0, 0.0, 0.0]"):
         assert text in note, text
     assert "rate_hz" not in note and "sigma_m = " not in note.replace("correlated_sigma_m", "")
     assert note in r.summary()
-    row = budget.sweep(["HG9900"], [path], trials=2, seed=1)
+    row = budget.sweep(["HG9900"], [path], trials=2, seed=1, options=POINTS)
     assert "aiding_mode = frozen" in row["scenario_defaults"].iloc[0]
     # every aiding key written: nothing to state
     full = {**heli, "aiding_mode": "smoothed", "aiding_warmup_s": 30.0,
             "aiding": [{"type": "gnss", "rate_hz": 5.0, "sigma_m": 0.5, "latency_s": 0.1,
                         "lever_arm_m": [0.0, 0.0, 0.5], "correlated_sigma_m": 0.2, "correlation_time_s": 300.0}]}
-    r2 = budget.run_mc(_write(tmp_path, "heli_full.json", full), "HG9900", trials=2, seed=1, workers=1)
+    r2 = budget.run_mc(_write(tmp_path, "heli_full.json", full), "HG9900", trials=2, seed=1, workers=1, options=POINTS)
     assert "aiding_defaults" not in r2.judged_on
 
 
@@ -341,12 +347,12 @@ def test_mc_states_the_resolution_its_taylor_image_reaches_with_an_unweighted_a_
     # image resolves w·δℓ, w = 1.184 cells, not the 0.05 m asked for
     w = _taylor_3db_width_cells()
     assert w == pytest.approx(1.184, abs=0.002)
-    r = budget.run_mc(_write(tmp_path, "auto24.json", AUTO24_SLOW), "HG9900", trials=2, seed=1, workers=1)
+    r = budget.run_mc(_write(tmp_path, "auto24.json", AUTO24_SLOW), "HG9900", trials=2, seed=1, workers=1, options=POINTS)
     note = r.judged_on["window_resolution"]
     assert f"azimuth {w * 0.05:.3g} m and range {w * 0.1:.3g} m" in note
     assert f"window_broadening = {w:.3g}" in note and note in r.summary()
     # a_w = 1.2 written for the Taylor window (the Ka-band file): within 5 %, nothing to say
-    r2 = budget.run_mc(_write(tmp_path, "ka.json", KA_UAV), "HG9900", trials=2, seed=1, workers=1)
+    r2 = budget.run_mc(_write(tmp_path, "ka.json", KA_UAV), "HG9900", trials=2, seed=1, workers=1, options=POINTS)
     assert "window_resolution" not in r2.judged_on
 
 
