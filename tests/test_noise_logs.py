@@ -208,7 +208,11 @@ def test_real_log_partial_read(shared_data):
     p = shared_data / "logs" / "adis16405_static_1.csv.gz"
     log = read_log(p, max_rows=20_000)
     assert log.rate_hz == 100.0 and log.n_samples == 20_000
-    assert not [i for i in log.issues.issues if i.severity != "info"]
+    # the only findings: the bench settling in the first 7 s (accel_z swings by 0.6 m/s² at 3.3 s),
+    # kept as warnings by the transient check (budget.noise.stationarity)
+    found = [i for i in log.issues.issues if i.severity != "info"]
+    assert {i.kind for i in found} <= {"transient"} and all(i.severity == "warning" for i in found)
+    assert all(i.column.startswith("accel_") and max(i.rows) < 1_000 for i in found)
     # accel z carries gravity (−1 g); gyro values are multiples of the 0.05 deg/s LSB
     assert abs(np.mean(log.channels["accel_z"]) + G0) < 0.3
     lsb = log.channels["gyro_x"] / DEG / 0.05

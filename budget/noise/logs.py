@@ -19,13 +19,13 @@ import io
 import math
 import warnings
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ..errors import LOG_MAPPING_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, REPAIR_WAY, InputError
+from ..errors import LOG_CHANNEL_WAY, LOG_MAPPING_WAY, LOG_RATE_WAY, LOG_TIME_UNIT_WAY, REPAIR_WAY, InputError
 from ..fileio import (EIGHT_BIT_CODEC, check_input_file, compression_of, input_encoding, open_input,
                       require_file)
 from ..units import CHANNELS
@@ -299,6 +299,8 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     warning if they disagree by more than 1 %). ``channels`` restricts which sensor channels are
     kept (e.g. ``["gyro_z"]``); ``max_rows`` reads only the first rows. Error-level issues raise
     :class:`LogError` unless ``repair`` — then they are repaired and listed in ``issues.repairs``.
+    A transient event below full scale (a knock) that decides a channel's Allan fit is refused,
+    a smaller one is a warning (:func:`_transients`).
     """
     path = Path(path)
     require_file(path)
@@ -383,8 +385,41 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     temp = data[:, plan.temp_index] + plan.temp_offset_c if plan.temp_index is not None else None
     if temp is not None:
         report.issues += lv.implausible_temperature(temp, plan.sources[plan.temp_index])
+    report.issues += _transients(chans, rate, plan, bool(report.repairs), path)
     return ImuLog(str(path), chans, rate, time_s, temp, report,
                   {c: plan.source_units[c] for c in chans})
+
+
+def _transients(chans: dict[str, np.ndarray], rate: float, plan: ColumnPlan, repaired: bool,
+                path: Path) -> list[lc.LogIssue]:
+    """Transient events below full scale (:func:`~budget.noise.stationarity.transient_issue`): the
+    error for the first channel whose event decides its Allan fit, else the warnings.
+
+    Refused, like a saturated run (:func:`~budget.noise.log_values.clipped`), when an event carries
+    ≥ 20 % of the record's variance at its own time scale: it is then an event far beyond the noise
+    (threshold: a false alarm once in 10³ noise-only channels) that sets the fitted ARW and bias
+    instability — a knock read 6× the ARW and 200× the bias instability with only a misfit
+    warning — and no figure of the channel can be trusted; the remedy is the user's (which rows to
+    cut), not a repair the reader could guess. A smaller event is a warning, as a bias step is: it
+    is found, but it does not decide the figures."""
+    from .stationarity import record_rows, transient_issue
+    from ..units import channel_si_unit
+
+    out = []
+    for ch, x in chans.items():
+        issue, refuse = transient_issue(x, rate, ch, channel_si_unit(ch), record_rows(repaired))
+        if issue is None:
+            continue
+        col = plan.targets[plan.channel_index[ch]]  # named as the clipping check names it
+        issue = replace(issue, column=col)
+        if refuse:
+            first = issue.rows[0]
+            raise InputError(issue.message, file=path, field=col,
+                             expected=f"a static log without the event: cut its rows (from {first:,} on, with a "
+                             "margin of a second either side) from a copy of the file, or characterise the "
+                             f"record before or after it; or {LOG_CHANNEL_WAY.cli}")
+        out.append(issue)
+    return out
 
 
 def _ignored_column_issue(column: str) -> lc.LogIssue:
