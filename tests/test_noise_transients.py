@@ -9,7 +9,6 @@ rate random walk, a 7 Hz tone)."""
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -106,12 +105,12 @@ def test_a_bias_step_is_left_to_the_step_check():
     assert not transient_stats(x, FS).events
 
 
-def test_six_hours_at_400_hz_take_about_half_a_second_per_channel():
+def test_six_hours_of_white_noise_at_400_hz_give_no_event():
+    """The longest record the readers are tested on (8.6 M samples, the most window positions, so
+    the highest threshold): no event. (Its cost, ≈ 0.5 s per channel, is a speed figure, not
+    asserted here.)"""
     x = np.random.default_rng(0).standard_normal(int(6 * 3600 * FS))
-    transient_stats(x[:100_000], FS)  # compiled once
-    t0 = time.perf_counter()
-    st = transient_stats(x, FS)
-    assert time.perf_counter() - t0 < 4.0 and not st.events
+    assert not transient_stats(x, FS).events
 
 
 def _write(path, fs: float, channels: dict[str, np.ndarray]) -> str:

@@ -205,15 +205,16 @@ def _level(w: np.ndarray) -> float:
     return med + float(np.clip(w - med, -clip, clip).mean())
 
 
-def _fmt(v: float, unit: str) -> str:
-    """A value in the channel's SI unit, with its datasheet unit beside it (deg/h, µg)."""
+def _fmt(v: float, unit: str, large: bool = False) -> str:
+    """A value in the channel's SI unit, with its datasheet unit beside it: deg/h and µg for a
+    bias level, deg/s and g for a large excursion (``large``: a knock)."""
     from .. import units as u
 
     text = f"{v:.3g} {unit}"
     if unit == "rad/s":
-        text += f" ({float(u.rad_s_to_deg_h(v)):.3g} deg/h)"
+        text += f" ({float(u.rad_s_to_dps(v)):.3g} deg/s)" if large else f" ({float(u.rad_s_to_deg_h(v)):.3g} deg/h)"
     elif unit == "m/s²":
-        text += f" ({float(u.m_s2_to_ug(v)):.3g} µg)"
+        text += f" ({v / u.G0:.3g} g)" if large else f" ({float(u.m_s2_to_ug(v)):.3g} µg)"
     return text
 
 
@@ -432,16 +433,6 @@ def transient_threshold(n: int, windows: list[int]) -> float:
     return TRANSIENT_MARGIN * float(-ndtri(TRANSIENT_ALPHA / (2.0 * max(tests, 1.0))))
 
 
-def _fmt_event(v: float, unit: str) -> str:
-    """An event's size in the channel's SI unit, with deg/s (g) beside it."""
-    text = f"{v:.3g} {unit}"
-    if unit == "rad/s":
-        text += f" ({np.degrees(v):.3g} deg/s)"
-    elif unit == "m/s²":
-        text += f" ({v / 9.80665:.3g} g)"
-    return text
-
-
 def _hat(cs: np.ndarray, L: int) -> np.ndarray:
     """y_k = mean(x[k:k+L]) − ½[mean(x[k−L:k]) + mean(x[k+L:k+2L])] for k = L … n−2L, from the
     cumulative sum ``cs`` (cs[0] = 0); element i is k = L + i."""
@@ -576,7 +567,7 @@ def transient_issue(x: np.ndarray, rate_hz: float, channel: str, unit: str, rows
     listed = "; ".join(
         f"{rows.span(e.start, e.stop) if e.stop - e.start > 1 else rows.at(e.start)} "
         f"({e.stop - e.start} sample{'s' if e.stop - e.start > 1 else ''}, {(e.stop - e.start) / rate_hz:.3g} s): "
-        f"mean offset {_fmt_event(e.offset, unit)}, peak {_fmt_event(e.peak, unit)}; {e.z:.0f} σ of the record's "
+        f"mean offset {_fmt(e.offset, unit, large=True)}, peak {_fmt(e.peak, unit, large=True)}; {e.z:.0f} σ of the record's "
         f"own noise in a {e.L}-sample window (threshold {st.threshold:.2g} σ), {100 * e.share:.2g} % of its "
         "variance at that window"
         for e in ev[:_LISTED])
