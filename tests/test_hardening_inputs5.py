@@ -216,11 +216,19 @@ def test_a_clipped_channel_is_refused_and_a_few_samples_at_a_rail_are_warned(tmp
         read_log(_write(tmp_path / "clip.csv", [f"{i / 100:.2f}" for i in range(6000)], clipped))
     assert e.value.field == "gyro_x_dps" and "largest value 0.15," in str(e.value)
     assert f"({100 * share:.3g} %)" in str(e.value) and "clipped at a range limit" in str(e.value)
-    few = x.copy()
-    few[100:112, 1] = 0.5  # a knock: 12 samples at the rail
-    log = read_log(_write(tmp_path / "few.csv", [f"{i / 100:.2f}" for i in range(6000)], few))
+    # a knock of 12 samples at a 5σ rail carries 29 % of the record's variance at its 16-sample
+    # scale: the transient check refuses it (it would decide the Allan fit there), naming its rows
+    knock = x.copy()
+    knock[100:112, 1] = 0.5
+    with pytest.raises(InputError) as e:
+        read_log(_write(tmp_path / "knock.csv", [f"{i / 100:.2f}" for i in range(6000)], knock))
+    assert e.value.field == "gyro_y_dps" and "rows 102–113 (12 samples" in str(e.value)
+    # the same knock in a 5-min record carries a fifth of that share: a clipping warning
+    few = _values(30000)
+    few[100:112, 1] = 0.5
+    log = read_log(_write(tmp_path / "few.csv", [f"{i / 100:.2f}" for i in range(30000)], few))
     warn = [i for i in log.issues.issues if i.kind == "clipped"]
     assert len(warn) == 1 and warn[0].column == "gyro_y_dps" and warn[0].rows[0] == 102
-    assert "12 of 6000 samples" in warn[0].message
+    assert "12 of 30000 samples" in warn[0].message
     plain = read_log(_write(tmp_path / "plain.csv", [f"{i / 100:.2f}" for i in range(6000)], x))
     assert not [i for i in plain.issues.issues if i.kind == "clipped"]
