@@ -82,10 +82,11 @@ def test_gyro_scale_factor_fails_the_verdict_only_when_the_platform_rotates():
     with the bound's roll through 1 rad it passes at 0.1× and fails at 30× (range migration among
     the reasons: the error reaches ≈ 0.13 δr·scale cross-track); in straight flight 30× passes."""
     bound_ppm = 0.1 * XBAND.range_resolution_m / XBAND.tc_s**2 * 1e6
-    roll = McOptions(platform_motion={"kind": "attitude_change"})
+    roll = McOptions(platform_motion={"kind": "attitude_change"}, scene="points")
     small = run_mc(XBAND, NoiseModel(part_id="sf", gyro_scale_factor_ppm=0.1 * bound_ppm), 64, 1, options=roll)
     big = run_mc(XBAND, NoiseModel(part_id="sf", gyro_scale_factor_ppm=30 * bound_ppm), 64, 1, options=roll)
-    straight = run_mc(XBAND, NoiseModel(part_id="sf", gyro_scale_factor_ppm=30 * bound_ppm), 64, 1)
+    straight = run_mc(XBAND, NoiseModel(part_id="sf", gyro_scale_factor_ppm=30 * bound_ppm), 64, 1,
+                      options=McOptions(scene="points"))
     assert small.p_pass_after == 1.0
     assert big.ci_after[1] < 0.5 and big.agg.failure_reasons()["range_migration"] > 0
     assert straight.p_pass_after == 1.0
@@ -95,7 +96,7 @@ def test_gyro_scale_factor_fails_the_verdict_only_when_the_platform_rotates():
 
 
 def test_oscillation_verdict_is_the_same_with_two_workers():
-    opt = McOptions(platform_motion={"kind": "oscillation", "period_s": 4.0})
+    opt = McOptions(platform_motion={"kind": "oscillation", "period_s": 4.0}, scene="points")
     part = NoiseModel(part_id="m", gyro_misalignment_mrad=50.0, gyro_arw_deg_rt_h=0.5)
     a = run_mc(XBAND, part, 128, 2, options=opt)
     b = run_mc(XBAND, part, 128, 2, options=opt, workers=2)
@@ -125,7 +126,7 @@ def test_bad_platform_motions_are_refused_by_name():
     assert "period_s" in str(e.value)
     still = XBAND.model_copy(update={"platform_rate_deg_s": 0.0})
     with pytest.raises(InputError) as e:
-        run_mc(still, NoiseModel(), 64, 0, options=McOptions(platform_motion={"kind": "oscillation"}))
+        run_mc(still, NoiseModel(), 64, 0, options=McOptions(platform_motion={"kind": "oscillation"}, scene="points"))
     assert e.value.field == "platform_motion.peak_rate_deg_s"
     with pytest.raises(InputError) as e:
         PlatformMotion(kind="oscillation", peak_rate_deg_s=30.0, period_s=60.0).disturbance_for(XBAND)
@@ -143,7 +144,7 @@ def test_consistency_table_refuses_rotation_terms_in_straight_flight():
 def test_cli_platform_motion_options(tmp_path):
     def run(*args):
         return subprocess.run([sys.executable, "-m", "budget.cli.main", "mc", "--preset", "airborne_xband",
-                               "--part", "STIM300", "--trials", "64", "--quiet", *args],
+                               "--part", "STIM300", "--trials", "64", "--quiet", "--scene", "points", *args],
                               capture_output=True, text=True)
     r = run("--manoeuvre-period", "3")
     assert r.returncode != 0 and "need --platform-motion" in r.stderr and "Traceback" not in r.stderr
@@ -169,7 +170,7 @@ def test_report_states_the_platform_motion_it_was_judged_with(tmp_path):
 def test_sweep_rows_name_the_platform_motion():
     from budget.mc.sweep import sweep
     table = sweep([NoiseModel(part_id="m", gyro_arw_deg_rt_h=0.1)], [XBAND], 64, 1,
-                  options=McOptions(platform_motion={"kind": "oscillation"}))
+                  options=McOptions(platform_motion={"kind": "oscillation"}, scene="points"))
     assert table["platform_motion"].str.startswith("platform oscillating").all()
 
 
