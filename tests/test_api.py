@@ -78,6 +78,7 @@ def _trade_study():
     return mod
 
 
+@pytest.mark.slow
 def test_worked_trade_study_runs_and_its_table_is_the_sweep(tmp_path, capsys):
     """examples/trade_study.py with one trial per cell (the README shows it with 64)."""
     mod = _trade_study()

@@ -22,6 +22,7 @@ if str(APP_DIR) not in sys.path:
     sys.path.insert(0, str(APP_DIR))
 
 
+@pytest.mark.slow
 def test_model_gap_page_runs_the_example():
     at = AppTest.from_file(str(APP_DIR / "main.py"), default_timeout=300).run()
     at.switch_page("pages/model_gap.py").run()

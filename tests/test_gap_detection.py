@@ -172,6 +172,7 @@ def test_rerun_with_updated_model_names_nothing(tmp_path):
     assert again.gap_before <= again.null_before.overall_threshold
 
 
+@pytest.mark.slow
 def test_two_hidden_effects_on_two_channels():
     model = BASE.with_effect({"name": "sinusoid", "channel": "accel_x",
                               "params": {"frequency_hz": 3.1, "amplitude": 3e-3}})

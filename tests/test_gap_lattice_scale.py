@@ -31,6 +31,7 @@ def test_grouped_median_is_continuous_where_the_plain_median_jumps(step):
     assert np.unique(plain).size <= 3  # the plain median only takes lattice values
 
 
+@pytest.mark.slow
 def test_quantized_log_follows_its_own_model():
     """A one-hour log from the independent generator (tests/gap_truth.py) whose gyro_x has its
     integrated output floored at 2× the model's Allan deviation at τ = dt: with that quantizer in

@@ -79,6 +79,7 @@ def _first(name: str, seed: int, ratio: float, monkeypatch):
     return (rep.steps[0] if rep.steps else None), truth
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0])
 def test_a_step_is_named_with_its_time_and_size(seed, monkeypatch):
     """accel_x alone, 1 h, a step at a drawn time sized to 3× the base Allan deviation at its

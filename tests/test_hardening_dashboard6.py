@@ -125,6 +125,7 @@ def test_model_gap_refuses_a_model_without_noise_terms(tmp_path):
     assert not at.error and [b for b in at.button if b.key == "gap_run"]
 
 
+@pytest.mark.slow
 def test_user_part_with_windows_csv_and_empty_terms_states_its_fill_in_the_mc():
     """A catalog CSV saved by Excel on Windows (BOM, CRLF), most datasheet cells empty: it merges,
     and the Monte Carlo page states every value it filled or took as zero."""

@@ -205,6 +205,7 @@ def test_stationarity_warning_is_printed_by_the_cli(tmp_path, capsys):
     assert json.loads(out.out)["warnings"][0].startswith("gyro_x: noise level not constant")
 
 
+@pytest.mark.slow
 def test_real_adis16405_logs_are_one_regime(shared_data):
     """(d) The two real 2.8-h ADIS16405 bench logs: no warning. What the statistics say (measured,
     recorded here): every channel's sample-to-sample noise is constant within 5 % except

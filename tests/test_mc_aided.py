@@ -49,6 +49,7 @@ def test_aiding_section_is_typed_parsed_once_and_round_trips(tmp_path):
         Scenario.from_dict(s.model_dump() | {"aiding_mode": "magic"})
 
 
+@pytest.mark.slow
 def test_aided_run_is_deterministic_and_bounded():
     s = aided("automotive_77ghz", aiding=[GNSS], aiding_warmup_s=5.0, aiding_mode="realtime")
     a = run_mc(s, get_part("MPU-6050"), 8, 4).to_dict()

@@ -111,6 +111,7 @@ def test_accel_bias_verdict_no_longer_set_by_the_image_size(monkeypatch):
     assert k_fixed < k_auto, (k_fixed, k_auto)  # the artefact this removes is still there without it
 
 
+@pytest.mark.slow
 def test_a_part_whose_defocus_fits_is_simulated_as_before():
     """STIM300 on airborne X band moves energy by ≈ 14 cells, which the 312-cell aperture image
     holds: the sampling and every trial's numbers are those of room 0."""

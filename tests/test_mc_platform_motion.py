@@ -141,6 +141,7 @@ def test_consistency_table_refuses_rotation_terms_in_straight_flight():
         consistency_table(XBAND, terms=["gyro_flux"], scales=(1.0,), trials=64)
 
 
+@pytest.mark.slow
 def test_cli_platform_motion_options(tmp_path):
     def run(*args):
         return subprocess.run([sys.executable, "-m", "budget.cli.main", "mc", "--preset", "airborne_xband",

@@ -119,6 +119,7 @@ def test_a_filter_with_unit_dc_gain_is_accepted_and_deterministic():
     assert a.prefilter == "kalman" and b.prefilter == "none"
 
 
+@pytest.mark.slow
 def test_cli_json_carries_the_dc_gains(tmp_path, capsys):
     """A model whose only noisy channels are strongly coloured (a slow Gauss–Markov bias on the
     accelerometers, φ → 1) keeps DC gain 1 within 1 %: the run goes ahead and the JSON reports

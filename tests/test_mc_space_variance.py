@@ -139,6 +139,7 @@ def test_30_m_disagreement_names_space_variance_with_its_figure_not_the_filled_t
     assert "unspecified='zero'" not in out["reason"]
 
 
+@pytest.mark.slow
 def test_300_m_with_the_same_aperture_time_agrees_and_its_figure_is_not_material():
     """Same error statistics (same Tc and seed), ten times the range: the Monte Carlo passes all
     64 trials (1.00 [0.94, 1.00]: 32 would leave the interval straddling 0.9), nothing is to
@@ -153,6 +154,7 @@ def test_300_m_with_the_same_aperture_time_agrees_and_its_figure_is_not_material
     assert 0.1 < sv.residual_deg < 1.0 and not sv.material
 
 
+@pytest.mark.slow
 def test_a_disagreement_from_filled_terms_still_names_them():
     """A part whose figures are HG9900's but labelled consumer grade, its accelerometer bias
     left empty: the check passes on what is given; the Monte Carlo fills 125 mg from the consumer

@@ -164,6 +164,7 @@ def test_cli_sweep_warns_about_a_scenario_it_cannot_simulate(tmp_path, capsys):
     assert "target" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_dask_backend_matches_serial():
     distributed = pytest.importorskip("dask.distributed", reason="dask[distributed] not installed")
     s, p = get_preset("automotive_77ghz"), get_part("ADIS16405")

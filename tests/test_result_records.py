@@ -29,6 +29,7 @@ def verdicts():
     return shipped, user, run_mc(s, shipped, 2, 3, options=opts), run_mc(s, user, 2, 3, options=opts)
 
 
+@pytest.mark.slow
 def test_the_verdict_names_the_values_it_simulated(verdicts):
     shipped, user, r_shipped, r_user = verdicts
     assert r_shipped.model_label == r_user.model_label == "STIM300"  # the names cannot tell them apart

@@ -45,6 +45,7 @@ def _qpe_broadening_reference(q_rad: float) -> tuple[float, float]:
     return wq / w0 - 1.0, -20 * math.log10(peak)
 
 
+@pytest.mark.slow
 def test_quadratic_phase_error_broadening(setup):
     g, scene = setup
     u = normalised_time(g)

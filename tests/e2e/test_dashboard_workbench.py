@@ -41,6 +41,7 @@ def _set_number(page, label: str, value) -> None:
     _idle(page)
 
 
+@pytest.mark.slow
 def test_real_log_on_noise_lab(page, dashboard_url):
     from playwright.sync_api import expect
 
@@ -84,6 +85,7 @@ def test_real_log_on_model_gap(page, dashboard_url):
     page.screenshot(path=str(ARTIFACTS / "model_gap_real_log.png"), full_page=True)
 
 
+@pytest.mark.slow
 def test_sweep_page_then_report_download_opens_offline(page, dashboard_url, tmp_path):
     from playwright.sync_api import expect
 
