@@ -72,7 +72,7 @@ def test_real_log_on_model_gap(page, dashboard_url):
     expect(page.get_by_text("Upload a static IMU log or an Allan table", exact=False)).to_be_visible()
     _idle(page)  # the radio's rerun ends before the file is set (see test_allan_table_on_noise_lab)
     _upload(page, log)
-    expect(page.get_by_text("adis16405_static_1.csv.gz:", exact=False)).to_be_visible()
+    expect(page.get_by_text("adis16405_static_1.csv.gz: 1000000 samples", exact=False)).to_be_visible()
     # 2·10⁵ samples (33 min) keep the browser test short; the CLI test runs the whole log
     _set_number(page, "read at most this many rows", 200_000)
     _set_number(page, "model realizations", 4)
