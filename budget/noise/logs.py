@@ -32,6 +32,7 @@ from ..units import CHANNELS
 from . import log_checks as lc
 from . import log_values as lv
 from .log_clock import ClockColumn, clock_kind, is_clock_text
+from .log_counter import unwrap_counter
 from .log_mapping import (ColumnPlan, LogMapping, clock_candidates, mapping_by_column, plan_columns,
                           time_unit_hint, unread_channel)
 
@@ -324,6 +325,8 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     data = _read_chunks(path, plan, mapping, max_rows, chunk_rows, kind, fmt, clock)
     if data.shape[0] == 0:
         raise InputError("no data rows after the header", file=path)
+    wraps = (unwrap_counter(data[:, plan.time_index], plan.factors[plan.time_index])
+             if plan.time_index is not None and clock is None else None)
     report = lc.LogReport(issues=[_ignored_column_issue(c) for c in plan.ignored]
                           + [lc.LogIssue("temperature_column", "info", t) for t in plan.temp_notes]
                           + [lc.LogIssue("header_comment_mark", "info", t) for t in plan.header_notes]
@@ -331,7 +334,11 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
                                           f"mark: read as {EIGHT_BIT_CODEC} (Windows' 8-bit text, where ° and µ "
                                           "are one byte each)")] if fmt["encoding"] == EIGHT_BIT_CODEC else [])
                           + ([lc.LogIssue("clock_time", "info", clock.note(), 0, (), clock.column)]
-                             if clock is not None else []))
+                             if clock is not None else [])
+                          + ([lc.LogIssue("counter_wrap", "info", wraps.note(plan.sources[plan.time_index]),
+                                          int(wraps.rows.size), lc.listed_rows(wraps.rows),
+                                          plan.sources[plan.time_index])]
+                             if wraps is not None else []))
     report.issues += lc.check_log(data, plan.targets, plan.time_index, plan.channel_index)
     coarse = next((i for i in report.issues if i.kind == "coarse_time"), None)
     if coarse is not None:  # a repair cannot help: it would drop every row whose stamp repeats
