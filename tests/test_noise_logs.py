@@ -209,7 +209,7 @@ def test_real_log_partial_read(shared_data):
     log = read_log(p, max_rows=20_000)
     assert log.rate_hz == 100.0 and log.n_samples == 20_000
     # the only findings: the bench settling in the first 7 s (accel_z swings by 0.6 m/s² at 3.3 s),
-    # kept as warnings by the transient check (budget.noise.stationarity)
+    # kept as warnings by the transient check (budget.noise.transients)
     found = [i for i in log.issues.issues if i.severity != "info"]
     assert {i.kind for i in found} <= {"transient"} and all(i.severity == "warning" for i in found)
     assert all(i.column.startswith("accel_") and max(i.rows) < 1_000 for i in found)

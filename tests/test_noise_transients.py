@@ -1,5 +1,5 @@
 """Transient events ("knocks") below full scale: found on one channel, the log refused or warned
-about by the reader, and no event in clean records (:func:`budget.noise.stationarity.transient_stats`).
+about by the reader, and no event in clean records (:func:`budget.noise.transients.transient_stats`).
 
 The generator here is NumPy only and shares nothing with the detector: white noise of a tactical
 gyro (ARW 0.2 deg/√h), flicker noise shaped in the frequency domain to an Allan floor of
@@ -15,7 +15,8 @@ import pytest
 
 from budget.errors import InputError
 from budget.noise import read_log
-from budget.noise.stationarity import record_rows, transient_issue, transient_stats
+from budget.noise.stationarity import record_rows
+from budget.noise.transients import transient_issue, transient_stats
 
 FS = 400.0
 SIGMA_DPS = 0.2 / 60.0 * math.sqrt(FS)  # white noise per sample of ARW 0.2 deg/√h at 400 Hz: 0.067 deg/s

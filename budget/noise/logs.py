@@ -399,7 +399,7 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
 
 def _transients(chans: dict[str, np.ndarray], rate: float, plan: ColumnPlan, repaired: bool,
                 path: Path) -> list[lc.LogIssue]:
-    """Transient events below full scale (:func:`~budget.noise.stationarity.transient_issue`): the
+    """Transient events below full scale (:func:`~budget.noise.transients.transient_issue`): the
     error for the first channel whose event decides its Allan fit, else the warnings.
 
     Refused, like a saturated run (:func:`~budget.noise.log_values.clipped`), when an event carries
@@ -409,7 +409,8 @@ def _transients(chans: dict[str, np.ndarray], rate: float, plan: ColumnPlan, rep
     warning — and no figure of the channel can be trusted; the remedy is the user's (which rows to
     cut), not a repair the reader could guess. A smaller event is a warning, as a bias step is: it
     is found, but it does not decide the figures."""
-    from .stationarity import record_rows, transient_issue
+    from .stationarity import record_rows
+    from .transients import transient_issue
     from ..units import channel_si_unit
 
     out = []

@@ -1,7 +1,7 @@
-"""Compiled loops of the transient search (:func:`budget.noise.stationarity.transient_stats`): the
+"""Compiled loops of the transient search (:func:`budget.noise.transients.transient_stats`): the
 7-sample running median each sample is winsorized about, and the largest |y| of the window statistic at one window length, in one pass over the cumulative sum and
 without the n-sample temporaries the NumPy form builds (four per window length). The arithmetic is
-that of :func:`budget.noise.stationarity._hat`. Compiled by numba on first use and cached beside
+that of :func:`budget.noise.transients._hat`. Compiled by numba on first use and cached beside
 this file (``cache=True``).
 """
 
