@@ -8,7 +8,7 @@ from scipy import stats
 
 from budget.gap import theory as th
 from budget.gap.metric import ModelSummary, NullModel, gap_terms, loo_z
-from budget.gap.quadform import quadratic_form_quantile
+from budget.quadform import quadratic_form_quantile
 from budget.gap.report import localize
 from budget.gap.signatures import SignatureGrid, series_signature
 from budget.gap.simulate import simulate_signatures

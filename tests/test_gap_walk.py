@@ -12,7 +12,7 @@ from scipy import linalg, signal, stats
 
 import gap_truth as gt
 from budget.gap import walk
-from budget.gap.quadform import quadratic_form_quantile, quadratic_form_sf
+from budget.quadform import quadratic_form_quantile, quadratic_form_sf
 from budget.imu import NoiseModel
 
 DT = 0.01

@@ -10,7 +10,7 @@ Public API (SI inside: rad/s, m/s²):
 * :func:`log_from_arrays` — an :class:`~budget.noise.ImuLog` from SI arrays
 * :mod:`budget.gap.signatures`, :mod:`budget.gap.metric` (gap definition and null),
   :mod:`budget.gap.walk` (the record's slowest modes against the model's exact covariance),
-  :mod:`budget.gap.quadform` (weighted-χ² tails), :mod:`budget.gap.candidates` (effect
+  :mod:`budget.quadform` (weighted-χ² tails, shared with the bounds), :mod:`budget.gap.candidates` (effect
   library); figures in :mod:`budget.plots.gap`
 """
 

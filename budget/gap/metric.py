@@ -55,7 +55,7 @@ from scipy import special, stats
 
 from ..noise.allan import edf_simple, noise_type_from_slope
 from . import lowfreq, walk
-from .quadform import quadratic_form_quantile
+from ..quadform import quadratic_form_quantile
 from .signatures import Signature, SignatureGrid, band_counts, band_means
 from .theory import Increment
 

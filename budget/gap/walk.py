@@ -38,7 +38,7 @@ realizations:
   variance to the slowest mode (q₀ = 0 would be the locally most powerful weights λ_i of Rao's score test,
   which let the two or three slowest modes, a few degrees of freedom, carry it all) — is under
   the model a weighted sum of χ²₁, whose distribution follows from the four-cumulant match of
-  Liu, Tang & Zhang (2009) (:func:`budget.gap.quadform.quadratic_form_sf`); its z is the normal
+  Liu, Tang & Zhang (2009) (:func:`budget.quadform.quadratic_form_sf`); its z is the normal
   score of that probability (positive: more slow power than the model, negative: less).
 
 The statistic is the same for a bias instability, a long Gauss–Markov term or a walk: it
@@ -64,7 +64,7 @@ from scipy import linalg, special
 from ..imu import effects as fx
 from ..imu.flicker import flicker_bank
 from ..imu.registry import DETERMINISTIC_EFFECTS
-from .quadform import quadratic_form_sf
+from ..quadform import quadratic_form_sf
 
 #: Blocks the record is reduced to.
 N_BLOCKS = 256
