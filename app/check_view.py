@@ -20,11 +20,18 @@ PASS_BG, FAIL_BG, NONE_BG = "#c7e9c0", "#fcbba1", "#eeeeee"
 PASS_BINDING_BG, FAIL_BINDING_BG = "#74c476", "#fb6a4a"
 
 
+#: Columns of :func:`check_frame` for what PGA cannot remove (rms over apertures, and the share of
+#: apertures whose residual stays within the limit).
+BEYOND_PGA = "beyond PGA (° rms)"
+WITHIN_LIMIT = "apertures within the limit"
+
+
 def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
     """One row per part: part_id, grade, verdict, binding, min margin, the PGA-limited verdict and
     margin (seed 004's bounds tightened by fast phase and lever arm), a margin per parameter,
-    unspecified parameters, flag (⚠ where the check's seed 004 verdict and its fast-phase /
-    lever-arm verdict differ, ``CheckResult.flag``). Margins are bound/spec (≥ 1 passes); NaN where
+    the predicted rms beyond PGA's window and the share of apertures within its limit
+    (``CheckResult.fast_phase`` / ``fast_phase_p``), unspecified parameters, flag (⚠ where the
+    check's seed 004 verdict and its fast-phase / lever-arm verdict differ, ``CheckResult.flag``). Margins are bound/spec (≥ 1 passes); NaN where
     not in the datasheet."""
     recs = result.to_dict()["scenarios"][scenario_index]["parts"]
     mins = np.asarray(result.min_margin[:, scenario_index], float)
@@ -33,7 +40,8 @@ def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
         row = {"part_id": rec["part_id"], "grade": rec["grade"], "verdict": rec["verdict"],
                "binding": PARAM_LABELS.get(rec["binding"], rec["binding"]) if rec["binding"] else None,
                "min margin": float(mm) if math.isfinite(mm) else math.nan,
-               "PGA-limited": rec["pga_limited_verdict"], "PGA-limited margin": rec["pga_limited_min_margin"]}
+               "PGA-limited": rec["pga_limited_verdict"], "PGA-limited margin": rec["pga_limited_min_margin"],
+               BEYOND_PGA: rec["fast_phase_residual_deg"], WITHIN_LIMIT: rec["fast_phase_p_within_limit"]}
         for p in result.params:
             row[PARAM_LABELS[p]] = rec["margins"].get(p, math.nan)
         row["unspecified"] = len(rec["unspecified"])
@@ -81,4 +89,6 @@ def style_check_frame(frame: pd.DataFrame):
             .apply(margins_css, axis=1)
             .map(_verdict_css, subset=[c for c in ("verdict", "PGA-limited") if c in frame.columns])
             .format(na_rep="–")
-            .format("{:.3g}", subset=margin_cols, na_rep="–"))
+            .format("{:.3g}", subset=margin_cols, na_rep="–")
+            .format("{:.3g}", subset=[c for c in (BEYOND_PGA,) if c in frame.columns], na_rep="–")
+            .format("{:.3f}", subset=[c for c in (WITHIN_LIMIT,) if c in frame.columns], na_rep="–"))

@@ -85,6 +85,10 @@ class CheckResult:
     #: (:func:`budget.bounds.fast_phase_residual`, weighted as the verdict images; seed 004's limit
     #: 1°); NaN when the part leaves either unspecified; None when not computed
     fast_phase_deg: np.ndarray | None = None
+    #: (P, S) probability that one aperture's residual beyond PGA's window is within the limit
+    #: (:meth:`budget.bounds.FastPhaseResidual.p_within_limit`: the rms above is over apertures,
+    #: and one aperture's scatters about it); NaN where the rms is NaN; None when not computed
+    fast_phase_p_within: np.ndarray | None = None
     #: per scenario, the limit (deg) on that combined rms: the PGA-limited verdict fails a part
     #: whose VRW and ARW each pass their own tightened bound but together exceed it
     fast_phase_limit_deg: tuple[float, ...] = ()
@@ -104,6 +108,11 @@ class CheckResult:
     def fast_phase(self, i: int, s: int) -> float:
         """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
         return float("nan") if self.fast_phase_deg is None else float(self.fast_phase_deg[i, s])
+
+    def fast_phase_p(self, i: int, s: int) -> float:
+        """Probability that one aperture of part ``i`` on scenario ``s`` leaves at most the limit
+        beyond PGA's window (NaN: unknown)."""
+        return float("nan") if self.fast_phase_p_within is None else float(self.fast_phase_p_within[i, s])
 
     def flag(self, i: int, s: int) -> tuple[bool, str | None]:
         """True (and why) when seed 004's verdict and the fast-phase / lever-arm verdict differ."""
@@ -202,6 +211,7 @@ class CheckResult:
                 "pga_limited_verdict": limited,
                 "pga_limited_min_margin": limited_margin,
                 "fast_phase_residual_deg": self.fast_phase(i, scenario_index),
+                "fast_phase_p_within_limit": self.fast_phase_p(i, scenario_index),
             })
         return out
 
@@ -210,7 +220,8 @@ class CheckResult:
         the whole ``scenario``) one record per part under ``parts`` (``part_id, grade, verdict, binding, margins`` as
         bound/spec, ``unspecified``, ``bias_convention``, ``flag``, ``flag_reason``,
         ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`;
-        ``fast_phase_residual_deg``: :meth:`fast_phase`)."""
+        ``fast_phase_residual_deg``: :meth:`fast_phase`; ``fast_phase_p_within_limit``:
+        :meth:`fast_phase_p`)."""
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
                 "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s),
                                "rotation": self.rotation[s] if self.rotation else None,
@@ -242,6 +253,7 @@ class CheckResult:
         df["pga_limited_verdict"] = [v for v, _ in limited]
         df["pga_limited_min_margin"] = [m for _, m in limited]
         df["fast_phase_residual_deg"] = [self.fast_phase(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
+        df["fast_phase_p_within_limit"] = [self.fast_phase_p(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         return df.drop(columns=["p", "s"])
 
     def summary(self, scenario_index: int = 0) -> str:
@@ -250,7 +262,7 @@ class CheckResult:
         wb = max(len(p) for p in self.params) + 2  # the binding column holds any parameter name
         n_par = len(self.params)
         lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'terms':>6}{'min margin':>11}  {'binding':<{wb}}"
-                 f"{'PGA-limited':<12}{'margin':>8}{'beyond PGA':>12}"]
+                 f"{'PGA-limited':<12}{'margin':>8}{'beyond PGA':>12}{'P(≤ limit)':>12}"]
         notes = []
         partial = False
         for i, (r, mm) in enumerate(zip(self._part_records(scenario_index), self.min_margin[:, scenario_index])):
@@ -259,11 +271,14 @@ class CheckResult:
             partial |= given < n_par
             lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{f'{given}/{n_par}':>6}{_number(mm):>11}  "
                          f"{r['binding'] or '-':<{wb}}{v:<12}{_number(pmm):>8}"
-                         f"{_degrees(r['fast_phase_residual_deg']):>12}")
+                         f"{_degrees(r['fast_phase_residual_deg']):>12}"
+                         f"{_probability(r['fast_phase_p_within_limit']):>12}")
             if r["flag"]:
                 notes.append(f"  {r['part_id']}: {r['flag_reason']}")
         lines.append("beyond PGA: predicted rms of the phase PGA's window cannot see, from the part's VRW and "
-                     "ARW (free inertial over Tc; seed 004's limit 1°; '-' where either is unspecified)")
+                     "ARW (free inertial over Tc; seed 004's limit 1°; '-' where either is unspecified); "
+                     "P(≤ limit): the share of apertures that stay within the limit (one aperture's residual "
+                     "scatters about the rms: the Monte Carlo judges each trial)")
         if partial:
             lines.append(f"terms: datasheet terms the verdict rests on, of {n_par}; an unspecified term is not "
                          "checked (it neither passes nor fails: the JSON lists them under 'unspecified'), so a "
@@ -298,26 +313,32 @@ def _number(value: float) -> str:
     return "-" if np.isnan(value) else f"{value:.3g}"
 
 
+def _probability(value: float) -> str:
+    return "-" if not np.isfinite(value) else f"{value:.3f}"
+
+
 def _degrees(value: float) -> str:
     return "-" if not np.isfinite(value) else f"{value:.3g}°"
 
 
 def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
-                       limited_assumptions: Sequence) -> np.ndarray:
-    """(P, S) :func:`budget.bounds.fast_phase_residual` totals (deg), NaN where a part leaves its
-    VRW or ARW unspecified (a zero there would understate it)."""
+                       limited_assumptions: Sequence) -> tuple[np.ndarray, np.ndarray]:
+    """(P, S) :func:`budget.bounds.fast_phase_residual` totals (deg) and their probabilities of
+    one aperture within the limit, NaN where a part leaves its VRW or ARW unspecified (a zero
+    there would understate it)."""
     from .bounds import fast_phase_residual
 
     out = np.full((len(parts), len(scen)), np.nan)
+    prob = np.full_like(out, np.nan)
     for i, p in enumerate(parts):
         if p.accel_vrw_m_s_rt_h is None or p.gyro_arw_deg_rt_h is None:
             continue
         si = PartSpec.to_si(p)  # the catalog row's SI errors (a NoiseModel's to_si adds its effects)
         for s, (sc, a) in enumerate(zip(scen, limited_assumptions)):
-            out[i, s] = fast_phase_residual(sc, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
-                                            aperture_window=a.aperture_window,
-                                            limit_deg=a.fast_residual_limit_deg).total_deg
-    return out
+            fr = fast_phase_residual(sc, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                                     aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)
+            out[i, s], prob[i, s] = fr.total_deg, fr.p_within_limit()
+    return out, prob
 
 
 def _apply_rotation(bmat: np.ndarray, pmat: np.ndarray, scen: Sequence[Scenario], mode: str, assumptions,
@@ -410,12 +431,13 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
         rotation = _apply_rotation(bmat, pmat, scen, mode, assumptions, _platform_motion(platform_motion), assumed)
     specs = spec_matrix(parts)
     keys = check_scenario_keys(mode, _platform_motion(platform_motion) if platform_motion is not None else None)
+    fast_deg, fast_p = _fast_phase_matrix(parts, scen, assumed)
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
                        pga_margins=margins(specs, pmat), pga_rules=tuple(r for _, r in limited), mode=mode,
                        assumptions=_assumptions_dict(assumptions),
-                       fast_phase_deg=_fast_phase_matrix(parts, scen, assumed),
+                       fast_phase_deg=fast_deg, fast_phase_p_within=fast_p,
                        fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed),
                        rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen),
                        scenario_defaults=tuple(sc.defaults_taken(keys) for sc in scen),

@@ -91,6 +91,8 @@ def test_check_frame_carries_check_parts_records():
             assert row["min margin"] == pytest.approx(min(rec["margins"].values()), rel=1e-12)
         else:
             assert math.isnan(row["min margin"]) and pd.isna(row["binding"])
+        assert row["beyond PGA (° rms)"] == pytest.approx(rec["fast_phase_residual_deg"], nan_ok=True)
+        assert row["apertures within the limit"] == pytest.approx(rec["fast_phase_p_within_limit"], nan_ok=True)
     style_check_frame(frame).to_html()  # the styling renders
 
 

@@ -15,7 +15,8 @@ from budget.catalog.io import get_part
 from budget.mc import McOptions, run_mc
 from budget.mc.chain import ChainSetup, chain_plan, pga_min_window
 from budget.presets import get_preset
-from budget.sar.residual import highpass_phase, pga_bandwidth_cycles, random_walk_highpass_rms
+from budget.sar.residual import (DEFAULT_PGA_BANDWIDTH_CYCLES, highpass_phase, pga_bandwidth_cycles,
+                                  random_walk_highpass_rms)
 from budget.sar.windows import Window
 
 
@@ -44,7 +45,7 @@ def test_the_bounds_take_the_window_the_verdict_images_with():
     table, _ = pga_limited_bounds(s)
     f = fast_phase_limits(s.wavelength_m, [s.tc_s], aperture_window="taylor")
     phase_m = math.radians(1.0) * s.wavelength_m / (4 * math.pi)
-    assert f.vrw_m_s2_rt_hz[0] * random_walk_highpass_rms("vrw", 2.5, window="taylor") * s.tc_s ** 1.5 == \
+    assert f.vrw_m_s2_rt_hz[0] * random_walk_highpass_rms("vrw", DEFAULT_PGA_BANDWIDTH_CYCLES, window="taylor") * s.tc_s ** 1.5 == \
         pytest.approx(phase_m)
     assert table.accel_vrw_m_s2_rt_hz[0] <= f.vrw_m_s2_rt_hz[0] * (1 + 1e-12)
     assert "taylor" in table.notes[-1]
@@ -66,8 +67,16 @@ def test_analytic_residual_matches_the_monte_carlo(preset, part):
     predicted = fast_phase_residual(s, resolve_unspecified(p).model.to_si(), pga_bandwidth_cycles=k)
     r = run_mc(s, p, 64, 1, options=opt)
     assert r.judged_on["window"].startswith("taylor") and predicted.aperture_window.startswith("taylor")
-    mc = math.sqrt(np.mean(np.square(r.agg.trial_metrics["fast_phase_rms_deg"])))
+    per_trial = np.asarray(r.agg.trial_metrics["fast_phase_rms_deg"], dtype=float)
+    mc = math.sqrt(np.mean(np.square(per_trial)))
     assert predicted.total_deg == pytest.approx(mc, rel=0.10)
+    # and trial by trial: the trials' residuals follow the predicted distribution
+    # (FastPhaseResidual.p_within_limit as a CDF; Kolmogorov–Smirnov at 1 %)
+    from dataclasses import replace
+
+    from scipy import stats
+    cdf = np.vectorize(lambda x: replace(predicted, limit_deg=float(x)).p_within_limit() if x > 0 else 0.0)
+    assert stats.kstest(per_trial, cdf).pvalue > 0.01
 
 
 def test_the_check_reports_the_predicted_residual_per_part():
@@ -87,7 +96,12 @@ def test_the_check_reports_the_predicted_residual_per_part():
     rec = {p["part_id"]: p for p in r.to_dict()["scenarios"][0]["parts"]}
     assert math.isnan(rec["ADIS16490"]["fast_phase_residual_deg"])
     lines = {ln.split()[0]: ln for ln in r.summary().splitlines()}
-    assert lines["STIM300"].rstrip().endswith(f"{expected:.3g}°") and lines["ADIS16490"].rstrip().endswith("-")
+    assert lines["STIM300"].split()[-2] == f"{expected:.3g}°" and lines["ADIS16490"].split()[-2:] == ["-", "-"]
+    p_within = fast_phase_residual(s, parts[0].to_si(), pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                                   aperture_window=a.aperture_window).p_within_limit()
+    assert frame.loc["STIM300", "fast_phase_p_within_limit"] == pytest.approx(p_within)
+    assert lines["STIM300"].split()[-1] == f"{p_within:.3f}"
+    assert math.isnan(rec["ADIS16490"]["fast_phase_p_within_limit"])
 
 
 def test_bad_window_and_sources_get_clear_errors():

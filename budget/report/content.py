@@ -180,6 +180,8 @@ class Report:
         recs = self.check.to_dict()["scenarios"][0]["parts"]
         return pd.DataFrame([{"part_id": r["part_id"], "grade": r["grade"], "verdict": r["verdict"],
                               "binding": r["binding"], **r["margins"],
+                              "beyond PGA (° rms)": r["fast_phase_residual_deg"],
+                              "apertures within the limit": r["fast_phase_p_within_limit"],
                               "flag (seed 004 vs fast phase / lever arm)": r.get("flag_reason") or ""}
                              for r in recs])
 

@@ -48,13 +48,17 @@ import scipy.fft as sfft
 
 from .windows import Window
 
-#: K of (1) the analytic bounds use when no PGA run tells them the settled window. The Monte
-#: Carlo gives PGA a smallest window of 4 resolution cells
-#: (:data:`budget.mc.chain.PGA_MIN_WINDOW_CELLS`), so a settled window at that floor sees K = 2
-#: whatever the image's sampling (PGA's own floor of 8 samples gave K ≈ 2.0–2.7 on the presets'
-#: default images, 1.5 on a finely sampled one); the bounds' 2.5 credits PGA with more than
-#: that floor.
-DEFAULT_PGA_BANDWIDTH_CYCLES = 2.5
+#: PGA's smallest window in resolution cells, the floor the Monte Carlo gives PGA
+#: (:func:`budget.mc.chain.pga_min_window`, where the choice is measured): a window of W samples
+#: spans W·n_ap/n cells of an image of n azimuth samples, n_ap of them in the aperture band.
+PGA_MIN_WINDOW_CELLS = 4.0
+#: K of (1) the analytic bounds use when no PGA run tells them the settled window: the K of a
+#: settled window at the Monte Carlo's floor, W·n_ap/(2n) = 4 cells / 2 = 2 cycles per aperture,
+#: whatever the image's sampling — one definition for both (measured K = 2.03–2.05 on the presets'
+#: images). The bounds used 2.5 (PGA's former 8-sample floor) until the per-trial distribution
+#: showed the difference: 77 GHz, ADIS16405, P(≤ 1°) 0.960 at 2.5, 0.918 at 2.0 against the
+#: Monte Carlo's 0.922.
+DEFAULT_PGA_BANDWIDTH_CYCLES = PGA_MIN_WINDOW_CELLS / 2.0
 
 
 def pga_bandwidth_cycles(final_window_samples: float, n_bins: int, n_aperture_bins: int) -> float:
@@ -157,8 +161,31 @@ def random_walk_highpass_rms(kind: str, cutoff_cycles: float = DEFAULT_PGA_BANDW
     return _random_walk_highpass_rms(kind, float(cutoff_cycles), int(n), Window.parse(window))
 
 
+def random_walk_highpass_eigenvalues(kind: str, cutoff_cycles: float = DEFAULT_PGA_BANDWIDTH_CYCLES,
+                                     n: int = 400, window: Window | str = "rect") -> np.ndarray:
+    """The weights λ_i (descending, Σλ_i = 1) of the mean square beyond PGA's bandwidth of the
+    ``kind`` random walk, r̄² = E[r̄²]·Σ λ_i z_i² with z_i independent standard normal — its
+    distribution from aperture to aperture, not only its mean (:func:`random_walk_highpass_rms`
+    gives E[r̄²]). Exact on an n-point grid: r̄² = ‖B dW‖² with B = diag(√(q/Σq)) H K (H the
+    highpass, K the walk's kernel, q the energy weight), so the λ_i are B's squared singular
+    values. A random walk's residual is dominated by its first few modes (on the Taylor window
+    beyond 2.5 cycles the largest λ is 0.63 for ARW, 0.43 for VRW), so its rms scatters widely
+    about √E[r̄²]: a per-trial limit is met less often than the rms suggests."""
+    return _random_walk_highpass_eigenvalues(kind, float(cutoff_cycles), int(n), Window.parse(window)).copy()
+
+
 @lru_cache(maxsize=64)
-def _random_walk_highpass_rms(kind: str, cutoff_cycles: float, n: int, window: Window) -> float:
+def _random_walk_highpass_eigenvalues(kind: str, cutoff_cycles: float, n: int, window: Window) -> np.ndarray:
+    ds = 1.0 / n
+    r, q = _highpassed_kernel(kind, cutoff_cycles, n, window)
+    b = np.sqrt(q / q.sum())[:, None] * r * math.sqrt(ds)
+    lam = np.linalg.svd(b, compute_uv=False) ** 2
+    return lam / lam.sum()
+
+
+def _highpassed_kernel(kind: str, cutoff_cycles: float, n: int, window: Window) -> tuple[np.ndarray, np.ndarray]:
+    """(H K, q): the highpass of the ``kind`` walk's kernel on an n-point grid of [0, 1] s, and
+    the energy weight q (1 for rect)."""
     p = KIND_POWER.get(kind)
     if p is None:
         raise ValueError("kind must be 'rw', 'vrw' or 'arw'")
@@ -167,10 +194,15 @@ def _random_walk_highpass_rms(kind: str, cutoff_cycles: float, n: int, window: W
     s = np.arange(n) * ds
     lag = np.clip(t[:, None] - s[None, :], 0.0, None)
     kernel = (lag > 0) * lag ** p / math.factorial(p) if p else (lag > 0).astype(float)
+    rect = window.kind == "rect"
+    q = np.ones(n) if rect else window.samples(n) ** 2
+    return highpass_phase(kernel, cutoff_cycles, None if rect else q), q
+
+
+@lru_cache(maxsize=64)
+def _random_walk_highpass_rms(kind: str, cutoff_cycles: float, n: int, window: Window) -> float:
     # highpass_phase (a linear operator H) applied to every column of the kernel: r = H e with
     # e = kernel @ dW, var(dW) = ds → E[Σ_i q_i r_i²] = Σ_i q_i ‖(H kernel)_i‖² · ds, q = w² the
     # energy weight (1 for rect)
-    rect = window.kind == "rect"
-    q = np.ones(n) if rect else window.samples(n) ** 2
-    r = highpass_phase(kernel, cutoff_cycles, None if rect else q)
-    return float(math.sqrt(np.sum(q[:, None] * r * r) * ds / q.sum()))
+    r, q = _highpassed_kernel(kind, cutoff_cycles, n, window)
+    return float(math.sqrt(np.sum(q[:, None] * r * r) * (1.0 / n) / q.sum()))

@@ -17,6 +17,7 @@ numerically (3 dB width, first null, PSLR, ISLR) for the "window-aware" comparis
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Literal
@@ -39,12 +40,16 @@ class Window(BaseModel):
 
     @classmethod
     def parse(cls, spec: "Window | str | None") -> "Window":
-        """'rect' | 'taylor' | 'taylor-35-4' | Window → Window (None → rect)."""
+        """'rect' | 'taylor' | 'taylor-35-4' | Window → Window (None → rect); a window's own
+        :attr:`label` ('taylor(-35 dB, n̄=4)', as results record it) reads back too."""
         if spec is None:
             return cls()
         if isinstance(spec, Window):
             return spec
         if isinstance(spec, str):
+            m = re.fullmatch(r"\s*taylor\(\s*(-?[0-9.]+)\s*dB,\s*n̄=(\d+)\s*\)\s*", spec)
+            if m:
+                spec = f"taylor-{-float(m.group(1)):g}-{m.group(2)}"
             parts = spec.lower().split("-")
             try:
                 if parts[0] == "rect" and len(parts) == 1:
