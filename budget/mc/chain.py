@@ -61,7 +61,7 @@ from ..sar import (SarGeometry, Scene, evaluate, pga, phase_on_bins, residual_ph
                    simulate_echoes)
 from ..sar.acceptance import failed_checks
 from ..sar.pga import DEFAULT_MIN_WINDOW
-from ..sar.residual import pga_bandwidth_cycles, pga_residual_rms_rad
+from ..sar.residual import PGA_MIN_WINDOW_CELLS, pga_bandwidth_cycles, pga_residual_rms_rad
 from ..scenario import Scenario
 from .notes import navigation_note, range_ambiguity_note, wideband_note
 from .options import REALISTIC_SNR_DB, McOptions
@@ -81,8 +81,9 @@ AZ_SEARCH_CELLS = math.inf
 #: PGA's own smallest window (samples): :func:`_pga_kwargs`' floor when it is given none (the chain
 #: gives PGA :func:`pga_min_window`).
 PGA_MIN_WINDOW = DEFAULT_MIN_WINDOW
-#: PGA's smallest window in resolution cells, the floor the chain gives PGA
-#: (:func:`pga_min_window`): a window of W samples spans W·n_ap/n cells of an image of n azimuth
+#: PGA's smallest window in resolution cells (:data:`budget.sar.residual.PGA_MIN_WINDOW_CELLS`, 4),
+#: the floor the chain gives PGA (:func:`pga_min_window`) and the K = 2 the analytic bounds take:
+#: a window of W samples spans W·n_ap/n cells of an image of n azimuth
 #: samples, n_ap of them in the aperture band, and sees K = W·n_ap/(2n) cycles per aperture
 #: (:mod:`budget.sar.residual`, (1)); 4 cells is K = 2. PGA's own floor of 8 samples made its
 #: bandwidth, and the part of the phase the verdict calls unremovable, depend on how finely the
@@ -91,7 +92,6 @@ PGA_MIN_WINDOW = DEFAULT_MIN_WINDOW
 #: (K = 2.05 / 1.61 / 1.47); with 4 cells 0.50 / 0.56 / 0.62, and 0.50–0.66 at PRF 2.5 and 5×
 #: the band. 4 cells is the 8 samples of the automotive_77ghz default (7.8); at 5 cells the same
 #: case gave 0.25 at PRF 1.25× against 0.69 at 2.5×, so K = 2.5 is not used.
-PGA_MIN_WINDOW_CELLS = 4.0
 #: Trials whose images are formed and measured together (a divisor of the 64-trial chunk). Batches
 #: start at multiples of it in the trial index, so which trials share a batch — and so every number —
 #: does not depend on the chunk size or the worker count.
