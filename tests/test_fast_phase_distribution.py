@@ -81,5 +81,17 @@ def test_two_independent_sources_combine_as_one_weighted_sum():
 def test_imhof_is_exact_for_equal_weights(k):
     """Equal λ: Q/λ is χ²_k, whose tail scipy gives exactly (1e-6 absolute, over six decades of t)."""
     from scipy import stats
-    for t in (0.01, 0.3, 1.0, 4.0, 15.0, 40.0):
+    for t in (1e-6, 1e-4, 0.01, 0.3, 1.0, 4.0, 15.0, 40.0, 1e3, 1e5):
         assert quadratic_form_sf_imhof(np.full(k, 0.37), t) == pytest.approx(stats.chi2.sf(t / 0.37, k), abs=1e-6)
+
+
+@pytest.mark.parametrize("kind", ["rw", "vrw", "arw"])
+def test_imhof_is_a_distribution_over_sixteen_decades(kind):
+    """On a walk's weights, from far below its mean to far above: within [0, 1], non-increasing,
+    no quadrature warning (the far tails come from Chernoff's bounds)."""
+    import warnings
+    lam = random_walk_highpass_eigenvalues(kind, 2.0, window="rect")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sf = [quadratic_form_sf_imhof(lam, t) for t in np.logspace(-8, 8, 49)]
+    assert sf[0] == 1.0 and sf[-1] == 0.0 and np.all(np.diff(sf) <= 1e-9)
