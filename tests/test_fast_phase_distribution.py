@@ -95,3 +95,19 @@ def test_imhof_is_a_distribution_over_sixteen_decades(kind):
         warnings.simplefilter("error")
         sf = [quadratic_form_sf_imhof(lam, t) for t in np.logspace(-8, 8, 49)]
     assert sf[0] == 1.0 and sf[-1] == 0.0 and np.all(np.diff(sf) <= 1e-9)
+
+
+def test_fast_phase_crossing_is_where_the_share_is_a_half():
+    """The analytic crossing of a noise term (its scale × the paper bound where half the
+    apertures stay within the limit), checked by the share at that scale; none for a bias."""
+    import math
+
+    from budget.mc.consistency import fast_phase_crossing, fast_phase_share, single_term_model
+    from budget.presets import get_preset
+    s = get_preset("automotive_77ghz").model_copy(update={"lever_arm_m": (0.0, 0.0, 0.0)})
+    c = fast_phase_crossing(s, "gyro_arw")
+    assert 0.1 < c < 0.4
+    assert fast_phase_share(s, single_term_model(s, "gyro_arw", c)) == pytest.approx(0.5, abs=1e-4)
+    assert fast_phase_share(s, single_term_model(s, "gyro_arw", 0.5 * c)) > 0.9
+    assert math.isinf(fast_phase_crossing(s, "gyro_bias"))
+    assert fast_phase_share(s, single_term_model(s, "gyro_bias", 10.0)) == 1.0

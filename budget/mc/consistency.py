@@ -114,6 +114,52 @@ def pga_limited_scale(scenario: Scenario, term: str) -> tuple[float, str]:
     return ratio, (rules.get(si, "") if ratio < 1.0 else "")
 
 
+def fast_phase_share(scenario: Scenario, model) -> float:
+    """The analytic share of apertures whose residual beyond PGA's window stays within the
+    fast-phase limit for ``model`` on ``scenario`` (its empty terms taken as zero; the check's K,
+    window and limit, :meth:`budget.bounds.LeverArmAssumptions.from_scenario`;
+    :meth:`budget.bounds.FastPhaseResidual.p_within_limit`): 1 for a model with no VRW or ARW.
+    Every trial of the Monte Carlo fails that is beyond it, so it is the ceiling of P(pass) that
+    the fast phase alone allows — where PGA's fast-phase stage keeps no band (the realistic scene)."""
+    from ..bounds import fast_phase_residual
+    from ..bounds.lever_arm import LeverArmAssumptions
+    from ..catalog.fill import resolve_unspecified
+
+    a = LeverArmAssumptions.from_scenario(scenario)
+    si = resolve_unspecified(model, "zero").model.to_si()
+    return fast_phase_residual(scenario, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                               aperture_window=a.aperture_window,
+                               limit_deg=a.fast_residual_limit_deg).p_within_limit()
+
+
+def fast_phase_crossing(scenario: Scenario, term: str) -> float:
+    """The scale (× the paper bound) of ``term`` alone at which :func:`fast_phase_share` is 0.5:
+    the analytic crossing of a noise term's P(pass) where the fast phase is what fails it; inf for
+    a term that leaves no random walk (the biases, scale factors, misalignments)."""
+    from dataclasses import replace
+
+    from scipy.optimize import brentq
+
+    from ..bounds import fast_phase_residual
+    from ..bounds.lever_arm import LeverArmAssumptions
+    from ..catalog.fill import resolve_unspecified
+
+    a = LeverArmAssumptions.from_scenario(scenario)
+    si = resolve_unspecified(single_term_model(scenario, term, 1.0), "zero").model.to_si()
+    one = fast_phase_residual(scenario, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                              aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)
+    if one.total_deg <= 0:
+        return math.inf
+
+    def excess(log_s: float) -> float:
+        s = math.exp(log_s)
+        return replace(one, vrw_deg=one.vrw_deg * s, arw_gravity_deg=one.arw_gravity_deg * s,
+                       arw_lever_arm_deg=one.arw_lever_arm_deg * s).p_within_limit() - 0.5
+
+    guess = math.log(one.limit_deg / one.total_deg)  # the median lies near rms = limit
+    return float(math.exp(brentq(excess, guess - 5.0, guess + 5.0, xtol=1e-6)))
+
+
 #: Default grid: 0.1× … 10× the paper bound, 8 points per decade (17 scales).
 FINE_SCALES = np.logspace(-1.0, 1.0, 17)
 
@@ -128,7 +174,11 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = DEFAULT_TERMS,
     saying why, and the crossing is fitted over the other scales (``crossing_method`` says so).
     ``pga_limited_scale`` is the analytic PGA-limited bound of the term in multiples of its paper
     bound and ``pga_limited_rule`` what tightens it (:func:`pga_limited_scale`): where the crossing
-    lies well below 1, a scale there says why (e.g. ARW × the lever arm on ``airborne_xband``)."""
+    lies well below 1, a scale there says why (e.g. ARW × the lever arm on ``airborne_xband``).
+    ``fast_phase_share``: per scale, the analytic share of apertures within the fast-phase limit
+    (:func:`fast_phase_share`, the ceiling the fast phase puts on P(pass)), and
+    ``fast_phase_crossing``: the scale where that share is 0.5 (:func:`fast_phase_crossing`; inf
+    for a term that leaves no random walk)."""
     if not isinstance(scenario, Scenario):
         raise InputError(f"cannot use a {type(scenario).__name__} as the scenario", field="scenario",
                          value=scenario, expected="a Scenario (budget.consistency_table also takes a "
@@ -178,7 +228,7 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = DEFAULT_TERMS,
             reasons = {k: v for k, v in r.agg.failure_reasons().items() if v}
             rows.append({"term": term, "scale": sc, "p_pass_after": r.p_pass_after,
                          "ci_lo": r.ci_after[0], "ci_hi": r.ci_after[1], "reasons": reasons,
-                         "simulated": True, "note": ""})
+                         "simulated": True, "note": "", "fast_phase_share": fast_phase_share(scenario, model)})
             done.append(sc)
             ks.append(r.agg.pass_after)
             ns.append(r.trials)
@@ -187,8 +237,11 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = DEFAULT_TERMS,
         if done and len(done) < len(scales):
             fit["method"] += f" (over the {len(done)} of {len(scales)} scales a noise model accepts)"
         limited, rule = pga_limited_scale(scenario, term)
+        analytic = fast_phase_crossing(scenario, term)
         for row in rows[-len(scales):]:
             row["pga_limited_scale"], row["pga_limited_rule"] = limited, rule
+            row["fast_phase_crossing"] = analytic
+            row.setdefault("fast_phase_share", math.nan)
             row["crossing_scale"] = fit["scale"]
             row["crossing_lo"], row["crossing_hi"] = fit["lo"], fit["hi"]
             row["crossing_method"] = fit["method"]
