@@ -77,6 +77,10 @@ def test_analytic_residual_matches_the_monte_carlo(preset, part):
     from scipy import stats
     cdf = np.vectorize(lambda x: replace(predicted, limit_deg=float(x)).p_within_limit() if x > 0 else 0.0)
     assert stats.kstest(per_trial, cdf).pvalue > 0.01
+    # the result says the check's prediction for the part beside its P(pass)
+    from budget.mc.consistency import fast_phase_share
+    share = fast_phase_share(s, resolve_unspecified(p).model)
+    assert f"analytic: {share:.3f} of apertures keep the phase beyond PGA's window within 1°" in r.summary()
 
 
 def test_the_check_reports_the_predicted_residual_per_part():

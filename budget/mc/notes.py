@@ -220,4 +220,30 @@ def run_notes(scenario: Scenario, options: McOptions, model) -> dict[str, str]:
         notes["window_resolution"] = window
     notes["acceptance"] = acceptance_note(options)
     notes["earth_model"] = earth_model_line(scenario, model)
+    if fast := fast_phase_note(scenario, options, model):
+        notes["fast_phase_prediction"] = fast
     return notes
+
+
+def fast_phase_note(scenario: Scenario, options: McOptions, model) -> str:
+    """The analytic share of apertures whose phase beyond PGA's window stays within the limit
+    for this part (:func:`budget.mc.consistency.fast_phase_share`), for a free-inertial run
+    without a pre-filter (the prediction's assumptions); '' otherwise or when the part leaves
+    no VRW or ARW."""
+    if scenario.aiding or options.prefilter != "none":
+        return ""
+    from ..bounds import fast_phase_residual
+    from ..bounds.lever_arm import LeverArmAssumptions
+
+    try:
+        si = model.to_si()
+        a = LeverArmAssumptions.from_scenario(scenario)
+        fr = fast_phase_residual(scenario, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                                 aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)
+    except (AttributeError, TypeError, ValueError):  # a model in SI without the terms
+        return ""
+    if not fr.total_deg > 0:
+        return ""
+    return (f"analytic: {fr.p_within_limit():.3f} of apertures keep the phase beyond PGA's window within "
+            f"{fr.limit_deg:g}° ({fr.total_deg:.3g}° rms from VRW and ARW, free inertial) — the most the "
+            "fast phase lets pass where PGA keeps no fast-phase band, as on the realistic scene")
