@@ -326,7 +326,7 @@ def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
     """(P, S) :func:`budget.bounds.fast_phase_residual` totals (deg) and their probabilities of
     one aperture within the limit, NaN where a part leaves its VRW or ARW unspecified (a zero
     there would understate it)."""
-    from .bounds import fast_phase_residual
+    from .bounds import scenario_fast_phase
 
     out = np.full((len(parts), len(scen)), np.nan)
     prob = np.full_like(out, np.nan)
@@ -335,8 +335,7 @@ def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
             continue
         si = PartSpec.to_si(p)  # the catalog row's SI errors (a NoiseModel's to_si adds its effects)
         for s, (sc, a) in enumerate(zip(scen, limited_assumptions)):
-            fr = fast_phase_residual(sc, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
-                                     aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)
+            fr = scenario_fast_phase(sc, si, a)
             out[i, s], prob[i, s] = fr.total_deg, fr.p_within_limit()
     return out, prob
 

@@ -19,14 +19,15 @@ from .table import BOUND_FIELDS, BoundsTable
 from .paper import paper_bounds
 from .derived import DerivedAssumptions, derived_bounds
 from .no_autofocus import NoAutofocusAssumptions, no_autofocus_bounds
-from .fast_phase import fast_phase_limits, fast_phase_residual, FastPhaseLimits, FastPhaseResidual
+from .fast_phase import (fast_phase_limits, fast_phase_residual, scenario_fast_phase, FastPhaseLimits,
+                         FastPhaseResidual)
 from .legendre import random_walk_constants
 from .lever_arm import LeverArmAssumptions, lever_arm_bounds, lever_arm_terms
 from .rotation import RotationExcursion, motion_excursion, rotation_excursion
 
 __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", "derived_bounds",
            "NoAutofocusAssumptions", "no_autofocus_bounds", "fast_phase_limits", "FastPhaseLimits",
-           "fast_phase_residual", "FastPhaseResidual",
+           "fast_phase_residual", "scenario_fast_phase", "FastPhaseResidual",
            "random_walk_constants", "compute_bounds", "check_bounds_tc", "max_bounds_tc_s", "LeverArmAssumptions", "lever_arm_bounds",
            "lever_arm_terms", "MODES", "scenario_assumptions", "coerce_assumptions", "scenario_keys", "RotationExcursion",
            "motion_excursion", "rotation_excursion"]

@@ -201,3 +201,14 @@ def fast_phase_residual(scenario, errors, *, pga_bandwidth_cycles: float = DEFAU
                                        * random_walk_highpass_rms("rw", k, window=window)),
         pga_bandwidth_cycles=k, aperture_window=window.label, limit_deg=float(limit_deg),
         scenario_name=scenario.name, tc_s=float(tc))
+
+
+def scenario_fast_phase(scenario, errors, assumptions=None) -> FastPhaseResidual:
+    """:func:`fast_phase_residual` with the check's PGA bandwidth, window and limit for
+    ``scenario`` (``assumptions``, default :meth:`budget.bounds.LeverArmAssumptions.from_scenario`):
+    the one prediction the check, the consistency table and the Monte Carlo's summary state."""
+    from .lever_arm import LeverArmAssumptions
+
+    a = assumptions if assumptions is not None else LeverArmAssumptions.from_scenario(scenario)
+    return fast_phase_residual(scenario, errors, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
+                               aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)

@@ -121,15 +121,10 @@ def fast_phase_share(scenario: Scenario, model) -> float:
     :meth:`budget.bounds.FastPhaseResidual.p_within_limit`): 1 for a model with no VRW or ARW.
     Every trial of the Monte Carlo fails that is beyond it, so it is the ceiling of P(pass) that
     the fast phase alone allows — where PGA's fast-phase stage keeps no band (the realistic scene)."""
-    from ..bounds import fast_phase_residual
-    from ..bounds.lever_arm import LeverArmAssumptions
+    from ..bounds import scenario_fast_phase
     from ..catalog.fill import resolve_unspecified
 
-    a = LeverArmAssumptions.from_scenario(scenario)
-    si = resolve_unspecified(model, "zero").model.to_si()
-    return fast_phase_residual(scenario, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
-                               aperture_window=a.aperture_window,
-                               limit_deg=a.fast_residual_limit_deg).p_within_limit()
+    return scenario_fast_phase(scenario, resolve_unspecified(model, "zero").model.to_si()).p_within_limit()
 
 
 def fast_phase_crossing(scenario: Scenario, term: str) -> float:
@@ -140,14 +135,11 @@ def fast_phase_crossing(scenario: Scenario, term: str) -> float:
 
     from scipy.optimize import brentq
 
-    from ..bounds import fast_phase_residual
-    from ..bounds.lever_arm import LeverArmAssumptions
+    from ..bounds import scenario_fast_phase
     from ..catalog.fill import resolve_unspecified
 
-    a = LeverArmAssumptions.from_scenario(scenario)
-    si = resolve_unspecified(single_term_model(scenario, term, 1.0), "zero").model.to_si()
-    one = fast_phase_residual(scenario, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
-                              aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)
+    one = scenario_fast_phase(scenario, resolve_unspecified(single_term_model(scenario, term, 1.0),
+                                                            "zero").model.to_si())
     if one.total_deg <= 0:
         return math.inf
 

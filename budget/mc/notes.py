@@ -232,14 +232,10 @@ def fast_phase_note(scenario: Scenario, options: McOptions, model) -> str:
     no VRW or ARW."""
     if scenario.aiding or options.prefilter != "none":
         return ""
-    from ..bounds import fast_phase_residual
-    from ..bounds.lever_arm import LeverArmAssumptions
+    from ..bounds import scenario_fast_phase
 
     try:
-        si = model.to_si()
-        a = LeverArmAssumptions.from_scenario(scenario)
-        fr = fast_phase_residual(scenario, si, pga_bandwidth_cycles=a.pga_bandwidth_cycles,
-                                 aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)
+        fr = scenario_fast_phase(scenario, model.to_si())
     except (AttributeError, TypeError, ValueError):  # a model in SI without the terms
         return ""
     if not fr.total_deg > 0:
