@@ -3,8 +3,8 @@
 The gap's null (:class:`budget.gap.metric.NullModel`), the slow-mode statistic
 (:mod:`budget.gap.walk`) and the mean square of a random walk's phase beyond PGA's window
 (:meth:`budget.bounds.fast_phase.FastPhaseResidual.p_within_limit`) are all such sums; their
-tail probabilities and quantiles come from the four-cumulant noncentral-χ² match of Liu, Tang & Zhang (2009), Comput. Stat. Data Anal.
-53, 853–856, exact for equal λ (checked against simulation in ``tests/test_gap_walk.py``). The
+tail probabilities and quantiles come from the four-cumulant noncentral-χ² match of Liu, Tang &
+Zhang (2009), Comput. Stat. Data Anal. 53, 853–856, exact for equal λ (checked against simulation in ``tests/test_gap_walk.py``). The
 match is built for the upper tail; where the whole distribution matters (a sum dominated by a
 few λ, read in its lower tail too) :func:`quadratic_form_sf_imhof` integrates Imhof's (1961)
 inversion of the characteristic function instead, exact to the quadrature's tolerance.
@@ -102,17 +102,14 @@ def _imhof_integral(phi, inv_u_rho, x: float) -> float:
     a = min(10.0, math.pi / w)  # at most half a period of the oscillation, which QAWF takes beyond
     head = integrate.quad(lambda u: math.sin(phi(u) - w * u) * inv_u_rho(u), 0.0, a,
                           limit=500, epsabs=1e-10, epsrel=1e-10)[0]
-    tail_c = integrate.quad(lambda v: math.sin(phi(v + a)) * inv_u_rho(v + a), 0.0, np.inf,
-                            weight="cos", wvar=w, limlst=200)[0]
-    tail_s = integrate.quad(lambda v: math.cos(phi(v + a)) * inv_u_rho(v + a), 0.0, np.inf,
-                            weight="sin", wvar=w, limlst=200)[0]
-    # sin(φ − w(v + a)) = sin φ cos(wv + wa) − cos φ sin(wv + wa), expanded in cos wv and sin wv
+    # sin(φ − w(v + a)) = sin φ cos(wv + wa) − cos φ sin(wv + wa): four Fourier integrals ∫ f(v+a) g(wv),
+    # f ∈ {sin φ, cos φ}/(uρ), g ∈ {cos, sin}
+    fourier = {(f, g): integrate.quad(lambda v, f=f: getattr(math, f)(phi(v + a)) * inv_u_rho(v + a), 0.0,
+                                      np.inf, weight=g, wvar=w, limlst=200)[0]
+               for f in ("sin", "cos") for g in ("cos", "sin")}
     ca, sa = math.cos(w * a), math.sin(w * a)
-    c_int = integrate.quad(lambda v: math.cos(phi(v + a)) * inv_u_rho(v + a), 0.0, np.inf,
-                           weight="cos", wvar=w, limlst=200)[0]
-    s_int = integrate.quad(lambda v: math.sin(phi(v + a)) * inv_u_rho(v + a), 0.0, np.inf,
-                           weight="sin", wvar=w, limlst=200)[0]
-    tail = (tail_c * ca - s_int * sa) - (c_int * sa + tail_s * ca)
+    tail = (ca * fourier["sin", "cos"] - sa * fourier["sin", "sin"]
+            - ca * fourier["cos", "sin"] - sa * fourier["cos", "cos"])
     return 0.5 + (head + tail) / math.pi
 
 
