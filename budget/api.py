@@ -24,6 +24,7 @@ from .errors import InputError
 #: Default Monte Carlo trials and seed of the top-level API (the CLI and the dashboard use the
 #: same ones, from :mod:`budget.mc.options`).
 from .mc.options import DEFAULT_SEED, DEFAULT_TRIALS
+from .sar.residual import DEFAULT_PASS_SHARE
 
 
 def load_scenario(source) -> "Scenario":  # noqa: F821 — imported lazily below
@@ -172,7 +173,7 @@ def real_scene_verdict(data, part, trials: int = 8, seed: int = 1, *,
     return _verdict(data, load_part(part, catalog), trials, seed, **kwargs)
 
 
-def cheapest_passing(table, target: float = 0.9, **kwargs):
+def cheapest_passing(table, target: float = DEFAULT_PASS_SHARE, **kwargs):
     """Per scenario, the cheapest part of a :func:`sweep` table with P(pass after PGA) ≥ ``target``."""
     from .mc.sweep import cheapest_passing as _cheapest
 

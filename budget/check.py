@@ -89,9 +89,15 @@ class CheckResult:
     #: (:meth:`budget.bounds.FastPhaseResidual.p_within_limit`: the rms above is over apertures,
     #: and one aperture's scatters about it); NaN where the rms is NaN; None when not computed
     fast_phase_p_within: np.ndarray | None = None
-    #: per scenario, the limit (deg) on that combined rms: the PGA-limited verdict fails a part
+    #: per scenario, the limit (deg) on that combined residual: the PGA-limited verdict fails a part
     #: whose VRW and ARW each pass their own tightened bound but together exceed it
     fast_phase_limit_deg: tuple[float, ...] = ()
+    #: per scenario, the share of apertures asked to be within that limit (None: its rms over
+    #: apertures is held to it), and (P, S) the factor by which a part's VRW and ARW together could
+    #: grow with that share still met (:meth:`budget.bounds.FastPhaseResidual.share_margin`: ≥ 1
+    #: exactly when :attr:`fast_phase_p_within` ≥ the share); None when not computed
+    fast_phase_share: tuple[float | None, ...] = ()
+    fast_phase_margin: np.ndarray | None = None
     #: per scenario, the rotation the gyro scale factor and misalignment were judged against
     #: (:meth:`budget.bounds.rotation.RotationExcursion.to_dict`) when a platform motion was given;
     #: empty: the bounds' own assumption (seed 004: an attitude change of 1 rad)
@@ -114,6 +120,9 @@ class CheckResult:
         beyond PGA's window (NaN: unknown)."""
         return float("nan") if self.fast_phase_p_within is None else float(self.fast_phase_p_within[i, s])
 
+    def _share_margin(self, i: int, s: int) -> float:
+        return float("nan") if self.fast_phase_margin is None else float(self.fast_phase_margin[i, s])
+
     def flag(self, i: int, s: int) -> tuple[bool, str | None]:
         """True (and why) when seed 004's verdict and the fast-phase / lever-arm verdict differ."""
         if self.pga_margins is None:
@@ -132,8 +141,8 @@ class CheckResult:
                               for label, col in (("VRW", "accel_vrw_m_s_rt_h"), ("ARW", "gyro_arw_deg_rt_h"))
                               if col in PARAM_NAMES and np.isfinite(pm[PARAM_NAMES.index(col)]))
             return True, (f"passes the {self.mode} bounds (min margin {self.min_margin[i, s]:.3g}) but its VRW and "
-                          f"ARW together leave {self.fast_phase(i, s):.3g}° rms beyond PGA's window (limit "
-                          f"{self.fast_phase_limit_deg[s]:g}°{'; ' + alone if alone else ''}): margin {mm:.3g}")
+                          f"ARW together leave {self.fast_phase(i, s):.3g}° rms beyond PGA's window "
+                          f"({self._combined_words(i, s)}{'; ' + alone if alone else ''}): margin {mm:.3g}")
         j = int(np.argmin(pm))
         si = PARAMETERS[j].bound
         rule = (self.pga_rules[s] if s < len(self.pga_rules) else {}).get(si, "fast phase / lever arm")
@@ -150,10 +159,19 @@ class CheckResult:
         mm = float(np.min(np.where(self.specified[i, s], self.pga_margins[i, s], np.inf)))
         fp = self.fast_phase(i, s)
         if s < len(self.fast_phase_limit_deg) and np.isfinite(fp) and fp > 0:
-            combined = self.fast_phase_limit_deg[s] / fp
+            combined = (float(self.fast_phase_margin[i, s]) if self.fast_phase_margin is not None
+                        else self.fast_phase_limit_deg[s] / fp)
             if combined < mm:
                 return combined, True
         return mm, False
+
+    def _combined_words(self, i: int, s: int) -> str:
+        """The combined fast-phase limit in words: the limit and, when asked, the share."""
+        share = self.fast_phase_share[s] if s < len(self.fast_phase_share) else None
+        if share is None:
+            return f"limit {self.fast_phase_limit_deg[s]:g}° rms"
+        return (f"{self.fast_phase_p(i, s):.3g} of apertures within {self.fast_phase_limit_deg[s]:g}°, "
+                f"{share:g} asked")
 
     def pga_limited(self, i: int, s: int) -> tuple[str, float]:
         """(verdict, min margin) against seed 004's bounds tightened by what PGA cannot remove
@@ -212,6 +230,7 @@ class CheckResult:
                 "pga_limited_min_margin": limited_margin,
                 "fast_phase_residual_deg": self.fast_phase(i, scenario_index),
                 "fast_phase_p_within_limit": self.fast_phase_p(i, scenario_index),
+                "fast_phase_share_margin": self._share_margin(i, scenario_index),
             })
         return out
 
@@ -221,13 +240,17 @@ class CheckResult:
         bound/spec, ``unspecified``, ``bias_convention``, ``flag``, ``flag_reason``,
         ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`;
         ``fast_phase_residual_deg``: :meth:`fast_phase`; ``fast_phase_p_within_limit``:
-        :meth:`fast_phase_p`)."""
+        :meth:`fast_phase_p`; ``fast_phase_share_margin``: :attr:`fast_phase_margin`), with the
+        scenario's ``fast_phase_limit_deg`` and ``fast_phase_share``."""
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
                 "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s),
                                "rotation": self.rotation[s] if self.rotation else None,
                                "scenario": self.scenarios[s] if self.scenarios else None,
                                "scenario_defaults": (self.scenario_defaults[s] if self.scenario_defaults
-                                                     else None)}
+                                                     else None),
+                               "fast_phase_limit_deg": (self.fast_phase_limit_deg[s]
+                                                        if s < len(self.fast_phase_limit_deg) else None),
+                               "fast_phase_share": self.fast_phase_share[s] if s < len(self.fast_phase_share) else None}
                               for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
 
     def to_frame(self) -> pd.DataFrame:
@@ -254,6 +277,7 @@ class CheckResult:
         df["pga_limited_min_margin"] = [m for _, m in limited]
         df["fast_phase_residual_deg"] = [self.fast_phase(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["fast_phase_p_within_limit"] = [self.fast_phase_p(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
+        df["fast_phase_share_margin"] = [self._share_margin(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         return df.drop(columns=["p", "s"])
 
     def summary(self, scenario_index: int = 0) -> str:
@@ -275,10 +299,15 @@ class CheckResult:
                          f"{_probability(r['fast_phase_p_within_limit']):>12}")
             if r["flag"]:
                 notes.append(f"  {r['part_id']}: {r['flag_reason']}")
-        lines.append("beyond PGA: predicted rms of the phase PGA's window cannot see, from the part's VRW and "
-                     "ARW (free inertial over Tc; seed 004's limit 1°; '-' where either is unspecified); "
-                     "P(≤ limit): the share of apertures that stay within the limit (one aperture's residual "
-                     "scatters about the rms: the Monte Carlo judges each trial)")
+        share = self.fast_phase_share[scenario_index] if scenario_index < len(self.fast_phase_share) else None
+        limit = (self.fast_phase_limit_deg[scenario_index] if scenario_index < len(self.fast_phase_limit_deg)
+                 else 1.0)
+        asked = (f"the PGA-limited verdict asks it of {share:g} of apertures, the Monte Carlo's pass target"
+                 if share is not None else "the PGA-limited verdict holds the rms to the limit")
+        lines.append("beyond PGA: predicted rms over apertures of the phase PGA's window cannot see, from the part's "
+                     f"VRW and ARW (free inertial over Tc; seed 004's limit {limit:g}°; '-' where either is "
+                     "unspecified); P(≤ limit): the share of apertures that stay within the limit (one aperture's "
+                     f"residual scatters about the rms: the Monte Carlo judges each trial); {asked}")
         if partial:
             lines.append(f"terms: datasheet terms the verdict rests on, of {n_par}; an unspecified term is not "
                          "checked (it neither passes nor fails: the JSON lists them under 'unspecified'), so a "
@@ -322,22 +351,23 @@ def _degrees(value: float) -> str:
 
 
 def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
-                       limited_assumptions: Sequence) -> tuple[np.ndarray, np.ndarray]:
-    """(P, S) :func:`budget.bounds.fast_phase_residual` totals (deg) and their probabilities of
-    one aperture within the limit, NaN where a part leaves its VRW or ARW unspecified (a zero
-    there would understate it)."""
+                       limited_assumptions: Sequence) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(P, S) :func:`budget.bounds.fast_phase_residual` totals (deg), their probabilities of one
+    aperture within the limit and their share margins, NaN where a part leaves its VRW or ARW
+    unspecified (a zero there would understate it)."""
     from .bounds import scenario_fast_phase
 
     out = np.full((len(parts), len(scen)), np.nan)
     prob = np.full_like(out, np.nan)
+    margin = np.full_like(out, np.nan)
     for i, p in enumerate(parts):
         if p.accel_vrw_m_s_rt_h is None or p.gyro_arw_deg_rt_h is None:
             continue
         si = PartSpec.to_si(p)  # the catalog row's SI errors (a NoiseModel's to_si adds its effects)
         for s, (sc, a) in enumerate(zip(scen, limited_assumptions)):
             fr = scenario_fast_phase(sc, si, a)
-            out[i, s], prob[i, s] = fr.total_deg, fr.p_within_limit()
-    return out, prob
+            out[i, s], prob[i, s], margin[i, s] = fr.total_deg, fr.p_within_limit(), fr.share_margin()
+    return out, prob, margin
 
 
 def _apply_rotation(bmat: np.ndarray, pmat: np.ndarray, scen: Sequence[Scenario], mode: str, assumptions,
@@ -430,7 +460,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
         rotation = _apply_rotation(bmat, pmat, scen, mode, assumptions, _platform_motion(platform_motion), assumed)
     specs = spec_matrix(parts)
     keys = check_scenario_keys(mode, _platform_motion(platform_motion) if platform_motion is not None else None)
-    fast_deg, fast_p = _fast_phase_matrix(parts, scen, assumed)
+    fast_deg, fast_p, fast_margin = _fast_phase_matrix(parts, scen, assumed)
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
@@ -438,6 +468,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        assumptions=_assumptions_dict(assumptions),
                        fast_phase_deg=fast_deg, fast_phase_p_within=fast_p,
                        fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed),
+                       fast_phase_share=tuple(a.fast_residual_share for a in assumed), fast_phase_margin=fast_margin,
                        rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen),
                        scenario_defaults=tuple(sc.defaults_taken(keys) for sc in scen),
                        defaults_notes=tuple(sc.defaults_note(keys) for sc in scen))

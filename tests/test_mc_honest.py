@@ -24,7 +24,7 @@ from budget.presets import get_preset
 from budget.sar import Scene, simulate_echoes
 from budget.sar.phase import los_offset_for_phase
 from budget.sar.residual import (DEFAULT_PGA_BANDWIDTH_CYCLES, highpass_phase, pga_bandwidth_cycles,
-                                 pga_residual_rms_rad, random_walk_highpass_rms)
+                                 pga_residual_rms_rad, random_walk_highpass_rms, random_walk_rms_quantile)
 
 POINTS = McOptions(scene="points")
 
@@ -90,9 +90,14 @@ def test_random_walk_highpass_exact_against_sampling(kind, power):
 
 def test_fast_phase_limits_use_the_shared_definition():
     lam, tc = 0.03, 3.0
-    f = fast_phase_limits(lam, [tc], pga_bandwidth_cycles=2.5)
+    f = fast_phase_limits(lam, [tc], pga_bandwidth_cycles=2.5, share=None)  # the rms over apertures
     phase_m = math.radians(1.0) * lam / (4 * math.pi)
     assert f.vrw_m_s2_rt_hz[0] * random_walk_highpass_rms("vrw", 2.5) * tc ** 1.5 == pytest.approx(phase_m)
+    # the default asks 0.9 of apertures to meet the limit: the rms that far below it
+    q = fast_phase_limits(lam, [tc], pga_bandwidth_cycles=2.5)
+    assert q.share == 0.9
+    assert q.vrw_m_s2_rt_hz[0] * random_walk_rms_quantile("vrw", 0.9, 2.5) == pytest.approx(f.vrw_m_s2_rt_hz[0])
+    assert q.arw_rad_s_rt_hz[0] * random_walk_rms_quantile("arw", 0.9, 2.5) == pytest.approx(f.arw_rad_s_rt_hz[0])
     # a wider PGA bandwidth leaves less: the limit relaxes
     assert fast_phase_limits(lam, [tc], pga_bandwidth_cycles=10).vrw_m_s2_rt_hz[0] > f.vrw_m_s2_rt_hz[0]
 
@@ -105,8 +110,13 @@ def test_lever_arm_bounds_closed_forms():
     t = lever_arm_terms(tc, dr, lam, a).set_index("lever_arm_rule")
     mig = t.loc["range migration k·N·√Tc·|d| ≤ δr", "lever_arm_limit"]
     assert math.radians(mig / 60.0) * 2.0 * math.sqrt(tc) * d == pytest.approx(dr)  # deg/√h → rad/√s
-    fast = t.loc["PGA residual of N·√t·|d| ≤ 1°", "lever_arm_limit"]
-    assert (math.radians(fast / 60.0) * random_walk_highpass_rms("rw", DEFAULT_PGA_BANDWIDTH_CYCLES) * math.sqrt(tc) * d
+    fast = t.loc["PGA residual of N·√t·|d| ≤ 1° on 0.9 of apertures", "lever_arm_limit"]
+    assert (math.radians(fast / 60.0) * random_walk_highpass_rms("rw", DEFAULT_PGA_BANDWIDTH_CYCLES)
+            * random_walk_rms_quantile("rw", 0.9, DEFAULT_PGA_BANDWIDTH_CYCLES) * math.sqrt(tc) * d
+            == pytest.approx(math.radians(1.0) * lam / (4 * math.pi)))
+    rms = lever_arm_terms(tc, dr, lam, a.model_copy(update={"fast_residual_share": None})).set_index("lever_arm_rule")
+    fast_rms = rms.loc["PGA residual of N·√t·|d| ≤ 1° rms", "lever_arm_limit"]
+    assert (math.radians(fast_rms / 60.0) * random_walk_highpass_rms("rw", DEFAULT_PGA_BANDWIDTH_CYCLES) * math.sqrt(tc) * d
             == pytest.approx(math.radians(1.0) * lam / (4 * math.pi)))
     bias = t.loc["b·Tc·|d| ≤ δr", "lever_arm_limit"]
     assert math.radians(bias / 3600.0) * tc * d == pytest.approx(dr)

@@ -79,9 +79,19 @@ def render() -> None:
     st.table(style_check_frame(frame).hide(axis="index"))
     st.caption("Margin = bound / datasheet value (≥ 1 passes, green; < 1 fails, red; – not in the datasheet, "
                "never assumed). The framed, darker cell is the binding (smallest-margin) parameter. In-run "
-               "bias instability is checked against the bias bounds, as seed 004 Tables 3–4 do.")
+               "bias instability is checked against the bias bounds, as seed 004 Tables 3–4 do." + _share_words(result))
     st.plotly_chart(margin_heatmap_figure(result), key="chk_heatmap", width="stretch")
     _downloads(result, frame, parts, ctx)
+
+
+def _share_words(result) -> str:
+    share = result.fast_phase_share[0] if result.fast_phase_share else None
+    if share is None:
+        return ""
+    limit = result.fast_phase_limit_deg[0] if result.fast_phase_limit_deg else 1.0
+    return (f" What PGA cannot remove is asked of a share of apertures, not of its rms: the PGA-limited verdict "
+            f"passes a part when at least {share:g} of apertures keep it within {limit:g}° (the Monte Carlo's "
+            "pass target; column 'apertures within the limit').")
 
 
 def _downloads(result, frame, parts, ctx: sidebar.Context) -> None:

@@ -9,8 +9,10 @@ worst case), k·σ for random terms, Θ = platform rotation over the aperture
 * ARW N (rad/√s): φ is a random walk, |δR| ≈ N·√t·|d|.
   - range migration: k·N·√Tc·|d| ≤ δr                         → N ≤ δr/(k √Tc |d|);
   - what PGA cannot remove (:mod:`budget.sar.residual`, the definition the Monte Carlo uses):
-    c_rw(K)·N·√Tc·|d| ≤ λ/(4π)·1°, with c_rw(K) the exact rms of a unit random walk beyond K
-    cycles per aperture                                        → N ≤ λ·1°/(4π c_rw √Tc |d|);
+    c_rw(K)·m_q·N·√Tc·|d| ≤ λ/(4π)·1°, with c_rw(K) the exact rms of a unit random walk beyond K
+    cycles per aperture and m_q the quantile of one aperture's rms over it that a share q of
+    apertures meets (:func:`budget.sar.residual.random_walk_rms_quantile`: 1.22 at q = 0.9, Taylor
+    window; ``fast_residual_share=None``: m = 1, the rms)   → N ≤ λ·1°/(4π c_rw m_q √Tc |d|);
 * gyro bias b: φ = b·t, δR = b·t·|d| — linear in time, so only a shift of the image, but it
   migrates through range cells: b·Tc·|d| ≤ δr                   → b ≤ δr/(Tc |d|);
 * misalignment φm: a constant φm·|d| moves the antenna by a fixed offset (geolocation) until the
@@ -32,7 +34,8 @@ import pandas as pd
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from ..errors import InputError, refuse_bool_numbers
-from ..sar.residual import DEFAULT_PGA_BANDWIDTH_CYCLES, random_walk_highpass_rms
+from ..sar.residual import (DEFAULT_PASS_SHARE, DEFAULT_PGA_BANDWIDTH_CYCLES, random_walk_highpass_rms,
+                            random_walk_rms_quantile)
 from ..sar.windows import verdict_window
 from ..units import phase_error_to_range_error
 from .paper import _inputs, paper_bounds
@@ -55,6 +58,10 @@ class LeverArmAssumptions(BaseModel):
     k_sigma: float = Field(2.0, gt=0, le=6, description="random terms: k·σ ≤ the limit")
     fast_residual_limit_deg: float = Field(1.0, gt=0, allow_inf_nan=False,
                                            description="what PGA cannot remove, rms (seed 004: 1°)")
+    fast_residual_share: float | None = Field(
+        DEFAULT_PASS_SHARE, gt=0, lt=1, allow_inf_nan=False,
+        description="share of apertures whose residual must be within that limit (the Monte Carlo's pass "
+                    "target); None: its rms over apertures within it")
     pga_bandwidth_cycles: float = Field(DEFAULT_PGA_BANDWIDTH_CYCLES, ge=0, le=1000, allow_inf_nan=False)
     aperture_window: Literal["rect", "taylor"] = Field(
         "rect", description="azimuth weighting whose energy weights what PGA cannot remove, as in the "
@@ -85,6 +92,9 @@ def _limits(tc, dr, wavelength_m: float, a: LeverArmAssumptions) -> dict[str, np
         by_turn = np.where(theta > 0, dr / (d * theta), np.inf)
     fast_m = phase_error_to_range_error(math.radians(a.fast_residual_limit_deg), wavelength_m)
     c_rw = random_walk_highpass_rms("rw", float(a.pga_bandwidth_cycles), window=a.aperture_window)
+    if a.fast_residual_share is not None:  # the limit met on that share of apertures, not in rms
+        c_rw *= random_walk_rms_quantile("rw", a.fast_residual_share, float(a.pga_bandwidth_cycles),
+                                         a.aperture_window)
     return {"gyro_arw_migration": dr / (a.k_sigma * np.sqrt(tc) * d),
             "gyro_arw_fast": fast_m / (c_rw * np.sqrt(tc) * d),
             "gyro_bias": dr / (tc * d),
@@ -130,7 +140,9 @@ def lever_arm_terms(tc_s: float, range_resolution_m: float, wavelength_m: float,
     lim = _limits(tc, dr, float(wavelength_m), a)
     rows = []
     spec = (("gyro_arw_deg_rt_h", "range migration k·N·√Tc·|d| ≤ δr", lim["gyro_arw_migration"]),
-            ("gyro_arw_deg_rt_h", "PGA residual of N·√t·|d| ≤ 1°", lim["gyro_arw_fast"]),
+            ("gyro_arw_deg_rt_h", f"PGA residual of N·√t·|d| ≤ {a.fast_residual_limit_deg:g}°"
+             + (f" on {a.fast_residual_share:g} of apertures" if a.fast_residual_share is not None else " rms"),
+             lim["gyro_arw_fast"]),
             ("gyro_bias_deg_h", "b·Tc·|d| ≤ δr", lim["gyro_bias"]),
             ("misalignment_mrad", "φm·|d|·Θ ≤ δr", lim["misalignment"]),
             ("gyro_scale_factor_ppm", "γ·Θ·|d| ≤ δr", lim["gyro_scale_factor"]))
@@ -161,13 +173,16 @@ def pga_limited_bounds(scenario, a: LeverArmAssumptions | None = None) -> tuple[
     paper = paper_bounds(tc, dr)
     lever = lever_arm_bounds(tc, dr, lam, a)
     fast = fast_phase_limits(lam, tc, noise_rms_deg=a.fast_residual_limit_deg,
-                             pga_bandwidth_cycles=a.pga_bandwidth_cycles, aperture_window=a.aperture_window)
+                             pga_bandwidth_cycles=a.pga_bandwidth_cycles, aperture_window=a.aperture_window,
+                             share=a.fast_residual_share)
     vrw = np.minimum(lever.accel_vrw_m_s2_rt_hz, fast.vrw_m_s2_rt_hz)
     arw = np.minimum(lever.gyro_arw_rad_s_rt_hz, fast.arw_rad_s_rt_hz)
     table = replace(lever, mode="pga-limited", accel_vrw_m_s2_rt_hz=vrw, gyro_arw_rad_s_rt_hz=arw,
                     notes=lever.notes + (f"fast phase: residual beyond {a.pga_bandwidth_cycles:g} cycles "
                                          f"≤ {a.fast_residual_limit_deg:g}° rms ({a.aperture_window}-weighted "
-                                         "aperture energy)",))
+                                         "aperture energy) " + (f"on {a.fast_residual_share:g} of apertures"
+                                                                if a.fast_residual_share is not None else
+                                                                "in rms over apertures"),))
     rules = {}
     for si in ("gyro_scale_factor", "misalignment_rad", "gyro_bias_rad_s"):
         if np.any(getattr(lever, si) < getattr(paper, si)):

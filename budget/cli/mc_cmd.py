@@ -15,6 +15,7 @@ from ..mc.sweep import cheapest_passing, not_simulated, sweep
 from ..nav.manoeuvre import KINDS as PLATFORM_MOTIONS
 from ..noise.prefilter import prefilter_for
 from ..presets import get_preset
+from ..sar.residual import DEFAULT_PASS_SHARE
 from ..scenario import Scenario
 from .common import (add_catalog_option, add_part_or_model_options, add_scenario_options,
                      part_or_model_from_args, scenario_from_args)
@@ -109,7 +110,7 @@ def add_parser(sub) -> None:
     s.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="trials per part × scenario")
     s.add_argument("--seed", type=int, default=DEFAULT_SEED, help="random seed (common to every cell)")
     s.add_argument("--workers", type=int, default=1, help="local processes (results do not depend on it)")
-    s.add_argument("--target", type=float, default=0.9, help="P(pass after PGA) wanted")
+    s.add_argument("--target", type=float, default=DEFAULT_PASS_SHARE, help="P(pass after PGA) wanted")
     s.add_argument("--out", metavar="CSV", required=True, help="tidy result table (CSV; '-' for stdout)")
     _add_verdict_options(s)
     _add_unspecified_option(s)

@@ -99,8 +99,10 @@ def pga_limited_scale(scenario: Scenario, term: str) -> tuple[float, str]:
     """The PGA-limited bound of ``term`` (:func:`budget.bounds.lever_arm.pga_limited_bounds`:
     seed 004's bound tightened by the lever arm and by what PGA's window cannot see) as a
     multiple of its paper bound, and the rule that tightens it ('' when the paper bound stands).
-    The analytic prediction of where the table's crossing lies: a crossing well below 1 that
-    this scale also predicts is explained by that rule."""
+    For a noise term it is where the fast phase starts to fail apertures: the share within the
+    limit is 0.9 there (the bounds' ``fast_residual_share``), so the Monte Carlo's P(pass) should
+    still be ≈ 0.9 or more at this scale and cross 0.5 above it (:func:`fast_phase_crossing`); a
+    crossing well below 1 that this scale also predicts is explained by that rule."""
     from ..bounds.lever_arm import pga_limited_bounds
 
     if term not in TERMS:
@@ -131,25 +133,16 @@ def fast_phase_crossing(scenario: Scenario, term: str) -> float:
     """The scale (× the paper bound) of ``term`` alone at which :func:`fast_phase_share` is 0.5:
     the analytic crossing of a noise term's P(pass) where the fast phase is what fails it; inf for
     a term that leaves no random walk (the biases, scale factors, misalignments)."""
-    from dataclasses import replace
-
-    from scipy.optimize import brentq
-
     from ..bounds import scenario_fast_phase
     from ..catalog.fill import resolve_unspecified
+    from ..quadform import quadratic_form_quantile_imhof
 
     one = scenario_fast_phase(scenario, resolve_unspecified(single_term_model(scenario, term, 1.0),
                                                             "zero").model.to_si())
     if one.total_deg <= 0:
         return math.inf
-
-    def excess(log_s: float) -> float:
-        s = math.exp(log_s)
-        return replace(one, vrw_deg=one.vrw_deg * s, arw_gravity_deg=one.arw_gravity_deg * s,
-                       arw_lever_arm_deg=one.arw_lever_arm_deg * s).p_within_limit() - 0.5
-
-    guess = math.log(one.limit_deg / one.total_deg)  # the median lies near rms = limit
-    return float(math.exp(brentq(excess, guess - 5.0, guess + 5.0, xtol=1e-6)))
+    # every source scales with the term: the scale s where the limit is the median of s²·Q
+    return float(one.limit_deg / math.sqrt(quadratic_form_quantile_imhof(one.eigenvalues(), 0.5)))
 
 
 #: Default grid: 0.1× … 10× the paper bound, 8 points per decade (17 scales).

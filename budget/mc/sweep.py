@@ -20,6 +20,7 @@ from ..catalog.schema import GRADE_RANK
 from ..errors import InputError, refuse_repeats
 from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
+from ..sar.residual import DEFAULT_PASS_SHARE
 from ..scenario import Scenario, name_scenario_file
 from .notes import SIMULATED_DEFAULT_KEYS, aiding_defaults_note
 from .options import McOptions
@@ -162,7 +163,7 @@ def trials_needed(target: float) -> int:
     return n
 
 
-def cheapest_passing(table: pd.DataFrame, target: float = 0.9, *, use_lower_ci: bool = True) -> pd.DataFrame:
+def cheapest_passing(table: pd.DataFrame, target: float = DEFAULT_PASS_SHARE, *, use_lower_ci: bool = True) -> pd.DataFrame:
     """Per scenario, the cheapest part with P(pass after PGA) ≥ ``target``; ``None`` where none passes.
 
     "Cheapest" means the public list price (``price_usd``) when every passing part has one;

@@ -60,6 +60,12 @@ PGA_MIN_WINDOW_CELLS = 4.0
 #: Monte Carlo's 0.922.
 DEFAULT_PGA_BANDWIDTH_CYCLES = PGA_MIN_WINDOW_CELLS / 2.0
 
+#: The share of apertures a verdict asks to pass: the Monte Carlo's decision target (P(pass after
+#: PGA), :func:`budget.mc.sweep.cheapest_passing`) and the share of apertures the analytic
+#: fast-phase limits keep within their limit (:func:`random_walk_rms_quantile`), one number so
+#: that the two verdicts ask the same of a part.
+DEFAULT_PASS_SHARE = 0.9
+
 
 def pga_bandwidth_cycles(final_window_samples: float, n_bins: int, n_aperture_bins: int) -> float:
     """K of (1): cycles per aperture inside PGA's settled window of ``final_window_samples``."""
@@ -169,9 +175,32 @@ def random_walk_highpass_eigenvalues(kind: str, cutoff_cycles: float = DEFAULT_P
     gives E[r̄²]). Exact on an n-point grid: r̄² = ‖B dW‖² with B = diag(√(q/Σq)) H K (H the
     highpass, K the walk's kernel, q the energy weight), so the λ_i are B's squared singular
     values. A random walk's residual is dominated by its first few modes (on the Taylor window
-    beyond 2.5 cycles the largest λ is 0.63 for ARW, 0.43 for VRW), so its rms scatters widely
-    about √E[r̄²]: a per-trial limit is met less often than the rms suggests."""
+    beyond 2 cycles the largest λ is 0.44 for ARW, 0.34 for VRW), so its rms scatters widely
+    about √E[r̄²]: a per-trial limit is met less often than the rms suggests
+    (:func:`random_walk_rms_quantile`)."""
     return _random_walk_highpass_eigenvalues(kind, float(cutoff_cycles), int(n), Window.parse(window)).copy()
+
+
+def random_walk_rms_quantile(kind: str, share: float, cutoff_cycles: float = DEFAULT_PGA_BANDWIDTH_CYCLES,
+                             window: Window | str = "rect") -> float:
+    """The ``share``-quantile of one aperture's rms beyond PGA's bandwidth of the ``kind`` random
+    walk, in units of its rms over apertures √E[r̄²] (:func:`random_walk_highpass_rms`): the rms
+    over apertures must be this many times below a limit for a ``share`` of apertures to meet it.
+    Exact: √ of the quantile of Σ λ_i z_i² (:func:`random_walk_highpass_eigenvalues`, Σλ = 1)
+    by Imhof's inversion (:func:`budget.quadform.quadratic_form_quantile_imhof`). At 2 cycles,
+    share 0.9: 1.36 for VRW, 1.43 for ARW, 1.22 for a walk seen directly (Taylor window; the
+    rms itself is met by only 0.58–0.63 of apertures)."""
+    if not (0.0 < share < 1.0):
+        raise ValueError("share must lie strictly between 0 and 1")
+    return _random_walk_rms_quantile(kind, float(share), float(cutoff_cycles), Window.parse(window))
+
+
+@lru_cache(maxsize=64)
+def _random_walk_rms_quantile(kind: str, share: float, cutoff_cycles: float, window: Window) -> float:
+    from ..quadform import quadratic_form_quantile_imhof
+
+    lam = _random_walk_highpass_eigenvalues(kind, cutoff_cycles, 400, window)
+    return float(math.sqrt(quadratic_form_quantile_imhof(lam, share)))
 
 
 @lru_cache(maxsize=64)
