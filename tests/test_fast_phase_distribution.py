@@ -13,8 +13,8 @@ import pytest
 
 from budget.bounds import FastPhaseResidual
 from budget.quadform import quadratic_form_quantile_imhof, quadratic_form_sf_imhof
-from budget.sar.residual import (highpass_phase, random_walk_highpass_eigenvalues, random_walk_highpass_rms,
-                                 random_walk_rms_quantile)
+from budget.sar.residual import (highpass_phase, random_walk_highpass_cross, random_walk_highpass_eigenvalues,
+                                 random_walk_highpass_rms, random_walk_mixture_eigenvalues, random_walk_rms_quantile)
 from budget.sar.windows import Window
 
 N = 300
@@ -156,3 +156,56 @@ def test_share_margin_is_the_exact_quantile(vrw, arw, lever):
     rms = FastPhaseResidual(vrw_deg=vrw, arw_gravity_deg=arw, arw_lever_arm_deg=lever, pga_bandwidth_cycles=2.0,
                             aperture_window="taylor", share=None)
     assert rms.share_margin() == pytest.approx(1.0 / rms.total_deg)
+
+
+def _sampled_paths(window: str, seed: int, cutoff: float = 2.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """WALKS unit walks φ (one white noise each) and their double integral ∬φ, high-passed beyond
+    ``cutoff`` cycles, with the energy weight: (r_rw, r_arw, w)."""
+    rng = np.random.default_rng(seed)
+    phi = np.cumsum(rng.standard_normal((WALKS, N)) * math.sqrt(1.0 / N), axis=1)
+    tilt = np.cumsum(np.cumsum(phi, axis=1) / N, axis=1) / N
+    w = Window.parse(window).samples(N) ** 2 if window != "rect" else np.ones(N)
+    weight = None if window == "rect" else w
+    return highpass_phase(phi.T, cutoff, weight).T, highpass_phase(tilt.T, cutoff, weight).T, w
+
+
+@pytest.mark.parametrize("window", ["rect", "taylor"])
+def test_one_noise_two_paths_cross_term_against_sampled_walks(window):
+    """A walk and its double integral from the same noise, beyond 2 cycles: their correlation
+    (≈ −0.7) from the covariance against 4,000 sampled pairs (±0.03, ≈ 3σ), and the mixture's
+    weights: Σλ is the mixture's mean square, and P(r̄ ≤ x·rms) matches the sampled share (0.025)."""
+    r0, r2, w = _sampled_paths(window, seed=41)
+    sampled = np.mean((r0 * r2 * w).sum(axis=1) / w.sum())
+    rho = random_walk_highpass_cross("arw", "rw", 2.0, window=window) / (
+        random_walk_highpass_rms("arw", 2.0, window=window) * random_walk_highpass_rms("rw", 2.0, window=window))
+    assert -0.8 < rho < -0.6
+    rho_sampled = sampled / math.sqrt(np.mean((r0 * r0 * w).sum(axis=1) / w.sum())
+                                      * np.mean((r2 * r2 * w).sum(axis=1) / w.sum()))
+    assert rho == pytest.approx(rho_sampled, abs=0.03)
+    # equal rms on both paths, added: the mixture of one noise
+    a, b = 1.0 / random_walk_highpass_rms("arw", 2.0, window=window), 1.0 / random_walk_highpass_rms("rw", 2.0, window=window)
+    lam = random_walk_mixture_eigenvalues({"arw": a, "rw": b}, 2.0, window=window)
+    assert lam.sum() == pytest.approx(2.0 + 2.0 * rho, rel=0.01)
+    ms = (((a * r2 + b * r0) ** 2) * w).sum(axis=1) / w.sum()
+    assert np.mean(ms) == pytest.approx(lam.sum(), rel=0.08)
+    rms2 = lam.sum()
+    for x in (0.5, 1.0, 1.5, 2.0):
+        assert 1.0 - quadratic_form_sf_imhof(lam, x * x * rms2) == pytest.approx(np.mean(ms <= x * x * rms2), abs=0.025)
+
+
+def test_residual_of_one_gyro_axis_seen_through_gravity_and_a_lever_arm():
+    """FastPhaseResidual with the geometry (:attr:`arw_axes`): its ARW rms is Σ_i A_i² c_arw² + B_i² c_rw²
+    + 2 A_i B_i c_x over the axes, between the paths' difference and sum, and its weights sum to it;
+    without the geometry the two are taken independent."""
+    c2, c0 = random_walk_highpass_rms("arw", 2.0, window="taylor"), random_walk_highpass_rms("rw", 2.0, window="taylor")
+    cx = random_walk_highpass_cross("arw", "rw", 2.0, window="taylor")
+    axes = ((0.5 / c2, 0.4 / c0), (0.0, -0.3 / c0), (0.0, 0.0))
+    res = FastPhaseResidual(vrw_deg=0.2, arw_gravity_deg=0.5, arw_lever_arm_deg=0.5, pga_bandwidth_cycles=2.0,
+                            aperture_window="taylor", arw_axes=axes)
+    expected = 0.5 ** 2 + 0.4 ** 2 + 0.3 ** 2 + 2.0 * (0.5 / c2) * (0.4 / c0) * cx
+    assert res.arw_deg == pytest.approx(math.sqrt(expected), rel=1e-9)
+    assert res.total_deg == pytest.approx(math.hypot(0.2, res.arw_deg), rel=1e-12)
+    assert res.eigenvalues().sum() == pytest.approx(res.total_deg ** 2, rel=0.01)  # 400 against 800 points
+    alone = FastPhaseResidual(vrw_deg=0.2, arw_gravity_deg=0.5, arw_lever_arm_deg=0.5, pga_bandwidth_cycles=2.0,
+                              aperture_window="taylor")
+    assert alone.total_deg == pytest.approx(math.sqrt(0.2 ** 2 + 0.5 ** 2 + 0.5 ** 2))

@@ -135,7 +135,7 @@ def fast_phase_limits(wavelength_m: float, tc_s=(), *, noise_rms_deg: float = 1.
 @dataclass(frozen=True)
 class FastPhaseResidual:
     """Predicted rms (deg) of the true phase beyond PGA's bandwidth for one part on one scenario
-    (:func:`fast_phase_residual`): per source and their root sum of squares."""
+    (:func:`fast_phase_residual`): per source (each alone) and together (:attr:`total_deg`)."""
 
     vrw_deg: float
     arw_gravity_deg: float
@@ -148,23 +148,45 @@ class FastPhaseResidual:
     #: share of apertures asked to be within :attr:`limit_deg` (:meth:`share_margin`); None: the
     #: rms over apertures is what is held to it
     share: float | None = DEFAULT_PASS_SHARE
+    #: per gyro axis, (A, B): the phase (deg) of the unit-density walks ``arw`` (tilt through
+    #: gravity) and ``rw`` (attitude × lever arm) that one axis's ARW drives — the same noise, so
+    #: the two add with their correlation (≈ −0.7 beyond PGA's window), not in quadrature.
+    #: Empty: the two ARW sources are taken independent (a FastPhaseResidual built by hand).
+    arw_axes: tuple[tuple[float, float], ...] = ()
+
+    @property
+    def arw_deg(self) -> float:
+        """rms (deg) of ARW's two paths together, their cross term included when :attr:`arw_axes`
+        gives the geometry (:func:`budget.sar.residual.random_walk_highpass_cross`)."""
+        if not self.arw_axes:
+            return math.hypot(self.arw_gravity_deg, self.arw_lever_arm_deg)
+        from ..sar.residual import random_walk_highpass_cross
+
+        k, w = self.pga_bandwidth_cycles, self.aperture_window
+        m22, m00, m20 = (random_walk_highpass_cross(a, b, k, window=w)
+                         for a, b in (("arw", "arw"), ("rw", "rw"), ("arw", "rw")))
+        ms = sum(a * a * m22 + b * b * m00 + 2.0 * a * b * m20 for a, b in self.arw_axes)
+        return math.sqrt(max(ms, 0.0))
 
     @property
     def total_deg(self) -> float:
-        return math.hypot(self.vrw_deg, self.arw_gravity_deg, self.arw_lever_arm_deg)
+        return math.hypot(self.vrw_deg, self.arw_deg)
 
     def eigenvalues(self) -> np.ndarray:
-        """λ_i (deg²) of one aperture's mean square Σ λ_i z_i² (z_i independent standard normal) over
-        the three sources, each source's weights scaled by its rms² (empty: no source)."""
-        from ..sar.residual import random_walk_highpass_eigenvalues
+        """λ_i (deg²) of one aperture's mean square Σ λ_i z_i² (z_i independent standard normal):
+        VRW's weights scaled by its rms², and ARW's per gyro axis, its two paths driven by one
+        noise (:func:`budget.sar.residual.random_walk_mixture_eigenvalues`; without
+        :attr:`arw_axes`, each path's weights scaled by its rms², as if independent). Empty: no
+        source."""
+        from ..sar.residual import random_walk_highpass_eigenvalues, random_walk_mixture_eigenvalues
 
-        parts = [(kind, rms) for kind, rms in (("vrw", self.vrw_deg), ("arw", self.arw_gravity_deg),
-                                              ("rw", self.arw_lever_arm_deg)) if rms > 0]
-        if not parts:
-            return np.zeros(0)
-        return np.concatenate([rms ** 2 * random_walk_highpass_eigenvalues(kind, self.pga_bandwidth_cycles,
-                                                                           window=self.aperture_window)
-                               for kind, rms in parts])
+        k, w = self.pga_bandwidth_cycles, self.aperture_window
+        alone = [("vrw", self.vrw_deg)] + ([] if self.arw_axes else [("arw", self.arw_gravity_deg),
+                                                                      ("rw", self.arw_lever_arm_deg)])
+        lam = [rms ** 2 * random_walk_highpass_eigenvalues(kind, k, window=w) for kind, rms in alone if rms > 0]
+        lam += [random_walk_mixture_eigenvalues({"arw": a, "rw": b}, k, window=w)
+                for a, b in self.arw_axes if a or b]
+        return np.concatenate(lam) if lam else np.zeros(0)
 
     def p_within_limit(self) -> float:
         """Probability that one aperture's residual (its energy-weighted rms beyond PGA's
@@ -172,10 +194,10 @@ class FastPhaseResidual:
 
         :attr:`total_deg` is √E[r̄²], the rms over apertures; one aperture's r̄² is a weighted sum
         of χ²₁ (:func:`budget.sar.residual.random_walk_highpass_eigenvalues`: a random walk puts
-        most of it in a few modes), Σ_s rms_s² Σ_i λ_si z_si² over the three sources s, whose
+        most of it in a few modes), over the accelerometers' noise and each gyro axis's
+        (:meth:`eigenvalues`: the two ARW paths of one axis with their correlation), whose
         distribution is Imhof's exact inversion (:func:`budget.quadform.quadratic_form_sf_imhof`).
-        The sources are taken independent, as in :attr:`total_deg` (the two ARW terms come from
-        one gyro noise; their correlation is neglected). E.g. 77 GHz, Taylor window, ARW at 0.45×
+        E.g. 77 GHz, Taylor window, ARW at 0.45×
         its rms limit: P = 0.99; sonar VRW at 0.66×: P = 0.95 — a verdict that asks 90 % of
         apertures to pass with 95 % confidence needs the rms well inside the limit."""
         return self._p_within
@@ -218,7 +240,7 @@ class FastPhaseResidual:
         return self.limit_deg / math.sqrt(x)
 
     def to_dict(self) -> dict:
-        return {"scenario": self.scenario_name, "tc_s": self.tc_s, "total_deg": self.total_deg,
+        return {"scenario": self.scenario_name, "tc_s": self.tc_s, "total_deg": self.total_deg, "arw_deg": self.arw_deg,
                 "vrw_deg": self.vrw_deg, "arw_gravity_deg": self.arw_gravity_deg,
                 "arw_lever_arm_deg": self.arw_lever_arm_deg, "limit_deg": self.limit_deg,
                 "p_within_limit": self.p_within_limit(), "share": self.share,
@@ -231,7 +253,9 @@ class FastPhaseResidual:
     def summary(self) -> str:
         return (f"{self.scenario_name} (Tc = {self.tc_s:.3g} s): what PGA cannot remove (true phase beyond {self.pga_bandwidth_cycles:.3g} cycles per aperture, "
                 f"{self.aperture_window}-weighted): {self.total_deg:.3g}° rms (VRW {self.vrw_deg:.3g}°, "
-                f"ARW through gravity {self.arw_gravity_deg:.3g}°, ARW × lever arm {self.arw_lever_arm_deg:.3g}°) "
+                f"ARW through gravity {self.arw_gravity_deg:.3g}°, ARW × lever arm {self.arw_lever_arm_deg:.3g}°"
+                + (f", together {self.arw_deg:.3g}° with their correlation" if self.arw_axes and
+                   self.arw_gravity_deg > 0 and self.arw_lever_arm_deg > 0 else "") + ") "
                 f"against {self.limit_deg:g}° rms; one aperture within it with probability "
                 f"{self.p_within_limit():.3g}" + ("" if self.share is None else
                                                   f" (asked: {self.share:g}; margin {self.share_margin():.3g})"))
@@ -252,9 +276,14 @@ def fast_phase_residual(scenario, errors, *, pga_bandwidth_cycles: float = DEFAU
     * ARW × lever arm d: δp = d × φ, whose LOS part φ · (u × d) has density N_g |u × d|:
       4π/λ · |u × d| · N_g · √Tc · c_rw(K).
 
-    The three are summed in quadrature (their cross terms neglected). ``aperture_window``: the
-    weighting of the fit and the rms ('rect' or 'taylor'; None: the window the verdict images
-    the scenario with, :func:`budget.sar.windows.verdict_window`)."""
+    The two ARW paths are one attitude error φ (C̃ = (I − [φ×])C, the Monte Carlo's convention):
+    the LOS error is u·(∬ f × φ) + u·(d × φ) = Σ_i [(u × f)_i ∬φ_i + (u × d)_i φ_i] with f the
+    specific force (g up), so per gyro axis i the two add with their correlation (≈ −0.7 beyond
+    2 cycles, :func:`budget.sar.residual.random_walk_highpass_cross`): an antenna above the IMU
+    cancels part of the gravity path, one below adds to it (:attr:`FastPhaseResidual.arw_axes`).
+    VRW, an independent sensor, adds in quadrature. ``aperture_window``: the weighting of the fit
+    and the rms ('rect' or 'taylor'; None: the window the verdict images the scenario with,
+    :func:`budget.sar.windows.verdict_window`)."""
     window = Window.parse(verdict_window(scenario) if aperture_window is None else aperture_window)
     _check_share(share)
     k = float(pga_bandwidth_cycles)
@@ -264,6 +293,11 @@ def fast_phase_residual(scenario, errors, *, pga_bandwidth_cycles: float = DEFAU
     errors = getattr(errors, "errors", errors)  # a NoiseModel's to_si() holds its errors with its effects
     n_v, n_g = float(errors.accel_vrw_m_s2_rt_hz), float(errors.gyro_arw_rad_s_rt_hz)
     cos_psi = math.hypot(u[0], u[1])
+    # per gyro axis, the phase of the unit walks ∬φ_i (through f = g·z, the specific force in level
+    # flight) and φ_i (through the lever arm)
+    grav = np.cross(u, np.array([0.0, 0.0, gravity_m_s2])) * to_phase * n_g * tc ** 2.5
+    lever = np.cross(u, np.asarray(scenario.lever_arm_m, dtype=float)) * to_phase * n_g * math.sqrt(tc)
+    axes = tuple((math.degrees(float(a)), math.degrees(float(b))) for a, b in zip(grav, lever))
     return FastPhaseResidual(
         vrw_deg=math.degrees(to_phase * n_v * tc ** 1.5 * random_walk_highpass_rms("vrw", k, window=window)),
         arw_gravity_deg=math.degrees(to_phase * gravity_m_s2 * cos_psi * n_g * tc ** 2.5
@@ -271,7 +305,7 @@ def fast_phase_residual(scenario, errors, *, pga_bandwidth_cycles: float = DEFAU
         arw_lever_arm_deg=math.degrees(to_phase * d * n_g * math.sqrt(tc)
                                        * random_walk_highpass_rms("rw", k, window=window)),
         pga_bandwidth_cycles=k, aperture_window=window.label, limit_deg=float(limit_deg),
-        scenario_name=scenario.name, tc_s=float(tc), share=share)
+        scenario_name=scenario.name, tc_s=float(tc), share=share, arw_axes=axes)
 
 
 def scenario_fast_phase(scenario, errors, assumptions=None) -> FastPhaseResidual:

@@ -195,6 +195,48 @@ def random_walk_rms_quantile(kind: str, share: float, cutoff_cycles: float = DEF
     return _random_walk_rms_quantile(kind, float(share), float(cutoff_cycles), Window.parse(window))
 
 
+def random_walk_highpass_cross(kind_a: str, kind_b: str, cutoff_cycles: float = DEFAULT_PGA_BANDWIDTH_CYCLES,
+                               n: int = 800, window: Window | str = "rect") -> float:
+    """E[Σ w² r_a r_b]/Σ w² for the ``kind_a`` and ``kind_b`` walks driven by *the same* unit white
+    noise, each high-passed as in :func:`random_walk_highpass_rms` (which this is for
+    ``kind_a == kind_b``, squared): the cross term of two effects of one sensor noise, e.g. a
+    gyro's ARW seen through gravity (``arw``) and through a lever arm (``rw``) — correlation
+    ≈ −0.70 beyond 2 cycles, far from the independence a root sum of squares assumes."""
+    return _random_walk_highpass_cross(*sorted((kind_a, kind_b)), float(cutoff_cycles), int(n), Window.parse(window))
+
+
+@lru_cache(maxsize=64)
+def _random_walk_highpass_cross(kind_a: str, kind_b: str, cutoff_cycles: float, n: int, window: Window) -> float:
+    ra, q = _highpassed_kernel(kind_a, cutoff_cycles, n, window)
+    rb, _ = _highpassed_kernel(kind_b, cutoff_cycles, n, window)
+    return float(np.sum(q[:, None] * ra * rb) * (1.0 / n) / q.sum())
+
+
+def random_walk_mixture_eigenvalues(coefficients: dict, cutoff_cycles: float = DEFAULT_PGA_BANDWIDTH_CYCLES,
+                                    n: int = 400, window: Window | str = "rect") -> np.ndarray:
+    """The weights λ_i (descending; Σλ_i = E[r̄²]) of the mean square beyond PGA's bandwidth of
+    Σ_k c_k e_k, the walks of :data:`KIND_POWER` weighted by ``coefficients`` ({kind: c_k}) and
+    all driven by one unit white noise (:func:`random_walk_highpass_eigenvalues` for one kind,
+    there normalised to Σλ = 1): the exact distribution of one noise seen through several paths."""
+    items = sorted((str(k), float(v)) for k, v in coefficients.items() if v != 0.0)
+    norm = math.sqrt(sum(v * v for _, v in items))
+    if norm == 0.0:
+        return np.zeros(0)
+    # one geometry, many parts: the direction of the coefficients is cached, their size scales λ
+    unit = tuple((k, round(v / norm, 12)) for k, v in items)
+    return norm * norm * _random_walk_mixture_eigenvalues(unit, float(cutoff_cycles), int(n), Window.parse(window))
+
+
+@lru_cache(maxsize=64)
+def _random_walk_mixture_eigenvalues(unit: tuple, cutoff_cycles: float, n: int, window: Window) -> np.ndarray:
+    r, q = None, None
+    for kind, c in unit:
+        rk, q = _highpassed_kernel(kind, cutoff_cycles, n, window)
+        r = c * rk if r is None else r + c * rk
+    b = np.sqrt(q / q.sum())[:, None] * r * math.sqrt(1.0 / n)
+    return np.linalg.svd(b, compute_uv=False) ** 2
+
+
 @lru_cache(maxsize=64)
 def _random_walk_rms_quantile(kind: str, share: float, cutoff_cycles: float, window: Window) -> float:
     from ..quadform import quadratic_form_quantile_imhof
