@@ -74,4 +74,8 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
 
 
 if __name__ == "__main__":
-    main()
+    from budget.errors import InputError
+    try:
+        main()
+    except InputError as err:  # a bad preset name or trial count: the error, not a traceback
+        raise SystemExit(f"error: {err}") from None
