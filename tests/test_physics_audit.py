@@ -161,9 +161,9 @@ def test_no_autofocus_accel_bias_is_lambda_over_two_tc_squared():
 N_GRID = 800
 
 
-def _highpass_rms_per_unit(kind: str, cycles: float = 2.0) -> float:
-    """rms over [0, 1] of a unit-density walk after the cubic and the cosines up to ``cycles``
-    per aperture, from its covariance: x = A w, w ~ N(0, dt I) → E|P x|² = dt ‖P A‖²_F."""
+def _highpassed_walk(kind: str, cycles: float) -> np.ndarray:
+    """P A on an N_GRID grid of [0, 1]: the unit-density walk's kernel A (x = A w, w ~ N(0, dt I))
+    after P removes the cubic and the cosines up to ``cycles`` per aperture."""
     n, dt = N_GRID, 1.0 / N_GRID
     lower = np.tril(np.ones((n, n)))
     a = {"rw": lower, "vrw": dt * lower @ lower, "arw": dt * dt * lower @ lower @ lower}[kind]
@@ -172,24 +172,22 @@ def _highpass_rms_per_unit(kind: str, cycles: float = 2.0) -> float:
     basis = [t**k for k in range(4)] + [np.cos(math.pi * j * (i + 0.5) / n)
                                         for j in range(1, int(math.floor(2 * cycles)) + 1)]
     q, _ = np.linalg.qr(np.array(basis).T)
-    pa = a - q @ (q.T @ a)
-    return math.sqrt(dt * float(np.sum(pa * pa)) / n)
+    return a - q @ (q.T @ a)
+
+
+def _highpass_rms_per_unit(kind: str, cycles: float = 2.0) -> float:
+    """rms over [0, 1] of a unit-density walk after the cubic and the cosines up to ``cycles``
+    per aperture, from its covariance: x = A w, w ~ N(0, dt I) → E|P x|² = dt ‖P A‖²_F."""
+    pa = _highpassed_walk(kind, cycles)
+    return math.sqrt(float(np.sum(pa * pa)) / N_GRID ** 2)
 
 
 def _highpass_share_ratio(kind: str, share: float = 0.9, cycles: float = 2.0, draws: int = 200_000) -> float:
     """One aperture's rms exceeded by 1 − ``share`` of apertures, over the rms over apertures: its
     mean square (1/n)|P A w|² is Σ σ_i² z_i² with σ_i² the eigenvalues of (dt/n)(PA)ᵀ(PA) (numpy's
     own eigh here), whose quantile is read off 200,000 draws of z (0.3 % in the ratio)."""
-    n, dt = N_GRID, 1.0 / N_GRID
-    lower = np.tril(np.ones((n, n)))
-    a = {"rw": lower, "vrw": dt * lower @ lower, "arw": dt * dt * lower @ lower @ lower}[kind]
-    t = (np.arange(n) + 0.5) / n
-    i = np.arange(n)
-    basis = [t**k for k in range(4)] + [np.cos(math.pi * j * (i + 0.5) / n)
-                                        for j in range(1, int(math.floor(2 * cycles)) + 1)]
-    q, _ = np.linalg.qr(np.array(basis).T)
-    pa = a - q @ (q.T @ a)
-    ev = np.clip(np.linalg.eigvalsh(dt / n * pa.T @ pa), 0.0, None)
+    pa = _highpassed_walk(kind, cycles)
+    ev = np.clip(np.linalg.eigvalsh(pa.T @ pa / N_GRID ** 2), 0.0, None)
     ev = ev[ev > 1e-12 * ev.max()]
     rng = np.random.default_rng(7)
     ms = np.concatenate([(rng.standard_normal((20_000, ev.size)) ** 2) @ ev for _ in range(draws // 20_000)])
