@@ -209,3 +209,17 @@ def test_residual_of_one_gyro_axis_seen_through_gravity_and_a_lever_arm():
     alone = FastPhaseResidual(vrw_deg=0.2, arw_gravity_deg=0.5, arw_lever_arm_deg=0.5, pga_bandwidth_cycles=2.0,
                               aperture_window="taylor")
     assert alone.total_deg == pytest.approx(math.sqrt(0.2 ** 2 + 0.5 ** 2 + 0.5 ** 2))
+
+
+@pytest.mark.parametrize("share", [0.0, 1.0, 1.5, -0.1, float("nan"), True])
+def test_a_share_outside_zero_one_is_a_clear_error(share):
+    """The share of apertures asked to meet the limit: strictly between 0 and 1 (or None), named
+    in the error wherever a user gives it."""
+    from pydantic import ValidationError
+
+    from budget.bounds import LeverArmAssumptions, fast_phase_limits
+    from budget.errors import InputError
+    with pytest.raises(InputError, match="share"):
+        fast_phase_limits(0.03, [1.0], share=share)
+    with pytest.raises(ValidationError, match="fast_residual_share"):
+        LeverArmAssumptions(fast_residual_share=share)
