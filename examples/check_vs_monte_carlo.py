@@ -36,8 +36,10 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     ap.add_argument("--out", default=None, help="write the table as CSV")
     args = ap.parse_args(argv)
 
-    from budget.presets import PRESETS
-    presets = args.presets or list(PRESETS)
+    from budget.mc.runner import check_run_counts
+    from budget.presets import PRESETS, get_preset
+    check_run_counts(args.trials, args.seed)  # before any work: a bad count is said at once
+    presets = [get_preset(name).name for name in (args.presets or list(PRESETS))]
     check = budget.check_parts(None, presets).to_frame()
     check = check[check["pga_limited_verdict"] != "unknown"]
     ids = list(check["part_id"].unique())

@@ -24,6 +24,7 @@ def _example():
     return mod
 
 
+@pytest.mark.slow
 def test_check_beside_the_monte_carlo_decision(tmp_path, capsys):
     both = _example().main(["--trials", "2", "--presets", "automotive_24ghz", "--out", str(tmp_path / "t.csv")])
     assert len(both) > 10 and set(both["scenario"]) == {"automotive_24ghz"}
