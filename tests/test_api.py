@@ -4,9 +4,7 @@ the README's worked trade study (``examples/trade_study.py``) runs; figures expo
 
 from __future__ import annotations
 
-import importlib.util
 import re
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +16,7 @@ from budget.catalog.io import load_catalog
 from budget.check import check_parts as check_module
 from budget.errors import InputError
 from budget.presets import get_preset
+from example_loader import load_example
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -71,11 +70,7 @@ def test_vary_scenario_follows_tc_and_names_each_copy():
 
 
 def _trade_study():
-    spec = importlib.util.spec_from_file_location("trade_study", REPO / "examples" / "trade_study.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["trade_study"] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    return load_example("trade_study")
 
 
 @pytest.mark.slow

@@ -3,25 +3,15 @@ run with 2 trials on one cheap preset (the README's figures use 64 on every pres
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
+from example_loader import load_example
 
 from budget.mc.stats import wilson_interval
 
-REPO = Path(__file__).resolve().parents[1]
-
 
 def _example():
-    spec = importlib.util.spec_from_file_location("check_vs_monte_carlo",
-                                                  REPO / "examples" / "check_vs_monte_carlo.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["check_vs_monte_carlo"] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    return load_example("check_vs_monte_carlo")
 
 
 @pytest.mark.slow
