@@ -289,22 +289,18 @@ def fast_phase_residual(scenario, errors, *, pga_bandwidth_cycles: float = DEFAU
     _check_share(share)
     k = float(pga_bandwidth_cycles)
     u = los_unit_vector(scenario.depression_deg, scenario.squint_deg)
-    d = float(np.linalg.norm(np.cross(u, np.asarray(scenario.lever_arm_m, dtype=float))))
     tc, to_phase = scenario.tc_s, 4.0 * math.pi / scenario.wavelength_m
     errors = getattr(errors, "errors", errors)  # a NoiseModel's to_si() holds its errors with its effects
     n_v, n_g = float(errors.accel_vrw_m_s2_rt_hz), float(errors.gyro_arw_rad_s_rt_hz)
-    cos_psi = math.hypot(u[0], u[1])
-    # per gyro axis, the phase of the unit walks ∬φ_i (through f = g·z, the specific force in level
-    # flight) and φ_i (through the lever arm)
-    grav = np.cross(u, np.array([0.0, 0.0, gravity_m_s2])) * to_phase * n_g * tc ** 2.5
-    lever = np.cross(u, np.asarray(scenario.lever_arm_m, dtype=float)) * to_phase * n_g * math.sqrt(tc)
-    axes = tuple((math.degrees(float(a)), math.degrees(float(b))) for a, b in zip(grav, lever))
+    # per gyro axis, the phase (deg) of the unit walks ∬φ_i (through f = g·z, the specific force in
+    # level flight: |u × f| = g cos ψ) and φ_i (through the lever arm: |u × d|)
+    grav = np.degrees(np.cross(u, np.array([0.0, 0.0, gravity_m_s2])) * to_phase * n_g * tc ** 2.5)
+    lever = np.degrees(np.cross(u, np.asarray(scenario.lever_arm_m, dtype=float)) * to_phase * n_g * math.sqrt(tc))
+    axes = tuple((float(a), float(b)) for a, b in zip(grav, lever))
     return FastPhaseResidual(
         vrw_deg=math.degrees(to_phase * n_v * tc ** 1.5 * random_walk_highpass_rms("vrw", k, window=window)),
-        arw_gravity_deg=math.degrees(to_phase * gravity_m_s2 * cos_psi * n_g * tc ** 2.5
-                                     * random_walk_highpass_rms("arw", k, window=window)),
-        arw_lever_arm_deg=math.degrees(to_phase * d * n_g * math.sqrt(tc)
-                                       * random_walk_highpass_rms("rw", k, window=window)),
+        arw_gravity_deg=float(np.linalg.norm(grav)) * random_walk_highpass_rms("arw", k, window=window),
+        arw_lever_arm_deg=float(np.linalg.norm(lever)) * random_walk_highpass_rms("rw", k, window=window),
         pga_bandwidth_cycles=k, aperture_window=window.label, limit_deg=float(limit_deg),
         scenario_name=scenario.name, tc_s=float(tc), share=share, arw_axes=axes)
 
