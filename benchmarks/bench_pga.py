@@ -290,11 +290,16 @@ def main() -> int:
     print(hdr)
     print("-" * len(hdr))
     summary: dict[str, list] = {}
+    second: dict[str, list[int]] = {}  # per group: [cases, second pass ran, kept]
     chips_extra: list[tuple] = []
     for i, (group, label, bad, ref, sup) in enumerate(cases):
         res, t_ours, c_ours = run_ours(bad, args.repeat)
         r_ours = residual_rad(res.image, ref, sup)
         outcome = "converged" if res.converged else ("no scatterers" if res.failed else "not conv.")
+        counts = second.setdefault(group, [0, 0, 0])
+        counts[0] += 1
+        counts[1] += bool(res.second_pass)
+        counts[2] += bool(res.second_pass.get("kept"))
         line = f"{group + ': ' + label:44s} {residual_rad(bad, ref, sup):6.3f} | {r_ours:8.3f} {1e3 * t_ours:7.1f} {outcome:12s} |"
         if not isinstance(fs, str):
             out, inf = fs[i]
@@ -317,6 +322,8 @@ def main() -> int:
               f"ours {np.median(a[:, 0]):.3f} rad vs fastsar {np.median(a[:, 1]):.3f} rad; "
               f"median speed-up {np.median(a[:, 2]):.1f}× (min {a[:, 2].min():.1f}×) wall, "
               f"{np.median(a[:, 3]):.1f}× (min {a[:, 3].min():.1f}×) CPU")
+    for group, (n_cases, ran, kept) in second.items():
+        print(f"{group}: PGA's second pass (after a correction > π rad rms) ran on {ran}/{n_cases}, kept on {kept}")
     if chips_extra:
         e = np.array(chips_extra)
         print(f"gotcha, reference-free: PGA on the unmodified chip moves it by (median) ours {np.median(e[:, 0]):.3f}, "

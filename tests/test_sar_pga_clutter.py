@@ -237,9 +237,10 @@ def test_capture_check_keeps_the_sharpest_run_and_says_so(seed):
     """The check lists every run (the first, a measured start, a slower shrink), keeps exactly one —
     the one whose corrected image is sharpest (Σ|g|⁴/(Σ|g|²)², computed here independently) — and
     says so in the reason and in ``to_dict``; when it keeps the first run the estimate is the
-    single run's."""
+    single run's. (The second pass, which may follow the check, is left out: its own tests are in
+    ``test_pga_second_pass.py``.)"""
     few, _, _, _, _, _ = clutter_scene(ctr_db=-25.0, n_targets=4, error_rms_rad=3.0, seed=seed)
-    r, single = pga(few), pga(few, restarts=False)
+    r, single = pga(few, second_pass_above_rad=None), pga(few, restarts=False)
     assert [row["start"] for row in r.restarts] == ["clutter-limited start", "measured start",
                                                      "slower shrink (0.7)"]
     kept = [row for row in r.restarts if row["kept"]]

@@ -27,6 +27,8 @@ def _options(args) -> McOptions:
     upd = {}
     if getattr(args, "no_fast_phase", False):
         upd["max_residual_phase_rms_deg"] = None
+    if getattr(args, "no_pga_second_pass", False):
+        upd["pga_second_pass"] = False
     if getattr(args, "prefilter", "none") != "none":
         upd["prefilter"] = args.prefilter
     if getattr(args, "unspecified", None) is not None:
@@ -123,6 +125,9 @@ def _add_verdict_options(p) -> None:
     for ``mc`` and ``sweep``."""
     p.add_argument("--no-fast-phase", action="store_true",
                    help="judge by the image alone (drop the 1° limit on what PGA cannot remove)")
+    p.add_argument("--no-pga-second-pass", action="store_true",
+                   help="one PGA pass (default: after a correction of more than π rad rms from a clutter-limited "
+                        "start PGA runs again on the image it corrected, kept when the image is sharper)")
     p.add_argument("--scene", choices=("auto", "realistic", "points"), default=None,
                    help="realistic (the default): clutter + noise + many scatterers, judged against a "
                         "perfect IMU on the same scene; points: five noise-free points (PGA's best case); "

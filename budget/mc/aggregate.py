@@ -25,6 +25,9 @@ class Aggregate:
     pga_converged: int = 0
     #: trials passed against their perfect-IMU twin after failing the scene's reference
     twin_pass: int = 0
+    #: trials on which PGA ran its second pass, and on which it kept it (budget.sar.pga)
+    pga_second_pass_ran: int = 0
+    pga_second_pass_kept: int = 0
     reasons: Counter = field(default_factory=Counter)
     q_before: dict = field(default_factory=lambda: {m: StreamingQuantiles() for m in TRIAL_METRICS})
     q_after: dict = field(default_factory=lambda: {m: StreamingQuantiles() for m in TRIAL_METRICS})
@@ -42,6 +45,8 @@ class Aggregate:
             self.pass_after += o.passed_after
             self.pga_converged += o.pga_converged
             self.twin_pass += o.twin_pass
+            self.pga_second_pass_ran += bool(o.pga_second_pass)
+            self.pga_second_pass_kept += o.pga_second_pass == "kept"
             self.reasons.update(o.reasons)
             for m in TRIAL_METRICS:
                 self.q_before[m].add([o.before[m]])

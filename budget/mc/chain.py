@@ -228,6 +228,8 @@ class TrialOutcome:
     #: its own perfect-IMU twin (same clutter and noise draw, no motion error): passed
     #: (:func:`run_trials`)
     twin_pass: bool = False
+    #: PGA's second pass (:mod:`budget.sar.pga`, "Second pass"): "" (did not run), "kept" or "not kept"
+    pga_second_pass: str = ""
 
 
 #: Image checks (:func:`budget.sar.acceptance.failed_checks`) that are verdict reasons after PGA
@@ -285,6 +287,8 @@ def _pga_kwargs(opt: McOptions, min_window: int = PGA_MIN_WINDOW) -> dict:
           "min_window": int(min_window)}
     if opt.pga_tol_rad is not None:
         kw["tol_rad"] = opt.pga_tol_rad
+    if not opt.pga_second_pass:
+        kw["second_pass_above_rad"] = None
     return kw
 
 
@@ -423,6 +427,8 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
         out.append(TrialOutcome(trial=trial, passed_before=bool(passed_before), passed_after=not ordered,
                                 reasons=ordered, before=before, after=after, peak_range_cells=cells,
                                 pga_converged=bool(res.converged), pga_reason=res.reason, score=float(score),
+                                pga_second_pass=("" if not res.second_pass else
+                                                 "kept" if res.second_pass["kept"] else "not kept"),
                                 detail=detail))
     if ref is not None:
         _judge_against_twins(setup, out, m_after, trials, seed, stream)

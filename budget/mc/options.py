@@ -105,6 +105,10 @@ class McOptions(BaseModel):
     pga_max_iter: int = Field(30, ge=1, le=200)
     pga_tol_rad: float | None = Field(None, gt=0, le=0.5, allow_inf_nan=False,
                                       description="PGA stop tolerance; None = PGA's own default")
+    pga_second_pass: bool = Field(True, description="run PGA again on its own corrected image after a correction "
+                                                     "of more than π rad rms from a clutter-limited start, kept "
+                                                     "when the image is sharper (budget.sar.pga, 'Second pass'); "
+                                                     "False: one pass")
     image_method: Literal["rda", "backprojection"] = "rda"
     prefilter: Literal[PREFILTERS] = Field(
         "none", description="seed 000's ARMA-Kalman filtering of the IMU output before navigation: "

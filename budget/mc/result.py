@@ -86,6 +86,7 @@ class McResult:
                "percentiles_after": self.percentiles("after"),
                "pga_converged_fraction": self.agg.pga_converged / self.agg.n if self.agg.n else None,
                "twin_passes": self.agg.twin_pass,
+               "pga_second_pass": {"ran": self.agg.pga_second_pass_ran, "kept": self.agg.pga_second_pass_kept},
                "worst_trials": [{"trial": o.trial, "reasons": o.reasons, "metrics_after": o.after,
                                  "peak_range_cells": o.peak_range_cells} for o in self.worst_trials()],
                "cancelled": self.cancelled, "decision_rule": DECISION_RULE,
@@ -141,6 +142,12 @@ class McResult:
                 line += j[key] + "\n"
         if j.get("reference_summary"):
             line += j["reference_summary"] + "\n"
+        if self.agg.pga_second_pass_ran:
+            from ..sar.pga import SECOND_PASS_ABOVE_RAD
+            line += (f"PGA's second pass (after a correction of more than {SECOND_PASS_ABOVE_RAD:.3g} rad rms from a "
+                     "clutter-limited start; "
+                     f"kept when the image is sharper) ran on {self.agg.pga_second_pass_ran} of {self.agg.n} trials, "
+                     f"kept on {self.agg.pga_second_pass_kept}\n")
         if self.agg.twin_pass:
             line += (f"{self.agg.twin_pass} of {self.agg.n} trials exceeded that reference but met the acceptance "
                      "relative to their own perfect-IMU twin (same clutter and noise draw, no motion error): "

@@ -57,6 +57,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
           progress=None, cancel=None, sources: Sequence | None = None) -> pd.DataFrame:
     """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
     ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`),
+    ``pga_second_pass_kept`` (trials on which PGA kept its second pass, :mod:`budget.sar.pga`),
     ``seed`` (the one seed of every cell; ``table.attrs`` also hold it and the options in full),
     ``platform_motion`` (what the platform flew, :mod:`budget.nav.manoeuvre`), ``scene``,
     ``window`` and ``navigation`` (what the verdict was judged on: points or realistic scene, the
@@ -120,7 +121,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             row = _cell(scen, part) | {
                 "trials": r.trials, "seed": seed, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
                 "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
-                "twin_passes": r.agg.twin_pass, "platform_motion": r.judged_on.get("platform_motion"),
+                "twin_passes": r.agg.twin_pass, "pga_second_pass_kept": r.agg.pga_second_pass_kept, "platform_motion": r.judged_on.get("platform_motion"),
                 # what the verdict was judged on, as columns: a CSV export loses ``attrs``
                 "scene": r.judged_on.get("scene"), "window": r.judged_on.get("window"),
                 "navigation": r.judged_on.get("navigation"),
