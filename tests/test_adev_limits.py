@@ -88,6 +88,7 @@ FALSE_CASES = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", list(FALSE_CASES))
 def test_false_resolution_rate(case):
     """Curves (of 20) on which a term the truth lacks is reported resolved — before (the old

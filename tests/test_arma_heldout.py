@@ -428,6 +428,7 @@ def test_cancelling_pair_effect_against_closed_form():
     assert _arma_fit(0.5, []).cancelling_pair_db == np.inf
 
 
+@pytest.mark.slow
 def test_white_series_never_selects_a_cancelling_pair():
     # 30 white series of 30,000 samples: whatever AIC prefers, the selected model carries no
     # AR/MA pair that cancels, and a candidate that did is named in the notes

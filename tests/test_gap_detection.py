@@ -101,6 +101,7 @@ def check_case(effect: str, level: str, channel: str, params: dict, tol: dict, s
     return report
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("effect", list(CASES))
 def test_obvious_effect_is_named_first(effect):
     level, channel, params, tol = CASES[effect][0]

@@ -104,6 +104,7 @@ def _low_z(x: np.ndarray, channel: str, seed: int) -> np.ndarray:
     return st.terms.z[st.terms.kind == "psd_low"]
 
 
+@pytest.mark.slow
 def test_low_bands_of_independent_model_following_logs_are_within_noise():
     z = np.concatenate([_low_z(x, ch, s) for s in (0, 1)
                         for ch, x in gt.make(None, N_SHORT, 7000 + s)[0].items()])

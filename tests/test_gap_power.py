@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 import gap_power as gp
 import gap_truth as gt
@@ -25,6 +26,7 @@ def _probes(nb: int, rng: np.random.Generator) -> np.ndarray:
     return np.array(vecs)
 
 
+@pytest.mark.slow
 def test_base_channel_block_covariance():
     rng = np.random.default_rng(5)
     sums = np.array([gp.block_sums(gt.base_channel("gyro_x", N, rng), M) for _ in range(DRAWS)])
@@ -46,6 +48,7 @@ def test_random_walk_block_covariance():
     assert np.allclose(gp.contrasts(N // M) @ np.ones(N // M), 0.0, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_bounds_are_ordered_and_saturate():
     """More magnitude never lowers the bound; at 5× every effect is certain to be seen."""
     for name in ("rate_random_walk", "rate_ramp", "temperature_sensitivity"):

@@ -138,6 +138,7 @@ def _zs(x: np.ndarray, channel: str, lay) -> tuple[float, float]:
     return walk.walk_z(y, cov, lay), walk.early_z(y, cov, lay)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("flicker", ["spectral", "kasdin"])
 def test_null_distribution_on_independent_model_following_logs(flicker, monkeypatch):
     """On logs of the base model drawn by the independent generator (flicker by spectral shaping,

@@ -38,6 +38,7 @@ def test_an_image_beyond_the_pixel_limit_is_refused_with_its_size():
     assert ok.n_pulses * ok.n_range <= MAX_PIXELS
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", ["points", "realistic"])
 def test_a_cut_formation_batch_gives_the_same_trials(scene, monkeypatch):
     scen = get_preset("airborne_xband")

@@ -95,6 +95,7 @@ def test_gyro_scale_factor_fails_the_verdict_only_when_the_platform_rotates():
     assert "rolling through" in big.summary()
 
 
+@pytest.mark.slow
 def test_oscillation_verdict_is_the_same_with_two_workers():
     opt = McOptions(platform_motion={"kind": "oscillation", "period_s": 4.0}, scene="points")
     part = NoiseModel(part_id="m", gyro_misalignment_mrad=50.0, gyro_arw_deg_rt_h=0.5)

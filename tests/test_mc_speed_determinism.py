@@ -148,6 +148,7 @@ def _numbers(result) -> dict:
             "trial_metrics": {k: list(v) for k, v in agg.trial_metrics.items()}}
 
 
+@pytest.mark.slow
 def test_same_seed_same_numbers_any_workers_and_chunks():
     """130 trials (two full chunks and a partial one, a partial formation batch at the end) with
     receiver noise (one random stream per trial): identical per-trial numbers serially with

@@ -30,6 +30,7 @@ def _fingerprint(r):
             d["metrics_after"]["pslr_db"], d["metrics_after"]["residual_phase_rms_deg"])
 
 
+@pytest.mark.slow
 def test_same_seed_same_numbers_any_workers_or_backend():
     s, p = get_preset("automotive_77ghz"), get_part("ADIS16405")
     serial = run_mc(s, p, 128, 7)
