@@ -13,6 +13,7 @@ import json
 import numpy as np
 import pytest
 
+from budget.errors import InputError
 from budget.sar.pga import SECOND_PASS_ABOVE_RAD, correction_rms_rad, pga
 from budget.sar.sharpness import image_sharpness
 
@@ -78,3 +79,11 @@ def test_no_second_pass_after_a_small_correction_on_a_clean_image_or_when_asked_
     off = pga(big, second_pass_above_rad=None)
     assert off.second_pass == {} and pga(big, restarts=False).second_pass == {}
     assert np.array_equal(r_small.phase_error_rad, pga(small, second_pass_above_rad=None).phase_error_rad)
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, float("nan"), float("inf"), "pi", True])
+def test_a_bad_threshold_is_refused_naming_the_field(bad):
+    img, _, _, _, _, _ = clutter_scene(n_az=128, n_r=32, n_targets=4, seed=3)
+    with pytest.raises(InputError) as err:
+        pga(img, second_pass_above_rad=bad)
+    assert err.value.field == "second_pass_above_rad" and "positive" in str(err.value)

@@ -197,7 +197,7 @@ dispatch, which on 128-sample lines cost a quarter of the transform.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
@@ -207,24 +207,19 @@ from ..errors import InputError
 from .pga_fast import _fast_bands
 from .pga_kernels import (line_sums, measured_width, ml_step, refine_ramp, smoothed_rms, weights_and_lines,
                           window_in_place, wrms)
-from .sharpness import image_sharpness
 from .pga_lines import (_LN2, _SG_MAX_FRACTION, _SG_STRETCH_INC, _Lines, _bias, _centre, _detrend, _increment,
                         _line_weights, _lowpass, _power_stats, _predicted_noise, _savgol_parts, _window,
                         fft_lines, ifft_lines, median_all, median_columns)
 from .pga_lines import _median  # noqa: F401  (its home was this module; tests import it from here)
+from .pga_lines import _corrected
+from .pga_passes import SECOND_PASS_ABOVE_RAD, _second_pass, _sharpest, correction_rms_rad
 
 # First window on clutter (step 3, "auto"): this many times the measured width, which holds the
 # tails of a blurred response below win_db.
 _FIRST_SCALE = 3.0
-#: The capture check's other runs (module docstring, "Restarts"): (label, first window, shrink);
-#: ``None``: the default.
-_RESTARTS = (("measured start", "measured", None), ("slower shrink (0.7)", None, 0.7))
 #: A candidate line's clutter level is floored at this fraction of the level across range at its
 #: scatterer (:func:`_row_levels`), as at this fraction of the image's c̄.
 _ROW_FLOOR = 0.1
-#: The second pass runs after a correction larger than this (rad rms over the bins with signal;
-#: module docstring, "Second pass").
-SECOND_PASS_ABOVE_RAD = float(np.pi)
 #: PGA's smallest window (samples) when the caller gives none.
 DEFAULT_MIN_WINDOW = 8
 
@@ -332,15 +327,6 @@ def apply_phase_correction(image_data, phase_error_rad) -> np.ndarray:
     if g.dtype != np.complex128:
         return sfft.fft(sfft.ifft(g, axis=0) * np.exp(-1j * np.fft.ifftshift(phi))[:, None], axis=0)
     return _corrected(ifft_lines(g), phi, overwrite=True)
-
-
-def _corrected(hist: np.ndarray, phi: np.ndarray, overwrite: bool = False) -> np.ndarray:
-    """The image of the phase history ``hist`` (complex128, numpy order along axis 0) multiplied
-    by e^{−jφ} (``phi`` centred), as :func:`apply_phase_correction` forms it; ``overwrite``: in
-    ``hist`` itself."""
-    out = hist if overwrite else hist.copy()
-    out *= np.exp(-1j * np.fft.ifftshift(phi))[:, None]
-    return fft_lines(out, out=out)
 
 
 def _row_levels(power: np.ndarray, lines: np.ndarray) -> np.ndarray:
@@ -505,6 +491,13 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
         stats = _power_stats(g)  # the finiteness check comes with it
     _check(g, kernel, max_iter, tol_rad, line_fraction, min_window, first_window, band_snr,
            None if stats is None else stats[3])
+    if second_pass_above_rad is not None and not (
+            isinstance(second_pass_above_rad, (int, float)) and not isinstance(second_pass_above_rad, bool)
+            and np.isfinite(second_pass_above_rad)
+            and second_pass_above_rad > 0):
+        raise InputError("the second pass's threshold must be a positive, finite number of radians",
+                         field="second_pass_above_rad", value=second_pass_above_rad,
+                         expected="a correction size in rad rms > 0 (default π), or None for no second pass")
     aperture = _aperture_interval(aperture_bins, g.shape[0])
     if stats is None:
         g = g.astype(complex, copy=False)
@@ -581,76 +574,3 @@ def _outcome(g: np.ndarray, d: _Lines, run: dict, lines: np.ndarray, clutter: fl
                      candidate_lines=int(lines.size), clutter_level=clutter, reason=reason,
                      predicted_noise_rad=_predicted_noise(scr[scr >= 10 ** (min_scr_db / 10)]),
                      history=history, support=support, fast_bands=bands, start_window=run["start"])
-
-
-def correction_rms_rad(res: PgaResult) -> float:
-    """The size of PGA's correction: the rms of its estimate over the bins with signal
-    (:attr:`PgaResult.estimated_bins`; the estimate has no constant or linear term there), rad."""
-    phi = np.asarray(res.phase_error_rad, float)[res.estimated_bins]
-    return float(np.sqrt(np.mean(phi * phi))) if phi.size else 0.0
-
-
-def _second_pass(g: np.ndarray, first: PgaResult, size: float, above: float, again) -> tuple[PgaResult, np.ndarray]:
-    """Second pass (module docstring, "Second pass"): PGA run again, from its own start, on the
-    image ``first`` corrected; its estimate is added when the image it gives is sharper
-    (:func:`budget.sar.sharpness.image_sharpness`), else ``first`` is kept; ``second_pass``
-    records it either way. Returns the result and its corrected image."""
-    hist = ifft_lines(g)
-    g1 = _corrected(hist, first.phase_error_rad)
-    second = again(g1)
-    phi = first.phase_error_rad + second.phase_error_rad
-    g2 = _corrected(hist, phi, overwrite=True) if second.usable_lines else g1
-    s1, s2 = image_sharpness(g1), image_sharpness(g2)
-    kept = bool(second.usable_lines) and s2 > s1
-    record = {"correction_rms_rad": size, "above_rad": above, "kept": kept, "sharpness_before": s1,
-              "sharpness_after": s2, "start_window": second.start_window, "iterations": second.iterations,
-              "converged": second.converged, "usable_lines": second.usable_lines,
-              "final_window": second.final_window}
-    verdict = (f"kept: the image is sharper (Σ|g|⁴/(Σ|g|²)² ×{s2 / s1:.4f})" if kept else
-               "not kept: " + ("no usable scatterers" if not second.usable_lines else
-                               f"the image is not sharper (×{s2 / s1:.4f})"))
-    note = (f"; second pass after a correction of {size:.3g} rad rms (> {above:g} rad): "
-            f"{second.iterations} more iterations, {verdict}")
-    if not kept:
-        res = replace(first, second_pass=record, reason=first.reason + note)
-        return res, g1
-    res = replace(first, phase_error_rad=phi, iterations=first.iterations + second.iterations,
-                  converged=second.converged, final_window=second.final_window,
-                  history=first.history + second.history, fast_bands=first.fast_bands + second.fast_bands,
-                  second_pass=record, usable_lines=second.usable_lines,
-                  predicted_noise_rad=second.predicted_noise_rad,
-                  reason=second.reason + note)
-    return res, g2
-
-
-def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaResult, np.ndarray]:
-    """Capture check (module docstring, "Restarts"): the run from the clutter-limited start and
-    the runs of :data:`_RESTARTS`, the one whose corrected image is sharpest
-    (:func:`budget.sar.sharpness.image_sharpness`) kept, with that image; every run is listed in
-    ``restarts``."""
-    runs = [("clutter-limited start", first)]
-    for label, first_window, shrink in _RESTARTS:
-        dd = d
-        if shrink is not None:
-            dd = replace(d, shrink=shrink)
-            dd.unshifted = d.unshifted  # the same lines: the same uncorrected start
-        runs.append((label, finish(dd,
-                                   "auto" if first_window is None else first_window)))
-    table, images, hist = [], [], None
-    for label, r in runs:
-        if r.usable_lines:
-            hist = ifft_lines(g) if hist is None else hist  # every run corrects the same phase history
-        images.append(_corrected(hist, r.phase_error_rad) if r.usable_lines else g)
-        sharp = image_sharpness(images[-1]) if r.usable_lines else float("nan")
-        table.append({"start": label, "start_window": r.start_window, "sharpness": sharp, "converged": r.converged,
-                      "iterations": r.iterations, "usable_lines": r.usable_lines, "final_window": r.final_window})
-    best = max(range(len(runs)), key=lambda i: table[i]["sharpness"] if runs[i][1].usable_lines else -np.inf)
-    for i, row in enumerate(table):
-        row["kept"] = i == best
-    res = runs[best][1]
-    res.restarts = table
-    res.reason += (f"; capture check ({first.usable_lines} usable lines after a clutter-limited first window "
-                   f"of {first.start_window} samples): the sharpest of {len(runs)} runs kept, "
-                   f"the {runs[best][0]}")
-    return res, images[best]
-

@@ -369,3 +369,12 @@ def _increment(d: _Lines, hist_w: np.ndarray, win: np.ndarray, prod: np.ndarray,
     d_g = np.fft.fftshift(sfft.ifft(win * (2j * np.pi * d.pos / n)[:, None], axis=0), axes=0)
     grad = np.where(weight > 0, np.imag(np.conj(big_g) * d_g).sum(axis=1) / np.maximum(weight, 1e-300), 0.0)
     return _detrend(np.concatenate([[0.0], np.cumsum(0.5 * (grad[1:] + grad[:-1]))]), weight), weight
+
+
+def _corrected(hist: np.ndarray, phi: np.ndarray, overwrite: bool = False) -> np.ndarray:
+    """The image of the phase history ``hist`` (complex128, numpy order along axis 0) multiplied
+    by e^{−jφ} (``phi`` centred), as :func:`apply_phase_correction` forms it; ``overwrite``: in
+    ``hist`` itself."""
+    out = hist if overwrite else hist.copy()
+    out *= np.exp(-1j * np.fft.ifftshift(phi))[:, None]
+    return fft_lines(out, out=out)
