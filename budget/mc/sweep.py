@@ -121,7 +121,8 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             row = _cell(scen, part) | {
                 "trials": r.trials, "seed": seed, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
                 "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
-                "twin_passes": r.agg.twin_pass, "pga_second_pass_kept": r.agg.pga_second_pass_kept, "platform_motion": r.judged_on.get("platform_motion"),
+                "twin_passes": r.agg.twin_pass, "pga_second_pass_kept": r.agg.pga_second_pass_kept,
+                "platform_motion": r.judged_on.get("platform_motion"),
                 # what the verdict was judged on, as columns: a CSV export loses ``attrs``
                 "scene": r.judged_on.get("scene"), "window": r.judged_on.get("window"),
                 "navigation": r.judged_on.get("navigation"),

@@ -341,7 +341,8 @@ def _row_levels(power: np.ndarray, lines: np.ndarray) -> np.ndarray:
 
 
 def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fraction: float,
-           min_window: int, first_window: str, band_snr: float, finite: bool | None = None) -> None:
+           min_window: int, first_window: str, band_snr: float, finite: bool | None = None,
+           second_pass_above_rad: float | None = None) -> None:
     """Raises InputError for a bad image or setting; ``finite``: whether every pixel is finite,
     when already known."""
     if g.ndim != 2 or g.shape[0] < 16 or g.shape[1] < 1:
@@ -358,6 +359,11 @@ def _check(g: np.ndarray, kernel: str, max_iter: int, tol_rad: float, line_fract
         raise InputError("invalid PGA settings", field="max_iter/tol_rad/line_fraction/min_window/band_snr",
                          expected="max_iter ≥ 1, tol_rad > 0, 0 < line_fraction ≤ 1, min_window ≥ 3, "
                                   "band_snr ≥ 1")
+    t = second_pass_above_rad
+    if t is not None and not (isinstance(t, (int, float)) and not isinstance(t, bool) and np.isfinite(t) and t > 0):
+        raise InputError("the second pass's threshold must be a positive, finite number of radians",
+                         field="second_pass_above_rad", value=t,
+                         expected="a correction size in rad rms > 0 (default π), or None for no second pass")
 
 
 def _aperture_interval(aperture_bins, n: int) -> tuple[int, int] | None:
@@ -490,14 +496,7 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
         g = g.astype(complex, copy=False)
         stats = _power_stats(g)  # the finiteness check comes with it
     _check(g, kernel, max_iter, tol_rad, line_fraction, min_window, first_window, band_snr,
-           None if stats is None else stats[3])
-    if second_pass_above_rad is not None and not (
-            isinstance(second_pass_above_rad, (int, float)) and not isinstance(second_pass_above_rad, bool)
-            and np.isfinite(second_pass_above_rad)
-            and second_pass_above_rad > 0):
-        raise InputError("the second pass's threshold must be a positive, finite number of radians",
-                         field="second_pass_above_rad", value=second_pass_above_rad,
-                         expected="a correction size in rad rms > 0 (default π), or None for no second pass")
+           None if stats is None else stats[3], second_pass_above_rad)
     aperture = _aperture_interval(aperture_bins, g.shape[0])
     if stats is None:
         g = g.astype(complex, copy=False)
