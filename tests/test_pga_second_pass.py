@@ -87,3 +87,23 @@ def test_a_bad_threshold_is_refused_naming_the_field(bad):
     with pytest.raises(InputError) as err:
         pga(img, second_pass_above_rad=bad)
     assert err.value.field == "second_pass_above_rad" and "positive" in str(err.value)
+
+
+def test_after_the_capture_check_the_pass_reuses_its_image_and_gives_the_same_result(monkeypatch):
+    """Four scatterers (fewer usable lines than ``min_lines``: the capture check runs) and 8 rad rms:
+    both the capture check and the second pass run. The pass starts from the capture check's
+    corrected image and phase history instead of forming them again; the estimate and the image
+    are bit-identical to a pass that forms its own."""
+    import importlib
+    passes = importlib.import_module("budget.sar.pga_passes")
+    pga_module = importlib.import_module("budget.sar.pga")
+    bad, _, _, _, _, _ = clutter_scene(ctr_db=-25.0, n_targets=4, error_rms_rad=8.0, seed=0)
+    shared = pga(bad)
+    assert shared.restarts and shared.second_pass, "the case must run both"
+    own = passes._second_pass
+    monkeypatch.setattr(pga_module, "_second_pass",
+                        lambda g, first, size, above, again, g1=None, hist=None: own(g, first, size, above, again))
+    formed = pga(bad)
+    assert formed.second_pass == shared.second_pass
+    assert np.array_equal(formed.phase_error_rad, shared.phase_error_rad)
+    assert np.array_equal(formed.image, shared.image)

@@ -524,9 +524,9 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
         return _outcome(g, dd, _iterate(dd, zero, n, max_iter, first=start), lines, clutter, tol_rad, min_scr_db,
                         fast_phase, band_snr, aperture)
 
-    res, corrected = finish(d, first_window), None
+    res, corrected, hist = finish(d, first_window), None, None
     if restarts and first_window == "auto" and res.start_window < n and 0 < res.usable_lines < min_lines:
-        res, corrected = _sharpest(g, d, res, finish)
+        res, corrected, hist = _sharpest(g, d, res, finish)
     if restarts and second_pass_above_rad is not None and res.usable_lines and res.start_window < n:
         size = correction_rms_rad(res)
         if size > second_pass_above_rad:
@@ -536,7 +536,8 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
                            win_scale=win_scale, shrink=shrink, min_window=min_window, band_db=band_db,
                            smooth=smooth, first_window="auto", fast_phase=fast_phase, band_snr=band_snr,
                            corrected_image=False, restarts=False, aperture_bins=aperture_bins)
-            res, corrected = _second_pass(g, res, size, second_pass_above_rad, again)
+            # the capture check's image and phase history, when it ran, are not formed again
+            res, corrected = _second_pass(g, res, size, second_pass_above_rad, again, corrected, hist)
     if corrected_image and res.usable_lines:
         res.image = corrected if corrected is not None else apply_phase_correction(g, res.phase_error_rad)
     return res

@@ -40,13 +40,16 @@ def correction_rms_rad(res: PgaResult) -> float:
     return float(np.sqrt(np.mean(phi * phi))) if phi.size else 0.0
 
 
-def _second_pass(g: np.ndarray, first: PgaResult, size: float, above: float, again) -> tuple[PgaResult, np.ndarray]:
+def _second_pass(g: np.ndarray, first: PgaResult, size: float, above: float, again,
+                 g1: np.ndarray | None = None, hist: np.ndarray | None = None) -> tuple[PgaResult, np.ndarray]:
     """Second pass (module docstring, "Second pass"): PGA run again, from its own start, on the
     image ``first`` corrected; its estimate is added when the image it gives is sharper
     (:func:`budget.sar.sharpness.image_sharpness`), else ``first`` is kept; ``second_pass``
-    records it either way. Returns the result and its corrected image."""
-    hist = ifft_lines(g)
-    g1 = _corrected(hist, first.phase_error_rad)
+    records it either way. ``g1``, ``hist``: that corrected image and ``g``'s phase history when
+    the capture check has formed them already (``hist`` is then overwritten). Returns the result
+    and its corrected image."""
+    hist = ifft_lines(g) if hist is None else hist
+    g1 = _corrected(hist, first.phase_error_rad) if g1 is None else g1
     second = again(g1)
     phi = first.phase_error_rad + second.phase_error_rad
     g2 = _corrected(hist, phi, overwrite=True) if second.usable_lines else g1
@@ -73,11 +76,12 @@ def _second_pass(g: np.ndarray, first: PgaResult, size: float, above: float, aga
     return res, g2
 
 
-def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaResult, np.ndarray]:
+def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaResult, np.ndarray, np.ndarray | None]:
     """Capture check (module docstring, "Restarts"): the run from the clutter-limited start and
     the runs of :data:`_RESTARTS`, the one whose corrected image is sharpest
-    (:func:`budget.sar.sharpness.image_sharpness`) kept, with that image; every run is listed in
-    ``restarts``."""
+    (:func:`budget.sar.sharpness.image_sharpness`) kept, with that image and ``g``'s phase
+    history (None when no run had usable lines; the second pass reuses both); every run is listed
+    in ``restarts``."""
     runs = [("clutter-limited start", first)]
     for label, first_window, shrink in _RESTARTS:
         dd = d
@@ -102,5 +106,5 @@ def _sharpest(g: np.ndarray, d: _Lines, first: PgaResult, finish) -> tuple[PgaRe
     res.reason += (f"; capture check ({first.usable_lines} usable lines after a clutter-limited first window "
                    f"of {first.start_window} samples): the sharpest of {len(runs)} runs kept, "
                    f"the {runs[best][0]}")
-    return res, images[best]
+    return res, images[best], hist
 
