@@ -169,6 +169,9 @@ unchanged; on the tests' independent clutter generator (24 scatterers, −25 dB,
 8 seeds each) it ran on every image and left less on 10 of 16, more on none
 (``tests/test_pga_second_pass.py``); on ``benchmarks/bench_pga.py`` (2 rad) it ran on 4 of 12
 512² clutter scenes (kept on 3, each a little better) and on 1 of 50 Gotcha chips (not kept).
+The threshold π is measured, not derived: on that Monte Carlo any threshold from 1 to 5 rad gives
+the same verdicts with the same perfect-IMU reference; at 0.5 rad the pass reaches the reference's
+own trials, at 8 rad verdicts fall back (``docs/autofocus.md``, "Where the gate sits").
 
 Usable lines: candidates whose final-window SCR is ≥ ``min_scr_db``. None → "no usable
 scatterers": estimate zero, image unchanged, ``usable_lines = 0``.
