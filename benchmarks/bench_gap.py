@@ -107,6 +107,11 @@ def detection(results: list[dict], seeds: int) -> None:
         missed = sorted(r["seed"] for r in rows if r not in right)
         if missed:
             print("      missed seeds: " + ", ".join(map(str, missed)))
+        if len(rows) > 10:
+            # the target is stated for ten seeds: how the count of ten varies from one set to the next
+            hits = {r["seed"] for r in right}
+            sets = [sum(s in hits for s in range(k, min(k + 10, len(rows)))) for k in range(0, len(rows), 10)]
+            print("      per ten seeds (0–9, 10–19, …): " + ", ".join(map(str, sets)))
         if name in gp.BOUNDED and gt.FLICKER == "spectral":
             bound = gp.power_bound(name, gt.RATIO, n=rows[0]["n"])
             extra = ""
