@@ -489,6 +489,7 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
     docstring, "Fast-phase stage"); None: the band is read off the lines' energy.
     ``second_pass_above_rad``: the second pass after a large correction (module docstring,
     "Second pass"); None: never."""
+    settings = {k: v for k, v in locals().items() if k != "image_data"}  # the second pass reruns with them
     try:
         g = np.asarray(image_data)
     except ValueError:  # ragged rows: numpy refuses the shape itself
@@ -533,12 +534,8 @@ def pga(image_data, *, kernel: str = "ml", max_iter: int = 30, tol_rad: float = 
     if restarts and second_pass_above_rad is not None and res.usable_lines and res.start_window < n:
         size = correction_rms_rad(res)
         if size > second_pass_above_rad:
-            def again(g1):
-                return pga(g1, kernel=kernel, max_iter=max_iter, tol_rad=tol_rad, line_fraction=line_fraction,
-                           min_lines=min_lines, max_lines=max_lines, min_scr_db=min_scr_db, win_db=win_db,
-                           win_scale=win_scale, shrink=shrink, min_window=min_window, band_db=band_db,
-                           smooth=smooth, first_window="auto", fast_phase=fast_phase, band_snr=band_snr,
-                           corrected_image=False, restarts=False, aperture_bins=aperture_bins)
+            def again(g1):  # from its own start, one run, the caller forms the image
+                return pga(g1, **{**settings, "first_window": "auto", "corrected_image": False, "restarts": False})
             # the capture check's image and phase history, when it ran, are not formed again
             res, corrected = _second_pass(g, res, size, second_pass_above_rad, again, corrected, hist)
     if corrected_image and res.usable_lines:
