@@ -210,11 +210,10 @@ from ..errors import InputError
 from .pga_fast import _fast_bands
 from .pga_kernels import (line_sums, measured_width, ml_step, refine_ramp, smoothed_rms, weights_and_lines,
                           window_in_place, wrms)
-from .pga_lines import (_LN2, _SG_MAX_FRACTION, _SG_STRETCH_INC, _Lines, _bias, _centre, _detrend, _increment,
-                        _line_weights, _lowpass, _power_stats, _predicted_noise, _savgol_parts, _window,
+from .pga_lines import (_LN2, _SG_MAX_FRACTION, _SG_STRETCH_INC, _Lines, _bias, _centre, _corrected, _detrend,
+                        _increment, _line_weights, _lowpass, _power_stats, _predicted_noise, _savgol_parts, _window,
                         fft_lines, ifft_lines, median_all, median_columns)
 from .pga_lines import _median  # noqa: F401  (its home was this module; tests import it from here)
-from .pga_lines import _corrected
 from .pga_passes import SECOND_PASS_ABOVE_RAD, _second_pass, _sharpest, correction_rms_rad
 
 # First window on clutter (step 3, "auto"): this many times the measured width, which holds the
