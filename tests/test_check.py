@@ -177,7 +177,7 @@ def test_pga_limited_verdict_fails_vrw_and_arw_that_pass_alone_but_not_together(
     from budget.bounds.lever_arm import LeverArmAssumptions
     from budget.catalog.io import get_part
     from budget.quadform import quadratic_form_quantile_imhof
-    from budget.sar.residual import random_walk_highpass_eigenvalues
+    from budget.sar.residual import random_walk_highpass_rms, random_walk_sources_eigenvalues
     sc = get_preset("airborne_xband").model_copy(update={"lever_arm_m": (0.0, 0.0, 0.0)})
     a = LeverArmAssumptions.from_scenario(sc)
     assert a.fast_residual_share == 0.9
@@ -199,8 +199,12 @@ def test_pga_limited_verdict_fails_vrw_and_arw_that_pass_alone_but_not_together(
     assert res.fast_phase_p(0, 0) < 0.9
     fr = fast_phase_residual(sc, part.to_si(), pga_bandwidth_cycles=a.pga_bandwidth_cycles,
                              aperture_window=a.aperture_window, limit_deg=a.fast_residual_limit_deg)
-    lam = np.concatenate([d ** 2 * random_walk_highpass_eigenvalues(k, a.pga_bandwidth_cycles, window=a.aperture_window)
-                          for k, d in (("vrw", fr.vrw_deg), ("arw", fr.arw_gravity_deg)) if d > 0])
+    # the two sensors' phases add: the weights of their summed covariance (each source's own
+    # weights pooled would leave out the cross terms, :func:`random_walk_sources_eigenvalues`)
+    k2 = a.pga_bandwidth_cycles
+    lam = random_walk_sources_eigenvalues(
+        [{k: d / random_walk_highpass_rms(k, k2, n=400, window=a.aperture_window)}
+         for k, d in (("vrw", fr.vrw_deg), ("arw", fr.arw_gravity_deg)) if d > 0], k2, window=a.aperture_window)
     exact = a.fast_residual_limit_deg / np.sqrt(quadratic_form_quantile_imhof(lam, 0.9))
     assert verdict == "fail" and margin == pytest.approx(exact, rel=2e-3) and margin < 1.0
     flagged, why = res.flag(0, 0)

@@ -173,20 +173,27 @@ class FastPhaseResidual:
         return math.hypot(self.vrw_deg, self.arw_deg)
 
     def eigenvalues(self) -> np.ndarray:
-        """λ_i (deg²) of one aperture's mean square Σ λ_i z_i² (z_i independent standard normal):
-        VRW's weights scaled by its rms², and ARW's per gyro axis, its two paths driven by one
-        noise (:func:`budget.sar.residual.random_walk_mixture_eigenvalues`; without
-        :attr:`arw_axes`, each path's weights scaled by its rms², as if independent). Empty: no
-        source."""
-        from ..sar.residual import random_walk_highpass_eigenvalues, random_walk_mixture_eigenvalues
+        """λ_i (deg²) of one aperture's mean square Σ λ_i z_i² (z_i independent standard normal).
+        The line-of-sight phase is one sum of independent sources — the accelerometers' VRW (one
+        walk on the LOS, isotropic noise) and each gyro axis's ARW, its two paths driven by one
+        noise (:attr:`arw_axes`; without them the two paths as independent sources) — so the λ_i
+        are those of the summed residual's covariance
+        (:func:`budget.sar.residual.random_walk_sources_eigenvalues`), not each source's own
+        pooled. Empty: no source."""
+        from ..sar.residual import random_walk_highpass_rms, random_walk_sources_eigenvalues
 
         k, w = self.pga_bandwidth_cycles, self.aperture_window
+        n = 400
+
+        def unit(kind: str, rms_deg: float) -> dict:
+            # a source given by its rms: the coefficient of the unit walk on the same grid
+            return {kind: rms_deg / random_walk_highpass_rms(kind, k, n=n, window=w)}
+
         alone = [("vrw", self.vrw_deg)] + ([] if self.arw_axes else [("arw", self.arw_gravity_deg),
                                                                       ("rw", self.arw_lever_arm_deg)])
-        lam = [rms ** 2 * random_walk_highpass_eigenvalues(kind, k, window=w) for kind, rms in alone if rms > 0]
-        lam += [random_walk_mixture_eigenvalues({"arw": a, "rw": b}, k, window=w)
-                for a, b in self.arw_axes if a or b]
-        return np.concatenate(lam) if lam else np.zeros(0)
+        sources = [unit(kind, rms) for kind, rms in alone if rms > 0]
+        sources += [{"arw": a, "rw": b} for a, b in self.arw_axes if a or b]
+        return random_walk_sources_eigenvalues(sources, k, n=n, window=w) if sources else np.zeros(0)
 
     def p_within_limit(self) -> float:
         """Probability that one aperture's residual (its energy-weighted rms beyond PGA's
@@ -194,9 +201,8 @@ class FastPhaseResidual:
 
         :attr:`total_deg` is √E[r̄²], the rms over apertures; one aperture's r̄² is a weighted sum
         of χ²₁ (:func:`budget.sar.residual.random_walk_highpass_eigenvalues`: a random walk puts
-        most of it in a few modes), over the accelerometers' noise and each gyro axis's
-        (:meth:`eigenvalues`: the two ARW paths of one axis with their correlation), whose
-        distribution is Imhof's exact inversion (:func:`budget.quadform.quadratic_form_sf_imhof`).
+        most of it in a few modes), the eigenvalues of the covariance of the sum of its sources
+        (:meth:`eigenvalues`), whose distribution is Imhof's exact inversion (:func:`budget.quadform.quadratic_form_sf_imhof`).
         E.g. 77 GHz, Taylor window, ARW at 0.45×
         its rms limit: P = 0.99; sonar VRW at 0.66×: P = 0.95 — a verdict that asks 90 % of
         apertures to pass with 95 % confidence needs the rms well inside the limit."""

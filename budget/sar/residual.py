@@ -237,6 +237,47 @@ def _random_walk_mixture_eigenvalues(unit: tuple, cutoff_cycles: float, n: int, 
     return np.linalg.svd(b, compute_uv=False) ** 2
 
 
+def random_walk_sources_eigenvalues(sources, cutoff_cycles: float = DEFAULT_PGA_BANDWIDTH_CYCLES,
+                                    n: int = 400, window: Window | str = "rect") -> np.ndarray:
+    """The weights λ_i (descending; Σλ_i = E[r̄²]) of the mean square beyond PGA's bandwidth of a
+    phase made of *independent* sources, each Σ_k c_k e_k over the walks of :data:`KIND_POWER`
+    driven by its own unit white noise (``sources``: a sequence of {kind: c_k}; one source is
+    :func:`random_walk_mixture_eigenvalues`).
+
+    The sources add before the mean square is taken: r̄² = ‖Σ_s B_s dW_s‖² (B_s as in
+    :func:`random_walk_highpass_eigenvalues`), so the λ_i are the eigenvalues of Σ_s B_s B_sᵀ, the
+    covariance of the summed residual. Pooling each source's own λ instead describes
+    Σ_s ‖B_s dW_s‖², which has the same mean but leaves out the cross terms: two independent
+    walks of one kind (e.g. the roll and pitch gyros' tilt seen on a squinted line of sight) sum
+    to one walk of that kind, whose r̄² scatters as either does, where the pooled weights would
+    halve its spread. Σ_s B_s B_sᵀ = Σ_{k,l} (Σ_s c_sk c_sl) B_k B_lᵀ, so the n × n products of the
+    three kinds are formed once per bandwidth and window."""
+    kinds = tuple(sorted(KIND_POWER))
+    a = np.zeros((len(kinds), len(kinds)))
+    for src in sources:
+        unknown = set(src) - set(kinds)
+        if unknown:
+            raise ValueError(f"unknown kind(s) {sorted(unknown)}: expected 'rw', 'vrw' or 'arw'")
+        c = np.array([float(src.get(k, 0.0)) for k in kinds])
+        a += np.outer(c, c)
+    if not np.any(a):
+        return np.zeros(0)
+    gram = _kind_products(float(cutoff_cycles), int(n), Window.parse(window))
+    m = sum(a[i, j] * gram[i][j] for i in range(len(kinds)) for j in range(len(kinds)) if a[i, j] != 0.0)
+    lam = np.linalg.eigvalsh(0.5 * (m + m.T))[::-1]
+    return np.clip(lam, 0.0, None)
+
+
+@lru_cache(maxsize=8)
+def _kind_products(cutoff_cycles: float, n: int, window: Window) -> tuple:
+    """B_k B_lᵀ (n × n) for the kinds of :data:`KIND_POWER` in sorted order."""
+    bs = []
+    for kind in sorted(KIND_POWER):
+        r, q = _highpassed_kernel(kind, cutoff_cycles, n, window)
+        bs.append(np.sqrt(q / q.sum())[:, None] * r * math.sqrt(1.0 / n))
+    return tuple(tuple(bk @ bl.T for bl in bs) for bk in bs)
+
+
 @lru_cache(maxsize=64)
 def _random_walk_rms_quantile(kind: str, share: float, cutoff_cycles: float, window: Window) -> float:
     from ..quadform import quadratic_form_quantile_imhof
