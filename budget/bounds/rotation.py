@@ -27,7 +27,7 @@ A constant Θ from t = 0 gives E = Θt²/2, the bound's form; so Θ_eq = 2·max_
 Only a roll error moves the antenna in range: it tilts gravity into the cross-track axis (y),
 whose error the line of sight sees (cos ε of it at depression ε; seed 004's bound, and this
 module, take the whole cross-track error). A pitch error tilts gravity along the track (x),
-which moves the samples along the aperture: at broadside (:func:`motion_excursion` refuses a squint, as the simulator does) the range
+which moves the samples along the aperture: at broadside (:func:`motion_excursion` refuses a squint) the range
 to a target changes by (x − x_t)/R of it, at most ≈ λ/(4δℓ) at the aperture's ends (a few
 per cent; left out here); a yaw error turns a horizontal specific force that a straight track
 does not have. So a gyro scale factor acts through the roll gyro's own rotation:
@@ -216,13 +216,14 @@ def motion_excursion(platform_motion, scenario, *, reference_rad: float = 1.0,
     ``scenario``'s aperture (its disturbance and description as the Monte Carlo flies them).
     A rotating motion over a squinted scenario is refused: the excursion is the broadside one (a
     pitch error's along-track tilt is left out), which a squinted line of sight sees by
-    cos ψ·sin(squint) — and the simulator flies broadside only."""
+    cos ψ·sin(squint). The Monte Carlo flies the rotation at any squint
+    (``McOptions.platform_motion``; :mod:`budget.sar.squint`)."""
     if getattr(platform_motion, "rotates", False) and scenario.squint_deg != 0.0:
         along = math.cos(math.radians(scenario.depression_deg)) * abs(math.sin(math.radians(scenario.squint_deg)))
         raise InputError("the rotation a gyro scale factor and misalignment see is derived for a broadside "
                          "line of sight: at a squint the along-track tilt a pitch error makes enters the "
-                         f"range by cos ψ·sin(squint) = {along:.2g} of it, which it leaves out (and the "
-                         "simulator flies broadside only)",
+                         f"range by cos ψ·sin(squint) = {along:.2g} of it, which it leaves out (the Monte "
+                         "Carlo flies it: McOptions.platform_motion)",
                          field="squint_deg", value=scenario.squint_deg,
                          expected="squint_deg 0 with a rotating platform motion, or no platform motion "
                                   "(the bounds' own 1-rad attitude change) or 'straight'")

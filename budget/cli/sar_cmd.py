@@ -61,6 +61,8 @@ def run(args) -> int:
     print(f"{scenario.name}: {g['n_pulses']} pulses × {g['n_range']} range bins, PRF {g['prf_hz']:.4g} Hz, "
           f"T = {g['aperture_time_s']:.3g} s, cells {g['azimuth_cell_m']:.3g} m × {g['range_cell_m']:.3g} m, "
           f"window {g['window_azimuth']}")
+    if geom.squint_note:
+        print(geom.squint_note)
     print(f"injected phase error: {args.quadratic_rad:g} u² + {args.cubic_rad:g} u³ + "
           f"{args.sinusoid_rad:g} sin({args.sinusoid_cycles:g}πu) rad along the line of sight")
     with np.printoptions(precision=3, suppress=True):

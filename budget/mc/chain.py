@@ -195,6 +195,7 @@ class ChainSetup:
                 "fractional_bandwidth": self.geom.range_bandwidth_hz / self.geom.carrier_frequency_hz,
                 **({"wideband_note": note} if (note := wideband_note(self.geom)) else {}),
                 **({"ambiguity_note": note} if (note := range_ambiguity_note(self.geom)) else {}),
+                **({"squint_note": note} if (note := self.geom.squint_note) else {}),
                 "navigation": navigation_note(self.scenario),
                 "metrics_on": "five clutter-free points focused with "
                 "PGA's estimate from the realistic image" if self.scene_kind == "realistic" else "the PGA image",
@@ -336,7 +337,8 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
                keep_detail: bool = False, *, relative: bool = True,
                stream: int = SAR_STREAM) -> list[TrialOutcome]:
     """Steps 2–4 for the trials ``trials`` whose APC errors at the pulse times are ``errors_m``
-    (B, n_pulses, 3): the B images are formed and measured together; PGA runs on each. After PGA
+    (B, n_pulses, 3; m, navigation frame, x along the velocity): the B images are formed and
+    measured together; PGA runs on each. After PGA
     the image and the residual are judged relative to the scene's perfect-IMU reference when it
     has one (:func:`scene_reference`; ``relative=False``: against the options' spec as it is).
 
@@ -352,7 +354,8 @@ def run_trials(setup: ChainSetup, errors_m: np.ndarray, trials: range, seed: int
     ref = scene_reference(setup) if relative else None
     acc_after = opt.acceptance if ref is None else ref.acceptance
     max_residual = opt.max_residual_phase_rms_deg if ref is None else ref.max_residual_phase_rms_deg
-    errors_m = np.asarray(errors_m, dtype=float)
+    # navigation frame (x along the velocity) → the image's frame (x across a squinted LOS)
+    errors_m = g.imaging_frame(np.asarray(errors_m, dtype=float))
     measured = -errors_m  # true track is nominal; the IMU believes true − error
     if plan.former is not None and not np.any(errors_m) and not np.any(np.signbit(errors_m)):
         # a perfect IMU (the reference, the twins): the clean image is every trial's same one

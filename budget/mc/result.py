@@ -137,7 +137,7 @@ class McResult:
                 line += j[key] + "\n"
         if j.get("earth_model"):
             line += f"earth model: {j['earth_model']}\n"
-        for key in ("wideband_note", "ambiguity_note", "defocus_room", "fast_phase_prediction"):
+        for key in ("wideband_note", "ambiguity_note", "squint_note", "defocus_room", "fast_phase_prediction"):
             if j.get(key):
                 line += j[key] + "\n"
         if j.get("reference_summary"):

@@ -115,7 +115,7 @@ def render_html(rep) -> str:
         judged = next(iter(rep.mc.values())).judged_on or {}
         parts += [f"<p class='judged' data-key='{k}'><small>{html.escape(str(judged[k]))}</small></p>"
                   for k in ("navigation", "aiding_defaults", "platform_motion", "lever_arm", "window_resolution",
-                            "acceptance", "wideband_note", "ambiguity_note") if judged.get(k)]
+                            "acceptance", "wideband_note", "ambiguity_note", "squint_note") if judged.get(k)]
         # per part: the values the Monte Carlo filled or took as 0 for empty datasheet cells, and
         # the rate the IMU was simulated at — inputs the user did not give
         for pid, r in rep.mc.items():

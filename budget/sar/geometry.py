@@ -5,6 +5,10 @@ z up. The nominal antenna phase centre (APC) flies p(t) = (V t, 0, h) for t ∈ 
 scene lies on the plane z = 0 with its centre at (0, y_c, 0), slant range R_c (the scenario's
 ``slant_range_m``) at depression ψ: h = R_c sin ψ, y_c = R_c cos ψ.
 
+Squint: a squinted scenario is simulated as its broadside equivalent in the frame of its own line
+of sight, flying the cross-LOS speed V·cos s with the same Tc (:mod:`budget.sar.squint`);
+:meth:`SarGeometry.imaging_frame` rotates navigation-frame APC errors into it.
+
 Mode: every target is seen over the whole aperture (spotlight, or one strip-map aperture without
 antenna pattern), so all targets share one slow-time phase history — the model of PGA.
 
@@ -34,6 +38,7 @@ from scipy.fft import next_fast_len
 
 from ..errors import InputError
 from ..scenario import Scenario
+from .squint import broadside_equivalent, squint_note, to_imaging_frame
 from .windows import Window, scenario_window
 
 MIN_PULSES = 16
@@ -68,6 +73,9 @@ class SarGeometry:
     #: azimuth excursion of a defocused response the image and the PRF hold beyond the scene's
     #: edges, resolution cells (0: the default 16-cell image margin; :mod:`budget.mc.defocus`)
     defocus_room_cells: float = 0.0
+    #: squint of the scenario (rad): the geometry is its broadside equivalent (speed V·cos s) and
+    #: motion errors enter through :meth:`imaging_frame` (:mod:`budget.sar.squint`)
+    squint_rad: float = 0.0
 
     # --- derived -------------------------------------------------------------------------
     @property
@@ -198,6 +206,17 @@ class SarGeometry:
                              expected="finite metres")
         return a
 
+    def imaging_frame(self, error_m: np.ndarray) -> np.ndarray:
+        """APC errors (…, 3) in the navigation frame (x along the velocity) in this geometry's
+        frame: rotated by the squint (:func:`budget.sar.squint.to_imaging_frame`); unchanged at
+        broadside."""
+        return to_imaging_frame(error_m, self.squint_rad)
+
+    @property
+    def squint_note(self) -> str:
+        """What a squinted scenario's simulation assumed; empty at broadside."""
+        return squint_note(self.squint_rad, self.speed_m_s)
+
     def summary(self) -> str:
         """A few lines: scenario, wavelength, aperture, PRF, samples, cells and windows."""
         d = self.to_dict()
@@ -206,7 +225,7 @@ class SarGeometry:
                 f"aperture {d['aperture_time_s']:.3g} s / {d['aperture_length_m']:.3g} m, PRF {d['prf_hz']:.4g} Hz, "
                 f"{d['n_pulses']} pulses × {d['n_range']} range bins\n"
                 f"cells {d['azimuth_cell_m']:.3g} m (azimuth) × {d['range_cell_m']:.3g} m (range); windows "
-                f"{d['window_azimuth']} / {d['window_range']}")
+                f"{d['window_azimuth']} / {d['window_range']}" + (f"\n{self.squint_note}" if self.squint_rad else ""))
 
     def to_frame(self) -> pd.DataFrame:
         """One row: every quantity of :meth:`to_dict` (scene extent as two columns)."""
@@ -227,6 +246,7 @@ class SarGeometry:
             "azimuth_cell_m": self.azimuth_cell_m(), "range_cell_m": self.range_cell_m,
             "scene_extent_m": self.scene_extent_m,
             "window_azimuth": self.window_azimuth.label, "window_range": self.window_range.label,
+            "squint_deg": math.degrees(self.squint_rad),
         }
 
     # --- construction --------------------------------------------------------------------
@@ -260,13 +280,12 @@ class SarGeometry:
         if not (0.0 <= motion_margin_cells <= 256.0):
             raise InputError("motion margin out of range", field="motion_margin_cells",
                              value=motion_margin_cells, expected="0 … 256 range cells")
-        if scenario.squint_deg != 0.0:
-            raise InputError("only broadside geometry is simulated", field="squint_deg",
-                             value=scenario.squint_deg, expected="0")
         if not scenario.platform_speed_m_s > 0:
             raise InputError("platform speed must be positive", field="platform_speed_m_s",
                              value=scenario.platform_speed_m_s, expected="> 0 m/s")
         window = scenario_window(scenario) if window is None else Window.parse(window)
+        squint_rad = math.radians(scenario.squint_deg)
+        scenario = broadside_equivalent(scenario)  # a squinted aperture in its own LOS frame
         c, f0, v = scenario.c_m_s, scenario.carrier_frequency_hz, scenario.platform_speed_m_s
         lam, r_c = scenario.wavelength_m, scenario.slant_range_m
         a_w = scenario.window_broadening
@@ -342,4 +361,4 @@ class SarGeometry:
                    band_bins=m, scene_extent_m=(x_s, y_s), window_azimuth=window, window_range=window,
                    azimuth_resolution_m=scenario.azimuth_resolution_m,
                    range_resolution_m=scenario.range_resolution_m,
-                   defocus_room_cells=float(defocus_room_cells))
+                   defocus_room_cells=float(defocus_room_cells), squint_rad=squint_rad)
