@@ -142,3 +142,21 @@ def test_noise_page_example_arma_order_equals_select_arma(tmp_path):
     assert list(table.loc[table["selected"], "order"]) == [sel.selected.name]
     assert list(table["order"]) == [c.name for c in sel.candidates]
     assert table["aic"].tolist() == pytest.approx([c.aic for c in sel.candidates], rel=1e-12)
+
+
+def test_mc_page_runs_a_squinted_scenario_and_says_how():
+    """A squint set in the sidebar: the page shows run_mc's P(pass) for that scenario and the note of
+    how a squinted aperture is simulated (its broadside equivalent, :mod:`budget.sar.squint`)."""
+    at = _app(MC_PAGE)
+    at.selectbox(key="scn_preset").set_value(MC_PRESET).run()
+    at.number_input(key="scn_squint_deg").set_value(30.0).run()
+    at.multiselect(key="mc_parts").set_value([MC_PART]).run()
+    at.number_input(key="mc_trials").set_value(MC_TRIALS).run()
+    at.button(key="mc_run").click().run()
+    _no_failure(at)
+    scen = get_preset(MC_PRESET).model_copy(update={"squint_deg": 30.0})
+    ref = run_mc(scen, load_catalog()[MC_PART], MC_TRIALS, int(at.number_input(key="mc_seed").value),
+                 options=McOptions())
+    row = _frame_with(at, "P(pass) after PGA").set_index("part_id").loc[MC_PART]
+    assert row["P(pass) after PGA"] == ref.p_pass_after
+    assert any("broadside equivalent" in x.value for x in at.caption)

@@ -132,8 +132,9 @@ def _summary(results: dict[str, McResult], scenario: Scenario, seed: int) -> Non
     fmt = {k: "{:.3f}" for k in summary_frame(results).columns if k.startswith(("P(", "CI"))}
     st.dataframe(summary_frame(results).style.format(fmt), hide_index=True, key="mc_summary")
     first = next(iter(results.values()))
-    if first.judged_on.get("platform_motion"):
-        st.caption(first.judged_on["platform_motion"][:1].upper() + first.judged_on["platform_motion"][1:] + ".")
+    for key in ("platform_motion", "squint_note", "wideband_note", "ambiguity_note"):
+        if first.judged_on.get(key):  # what the simulation assumed that the user did not set
+            st.caption(first.judged_on[key][:1].upper() + first.judged_on[key][1:] + ".")
     fills = [f"**{pid}** — {r.unspecified_summary()}" for pid, r in results.items() if r.unspecified_summary()]
     if fills:  # no silent zeros: say which datasheet terms were filled or taken as 0
         st.caption("  \n".join(fills))
