@@ -16,7 +16,7 @@ from budget.mc.chain import ChainSetup, run_trial_errors
 from budget.mc.options import McOptions
 from budget.presets import PRESETS
 from budget.sar import SarGeometry
-from budget.sar.squint import broadside_equivalent, to_imaging_frame
+from budget.sar.squint import broadside_equivalent, left_out_fraction, to_imaging_frame
 
 
 def _squinted(preset: str, squint_deg: float):
@@ -66,6 +66,8 @@ def test_the_equivalent_sees_the_squinted_range_error(preset, squint):
                       - np.linalg.norm(eq_target - eq_track, axis=1), t)
     left_out = scen.window_broadening * scen.wavelength_m / (4 * scen.azimuth_resolution_m) \
         * abs(math.tan(s)) * math.sin(psi) * math.sqrt(np.mean(err ** 2))
+    assert left_out_fraction(g.squint_rad, g.depression_rad, g.wavelength_m, g.azimuth_cell_m()) \
+        * math.sqrt(np.mean(err ** 2)) == pytest.approx(left_out, rel=0.03)  # what the result states
     diff = np.sqrt(np.mean((seen - truth) ** 2))
     rms = np.sqrt(np.mean(truth ** 2))
     assert diff <= 4.0 * left_out, (diff, left_out)
@@ -90,6 +92,7 @@ def test_the_equivalent_keeps_tc_and_the_cross_range_cell():
     assert g.azimuth_fm_rate_hz_s == pytest.approx(
         2 * scen.platform_speed_m_s ** 2 * math.sin(theta) ** 2 / (scen.wavelength_m * scen.slant_range_m))
     assert "squint 30°" in g.squint_note and "squint 30°" in g.summary()
+    assert "≈ 0.45 % of the error" in g.squint_note  # (λ/4δ)·tan 30°·sin 30°, δ = 0.5 m, λ = 3.1 cm
     assert {k: v for k, v in eq.model_dump().items() if k not in ("squint_deg", "platform_speed_m_s")} == \
         {k: v for k, v in scen.model_dump().items() if k not in ("squint_deg", "platform_speed_m_s")}
 

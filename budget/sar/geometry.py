@@ -38,7 +38,7 @@ from scipy.fft import next_fast_len
 
 from ..errors import InputError
 from ..scenario import Scenario
-from .squint import broadside_equivalent, squint_note, to_imaging_frame
+from .squint import broadside_equivalent, left_out_fraction, squint_note, to_imaging_frame
 from .windows import Window, scenario_window
 
 MIN_PULSES = 16
@@ -215,7 +215,9 @@ class SarGeometry:
     @property
     def squint_note(self) -> str:
         """What a squinted scenario's simulation assumed; empty at broadside."""
-        return squint_note(self.squint_rad, self.speed_m_s)
+        return squint_note(self.squint_rad, self.speed_m_s,
+                           left_out_fraction(self.squint_rad, self.depression_rad, self.wavelength_m,
+                                             self.azimuth_cell_m()))
 
     def summary(self) -> str:
         """A few lines: scenario, wavelength, aperture, PRF, samples, cells and windows."""
