@@ -260,12 +260,24 @@ def random_walk_sources_eigenvalues(sources, cutoff_cycles: float = DEFAULT_PGA_
             raise ValueError(f"unknown kind(s) {sorted(unknown)}: expected 'rw', 'vrw' or 'arw'")
         c = np.array([float(src.get(k, 0.0)) for k in kinds])
         a += np.outer(c, c)
-    if not np.any(a):
+    scale = float(np.trace(a))
+    if not scale > 0.0:
         return np.zeros(0)
-    gram = _kind_products(float(cutoff_cycles), int(n), Window.parse(window))
-    m = sum(a[i, j] * gram[i][j] for i in range(len(kinds)) for j in range(len(kinds)) if a[i, j] != 0.0)
+    # one geometry, many parts: the shape of A is cached, its size scales λ
+    unit = tuple(round(float(v), 12) for v in (a / scale).ravel())
+    return scale * _sources_eigenvalues(unit, float(cutoff_cycles), int(n), Window.parse(window))
+
+
+@lru_cache(maxsize=256)
+def _sources_eigenvalues(unit: tuple, cutoff_cycles: float, n: int, window: Window) -> np.ndarray:
+    k = len(KIND_POWER)
+    a = np.asarray(unit).reshape(k, k)
+    gram = _kind_products(cutoff_cycles, n, window)
+    m = sum(a[i, j] * gram[i][j] for i in range(k) for j in range(k) if a[i, j] != 0.0)
     lam = np.linalg.eigvalsh(0.5 * (m + m.T))[::-1]
-    return np.clip(lam, 0.0, None)
+    lam = np.clip(lam, 0.0, None)
+    lam.setflags(write=False)
+    return lam
 
 
 @lru_cache(maxsize=8)
