@@ -264,3 +264,17 @@ def test_a_share_outside_zero_one_is_a_clear_error(share):
         fast_phase_limits(0.03, [1.0], share=share)
     with pytest.raises(ValidationError, match="fast_residual_share"):
         LeverArmAssumptions(fast_residual_share=share)
+
+
+def test_sources_of_an_unknown_kind_are_a_clear_error_and_no_source_is_empty():
+    from budget.sar.residual import random_walk_sources_eigenvalues
+    with pytest.raises(ValueError, match="unknown kind.*'rw', 'vrw' or 'arw'"):
+        random_walk_sources_eigenvalues([{"arw": 1.0}, {"flicker": 1.0}], 2.0)
+    assert random_walk_sources_eigenvalues([], 2.0).size == 0
+    assert random_walk_sources_eigenvalues([{"arw": 0.0, "rw": 0.0}], 2.0).size == 0
+    # a scale of the sources scales the weights; one source is the one-noise mixture
+    one = random_walk_sources_eigenvalues([{"arw": 2.0, "rw": -1.0}], 2.0, window="taylor")
+    mix = random_walk_mixture_eigenvalues({"arw": 2.0, "rw": -1.0}, 2.0, window="taylor")
+    np.testing.assert_allclose(one[:mix.size], mix, rtol=1e-8, atol=1e-12 * mix[0])
+    np.testing.assert_allclose(random_walk_sources_eigenvalues([{"arw": 6.0, "rw": -3.0}], 2.0, window="taylor"),
+                               9.0 * one, rtol=1e-12)
