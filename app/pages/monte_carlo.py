@@ -14,6 +14,7 @@ from budget.mc import REASONS, TRIAL_METRICS, McOptions, McResult, run_mc
 from budget.check import check_parts
 from budget.fileio import json_text
 from budget.safe_text import frame_csv_text
+from budget.mc.notes import SIMULATION_NOTES
 from budget.mc.options import DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS
 from budget.nav.manoeuvre import KINDS
 from budget.plots.mc import (METRIC_LABELS, has_detail, metric_histogram_figure, pass_probability_figure,
@@ -132,7 +133,7 @@ def _summary(results: dict[str, McResult], scenario: Scenario, seed: int) -> Non
     fmt = {k: "{:.3f}" for k in summary_frame(results).columns if k.startswith(("P(", "CI"))}
     st.dataframe(summary_frame(results).style.format(fmt), hide_index=True, key="mc_summary")
     first = next(iter(results.values()))
-    for key in ("platform_motion", "squint_note", "wideband_note", "ambiguity_note"):
+    for key in ("platform_motion", *SIMULATION_NOTES):
         if first.judged_on.get(key):  # what the simulation assumed that the user did not set
             st.caption(first.judged_on[key][:1].upper() + first.judged_on[key][1:] + ".")
     fills = [f"**{pid}** — {r.unspecified_summary()}" for pid, r in results.items() if r.unspecified_summary()]

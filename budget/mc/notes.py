@@ -20,6 +20,11 @@ from ..scenario import TC_KEYS, Scenario
 from ..units import G0
 from .options import McOptions
 
+#: Keys of :meth:`budget.mc.chain.ChainSetup.describe` holding what the simulation itself assumed
+#: (a wideband radar or sonar under image-domain PGA, range ambiguity, a squint simulated as its
+#: broadside equivalent), present only when they apply: every consumer shows them.
+SIMULATION_NOTES = ("wideband_note", "ambiguity_note", "squint_note")
+
 
 def navigation_note(scenario: Scenario) -> str:
     """How the track the image is formed with was navigated (:mod:`budget.motion.engine`): free

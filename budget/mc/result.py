@@ -9,6 +9,7 @@ import pandas as pd
 from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import TRIAL_METRICS
+from .notes import SIMULATION_NOTES
 from .options import McOptions
 from .stats import wilson_interval
 
@@ -137,7 +138,7 @@ class McResult:
                 line += j[key] + "\n"
         if j.get("earth_model"):
             line += f"earth model: {j['earth_model']}\n"
-        for key in ("wideband_note", "ambiguity_note", "squint_note", "defocus_room", "fast_phase_prediction"):
+        for key in (*SIMULATION_NOTES, "defocus_room", "fast_phase_prediction"):
             if j.get(key):
                 line += j[key] + "\n"
         if j.get("reference_summary"):

@@ -14,6 +14,7 @@ import math
 import pandas as pd
 
 from ..check import rotation_line
+from ..mc.notes import SIMULATION_NOTES
 
 CSS = """
 body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;margin:2em auto;max-width:1200px;color:#222}
@@ -115,7 +116,7 @@ def render_html(rep) -> str:
         judged = next(iter(rep.mc.values())).judged_on or {}
         parts += [f"<p class='judged' data-key='{k}'><small>{html.escape(str(judged[k]))}</small></p>"
                   for k in ("navigation", "aiding_defaults", "platform_motion", "lever_arm", "window_resolution",
-                            "acceptance", "wideband_note", "ambiguity_note", "squint_note") if judged.get(k)]
+                            "acceptance", *SIMULATION_NOTES) if judged.get(k)]
         # per part: the values the Monte Carlo filled or took as 0 for empty datasheet cells, and
         # the rate the IMU was simulated at — inputs the user did not give
         for pid, r in rep.mc.items():

@@ -9,9 +9,11 @@ its own LOS:
   range walk, Doppler centroid 2V·cos ψ·sin s/λ, which a squinted processor removes from the known
   nominal track (range-walk correction and Doppler-centroid deramp) — and V_c = V·cos s across it,
   which sweeps the LOS and makes the azimuth resolution. The equivalent flies broadside at V_c:
-  its Doppler rate 2V_c²/(λR) is the squinted aperture's 2V²sin²θ/(λR), and with the same
+  its Doppler rate 2V_c²/(λR) is 2V²sin²θ/(λR) with the scenario's θ = 90° − s, and with the same
   Tc = a_w λ R / (2 δℓ V sin θ) of seed 004 (5) it gives the same cross-range cell δℓ/a_w =
-  λR/(2 V_c Tc) (:func:`broadside_equivalent`).
+  λR/(2 V_c Tc) (:func:`broadside_equivalent`). (With a depression ψ the exact squinted rate is
+  2V²(1 − cos²ψ sin²s)/(λR): the walk's V·sin s·sin ψ across the LOS in the vertical plane also
+  turns it — the term left out below.)
 * **motion error.** The APC error the motion engine draws in the navigation frame (x along the
   velocity, y horizontal cross-track toward the imaged side, z up) is rotated about z by the squint
   into the equivalent's frame (:func:`to_imaging_frame`): x' = x cos s − y sin s,
