@@ -272,9 +272,14 @@ def test_sources_of_an_unknown_kind_are_a_clear_error_and_no_source_is_empty():
         random_walk_sources_eigenvalues([{"arw": 1.0}, {"flicker": 1.0}], 2.0)
     assert random_walk_sources_eigenvalues([], 2.0).size == 0
     assert random_walk_sources_eigenvalues([{"arw": 0.0, "rw": 0.0}], 2.0).size == 0
+    # one walk alone: its own kernel's weights (Σλ = 1, from B's singular values) × its mean square
+    lam = random_walk_sources_eigenvalues([{"arw": 2.0}], 2.0, window="taylor")
+    own = random_walk_highpass_eigenvalues("arw", 2.0, window="taylor")
+    ms = random_walk_highpass_rms("arw", 2.0, n=400, window="taylor") ** 2
+    np.testing.assert_allclose(lam[:20], 4.0 * ms * own[:20], rtol=1e-8, atol=1e-12 * lam[0])
+    assert lam.sum() == pytest.approx(4.0 * ms, rel=1e-9)
     # a scale of the sources scales the weights; one source is the one-noise mixture
     one = random_walk_sources_eigenvalues([{"arw": 2.0, "rw": -1.0}], 2.0, window="taylor")
-    mix = random_walk_mixture_eigenvalues({"arw": 2.0, "rw": -1.0}, 2.0, window="taylor")
-    np.testing.assert_allclose(one[:mix.size], mix, rtol=1e-8, atol=1e-12 * mix[0])
+    np.testing.assert_array_equal(random_walk_mixture_eigenvalues({"arw": 2.0, "rw": -1.0}, 2.0, window="taylor"), one)
     np.testing.assert_allclose(random_walk_sources_eigenvalues([{"arw": 6.0, "rw": -3.0}], 2.0, window="taylor"),
                                9.0 * one, rtol=1e-12)

@@ -193,7 +193,7 @@ class FastPhaseResidual:
                                                                       ("rw", self.arw_lever_arm_deg)])
         sources = [unit(kind, rms) for kind, rms in alone if rms > 0]
         sources += [{"arw": a, "rw": b} for a, b in self.arw_axes if a or b]
-        return random_walk_sources_eigenvalues(sources, k, n=n, window=w) if sources else np.zeros(0)
+        return random_walk_sources_eigenvalues(sources, k, n=n, window=w)
 
     def p_within_limit(self) -> float:
         """Probability that one aperture's residual (its energy-weighted rms beyond PGA's

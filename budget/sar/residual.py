@@ -217,31 +217,16 @@ def random_walk_mixture_eigenvalues(coefficients: dict, cutoff_cycles: float = D
     """The weights λ_i (descending; Σλ_i = E[r̄²]) of the mean square beyond PGA's bandwidth of
     Σ_k c_k e_k, the walks of :data:`KIND_POWER` weighted by ``coefficients`` ({kind: c_k}) and
     all driven by one unit white noise (:func:`random_walk_highpass_eigenvalues` for one kind,
-    there normalised to Σλ = 1): the exact distribution of one noise seen through several paths."""
-    items = sorted((str(k), float(v)) for k, v in coefficients.items() if v != 0.0)
-    norm = math.sqrt(sum(v * v for _, v in items))
-    if norm == 0.0:
-        return np.zeros(0)
-    # one geometry, many parts: the direction of the coefficients is cached, their size scales λ
-    unit = tuple((k, round(v / norm, 12)) for k, v in items)
-    return norm * norm * _random_walk_mixture_eigenvalues(unit, float(cutoff_cycles), int(n), Window.parse(window))
-
-
-@lru_cache(maxsize=64)
-def _random_walk_mixture_eigenvalues(unit: tuple, cutoff_cycles: float, n: int, window: Window) -> np.ndarray:
-    r, q = None, None
-    for kind, c in unit:
-        rk, q = _highpassed_kernel(kind, cutoff_cycles, n, window)
-        r = c * rk if r is None else r + c * rk
-    b = np.sqrt(q / q.sum())[:, None] * r * math.sqrt(1.0 / n)
-    return np.linalg.svd(b, compute_uv=False) ** 2
+    there normalised to Σλ = 1): the exact distribution of one noise seen through several paths,
+    the one-source case of :func:`random_walk_sources_eigenvalues`."""
+    return random_walk_sources_eigenvalues([coefficients], cutoff_cycles, n=n, window=window)
 
 
 def random_walk_sources_eigenvalues(sources, cutoff_cycles: float = DEFAULT_PGA_BANDWIDTH_CYCLES,
                                     n: int = 400, window: Window | str = "rect") -> np.ndarray:
     """The weights λ_i (descending; Σλ_i = E[r̄²]) of the mean square beyond PGA's bandwidth of a
     phase made of *independent* sources, each Σ_k c_k e_k over the walks of :data:`KIND_POWER`
-    driven by its own unit white noise (``sources``: a sequence of {kind: c_k}; one source is
+    driven by its own unit white noise (``sources``: a sequence of {kind: c_k}; one source:
     :func:`random_walk_mixture_eigenvalues`).
 
     The sources add before the mean square is taken: r̄² = ‖Σ_s B_s dW_s‖² (B_s as in
