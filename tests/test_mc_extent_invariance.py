@@ -91,8 +91,10 @@ def test_gyro_bias_verdict_does_not_depend_on_scene_extent(monkeypatch):
     "trials P(pass) follows the image's length in aperture bins, not monotonically (n_ap 97 / 111 "
     "/ 129 / 133 / 163 / 173 / 227: 0.62 / 0.75 / 0.76 / 0.80 / 0.71 / 0.66 / 0.87; 48 and 64 "
     "cells, both 97 bins, 0.62 and 0.62), with the after-PGA PSLR's median within 0.5–1.5 dB of "
-    "its limit. The stage's octave bands are cut on the span of bins within 10 dB of the peak "
-    "energy and on ⌊2^j W·span/n⌋; which discretisation decides is not yet found"))
+    "its limit. On the same trials PGA's in-span error above ≈ 12 cycles alone fails 7 and 6, "
+    "each lower octave 0–1: many errors at ≈ −43 dB decide, not one band; estimating the bands "
+    "over the aperture instead of the 10 dB span is as sensitive the other way round. Which "
+    "discretisation decides is not found (docs/monte-carlo.md, 4)"))
 def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
     """Accel VRW at 0.05× the bound (fast phase: what PGA's window sees decides): P(pass) on 48 and
     96-cell scenes within each other's 95 % Wilson intervals (0.50 against 0.09 with a floor of 8
