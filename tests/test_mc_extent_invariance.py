@@ -49,9 +49,10 @@ TRIALS = 32
 SEED = 1
 
 
-def _p_pass(monkeypatch, extent_cells: float, scale: float, term: str = "gyro_bias") -> tuple[int, int]:
-    """(passes, trials) of the single-term model ``term`` at ``scale`` × its paper bound on
-    automotive_77ghz with lever arm 0, points scene, the simulated scene ``extent_cells`` wide."""
+def _single_term(monkeypatch, extent_cells: float, scale: float, term: str):
+    """(scenario, resolved model, setup) of the single-term model ``term`` at ``scale`` × its
+    paper bound on automotive_77ghz with lever arm 0, points scene, the simulated scene
+    ``extent_cells`` wide."""
     original = SarGeometry.from_scenario.__func__
 
     def sized(cls, scenario, **kw):
@@ -60,10 +61,15 @@ def _p_pass(monkeypatch, extent_cells: float, scale: float, term: str = "gyro_bi
 
     monkeypatch.setattr(SarGeometry, "from_scenario", classmethod(sized))
     scen = PRESETS["automotive_77ghz"].model_copy(update={"lever_arm_m": (0.0, 0.0, 0.0)})
-    opts = McOptions(scene="points", unspecified="zero")
     model = resolve_unspecified(single_term_model(scen, term, scale), "zero").model
-    setup = ChainSetup.build(scen, opts)
+    setup = ChainSetup.build(scen, McOptions(scene="points", unspecified="zero"))
     assert setup.geom.scene_extent_m[0] == pytest.approx(extent_cells * scen.azimuth_resolution_m)
+    return scen, model, setup
+
+
+def _p_pass(monkeypatch, extent_cells: float, scale: float, term: str = "gyro_bias") -> tuple[int, int]:
+    """(passes, trials) of :func:`_single_term`."""
+    _, model, setup = _single_term(monkeypatch, extent_cells, scale, term)
     out = run_chunk(setup, model, SEED, 0, TRIALS)
     return sum(o.passed_after for o in out), len(out)
 
@@ -108,19 +114,10 @@ def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
 
 
 def _vrw_images(monkeypatch, extent_cells: float):
-    """(setup, plan, clean phase histories (B, n_a, n_r), true phase on every bin (B, n_a), PGA
-    results) of the accel VRW at 0.05× on ``extent_cells`` (as :func:`_p_pass`), the truth read
-    at each bin's slow time and held at the track's ends beyond the aperture band."""
-    original = SarGeometry.from_scenario.__func__
-
-    def sized(cls, scenario, **kw):
-        kw.setdefault("scene_extent_cells", extent_cells)
-        return original(cls, scenario, **kw)
-
-    monkeypatch.setattr(SarGeometry, "from_scenario", classmethod(sized))
-    scen = PRESETS["automotive_77ghz"].model_copy(update={"lever_arm_m": (0.0, 0.0, 0.0)})
-    model = resolve_unspecified(single_term_model(scen, "accel_vrw", 0.05), "zero").model
-    setup = ChainSetup.build(scen, McOptions(scene="points", unspecified="zero"))
+    """(setup, plan, clean phase histories (B, n_a, n_r), true phase on every bin (B, n_a)) of the
+    accel VRW at 0.05× on ``extent_cells`` (:func:`_single_term`), the truth read at each bin's
+    slow time and held at the track's ends beyond the aperture band."""
+    scen, model, setup = _single_term(monkeypatch, extent_cells, 0.05, "accel_vrw")
     g, plan = setup.geom, chain_plan(setup)
     motion = simulate_motion(scen, model, TRIALS, SEED, first_trial=0, keep_series="position")
     errors = np.stack([chain._to_pulses(motion.time_s, motion.position_error_m[k], g.pulse_times_s)
