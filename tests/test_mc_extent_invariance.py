@@ -97,10 +97,14 @@ def test_gyro_bias_verdict_does_not_depend_on_scene_extent(monkeypatch):
     "trials P(pass) follows the image's length in aperture bins, not monotonically (n_ap 97 / 111 "
     "/ 129 / 133 / 163 / 173 / 227: 0.62 / 0.75 / 0.76 / 0.80 / 0.71 / 0.66 / 0.87; 48 and 64 "
     "cells, both 97 bins, 0.62 and 0.62), with the after-PGA PSLR's median within 0.5–1.5 dB of "
-    "its limit. On the same trials PGA's in-span error above ≈ 12 cycles alone fails 7 and 6, "
-    "each lower octave 0–1: many errors at ≈ −43 dB decide, not one band; estimating the bands "
-    "over the aperture instead of the 10 dB span is as sensitive the other way round. Which "
-    "discretisation decides is not found (docs/monte-carlo.md, 4)"))
+    "its limit. On the same trials PGA's error of 0.2–0.5° at 1–4 cycles per aperture decides "
+    "(alone, its part up to the cut-back's K fails 8 and 6, the first fast band's 2 and 9, "
+    "everything above none): the handover from the iterations' bandwidth, cut over the aperture, "
+    "to the first fast band, cut over the 10 dB span. Estimating the bands over the aperture is "
+    "as sensitive the other way round. A handover free of the discretisation is not found "
+    "(docs/monte-carlo.md, 4)"))
+
+
 def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
     """Accel VRW at 0.05× the bound (fast phase: what PGA's window sees decides): P(pass) on 48 and
     96-cell scenes within each other's 95 % Wilson intervals (0.50 against 0.09 with a floor of 8
