@@ -39,7 +39,7 @@ from budget.mc.runner import resolve_unspecified
 from budget.mc.stats import wilson_interval
 from budget.motion import simulate_motion
 from budget.presets import PRESETS
-from budget.sar import SarGeometry, residual_phase_rad
+from budget.sar import SarGeometry, phase_on_bins, residual_phase_rad
 from budget.sar.acceptance import failed_checks
 from budget.sar.pga import DEFAULT_MIN_WINDOW, PgaResult
 from budget.sar.pga_fast import _BAND_GAP_DB, _joined_to_peak
@@ -129,8 +129,8 @@ def _vrw_images(monkeypatch, extent_cells: float):
     measured = -g.imaging_frame(errors)
     clean, _ = plan.form(setup, measured, range(TRIALS), SEED, 0)
     hist = plan.clean_products(clean).hist
-    t_bins = plan.template.slow_time_of_bins_s()
-    truth = np.stack([np.interp(t_bins, g.pulse_times_s, residual_phase_rad(g, None, m)) for m in measured])
+    truth = np.stack([phase_on_bins(plan.template, g, residual_phase_rad(g, None, m), outside="hold")
+                      for m in measured])
     return setup, plan, hist, truth
 
 

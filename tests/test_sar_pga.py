@@ -137,3 +137,20 @@ def test_pga_without_the_corrected_image_gives_the_same_estimate(defocused):
     np.testing.assert_array_equal(full.phase_error_rad, lean.phase_error_rad)
     assert lean.image is img.data or np.array_equal(lean.image, img.data)
     np.testing.assert_allclose(apply_phase_correction(img.data, lean.phase_error_rad), full.image, atol=1e-12)
+
+
+def test_phase_on_bins_holds_the_track_ends_outside_the_band_when_asked(defocused):
+    """On the aperture band the held phase is the band's (NaN outside by default); beyond it, ψ
+    at the track's nearer end (the bins there hold the band's edge pulses' leakage, so a
+    correction must carry their phase, not zero); an unknown choice is refused by name."""
+    g, _, img, truth = defocused
+    psi = residual_phase_rad(g, los_offset_for_phase(g, smooth_phase_error(
+        normalised_time(g), quadratic_rad=6.0, cubic_rad=3.0, sinusoid_rad=2.0, sinusoid_cycles=1.5)))
+    held = phase_on_bins(img, g, psi, outside="hold")
+    band = img.aperture_mask()
+    assert np.isnan(truth[~band]).all() and np.isfinite(held).all()
+    np.testing.assert_array_equal(held[band], truth[band])
+    t = img.slow_time_of_bins_s()
+    assert np.all(held[~band & (t < 0)] == psi[0]) and np.all(held[~band & (t > 0)] == psi[-1])
+    with pytest.raises(InputError, match="outside"):
+        phase_on_bins(img, g, psi, outside="zero")
