@@ -16,11 +16,15 @@ samples, so its bandwidth K = W·n_ap/(2n) fell from 2.05 to 1.47 cycles per ape
 was sampled more finely. The chain now gives PGA a floor of 4 resolution cells (K = 2;
 :func:`budget.mc.chain.pga_min_window`): 0.50 / 0.56 / 0.62.
 
-What is left of the VRW case (its expected failure below) is PGA's fast-phase stage, not the image:
-with the exact phase correction the image is the same at 48 and 96 cells, and with the stage off
-PGA's result is too (both tested here); with it on, P(pass) follows the image's length in
-aperture bins (:mod:`budget.sar.pga_fast`; docs/monte-carlo.md, "The verdict and the simulated
-scene's size", 4).
+The VRW case then still read 17/32 at 48 cells against 24/32 at 96, and over 256 trials 0.62 to
+0.87 across seven image lengths. Not the image: with the exact phase correction the image is the
+same at 48 and 96 cells (tested below). Not PGA's iterations: with the fast-phase stage off, PGA's
+result is the same at both (tested below). It was the stage's handover: the cut-back keeps the
+estimate up to K over the aperture, the bands were re-estimated above ⌊W·span/n⌋ over the 10 dB
+span, a shorter interval, and what the cut-back took had a part below that index over the span
+that no band gave back (0.2–0.5° at 1–4 cycles per aperture, enough to lift a −35 dB sidelobe to
+the PSLR limit). The first band now reaches down to m = 1 (docs/monte-carlo.md, "The verdict and
+the simulated scene's size", 4).
 """
 
 from __future__ import annotations
@@ -86,29 +90,13 @@ def test_gyro_bias_verdict_does_not_depend_on_scene_extent(monkeypatch):
     assert lo1 <= k2 / n2 <= hi1, counts
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "measured 17/32 at 48 cells against 24/32 at 96 (256 trials: 158 against 195). Not the image: "
-    "with the exact phase correction (held at the aperture band's edges) the worst target's PSLR "
-    "is the same at both (test below) and every trial passes; an earlier reading of 0.41 dB worse "
-    "at 48 cells came from a correction set to zero outside the band. Not PGA's iterations: with "
-    "the fast-phase stage off PGA's result is the same at both (test below; every trial fails "
-    "then). It is the fast-phase stage's estimate: PGA's error from the 48-cell run moved onto "
-    "the 96-cell image fails 13 of 32, the 96-cell error on the 48-cell image 7 of 32. Over 256 "
-    "trials P(pass) follows the image's length in aperture bins, not monotonically (n_ap 97 / 111 "
-    "/ 129 / 133 / 163 / 173 / 227: 0.62 / 0.75 / 0.76 / 0.80 / 0.71 / 0.66 / 0.87; 48 and 64 "
-    "cells, both 97 bins, 0.62 and 0.62), with the after-PGA PSLR's median within 0.5–1.5 dB of "
-    "its limit. On the same trials PGA's error of 0.2–0.5° at 1–4 cycles per aperture decides "
-    "(alone, its part up to the cut-back's K fails 8 and 6, the first fast band's 2 and 9, "
-    "everything above none): the handover from the iterations' bandwidth, cut over the aperture, "
-    "to the first fast band, cut over the 10 dB span. Estimating the bands over the aperture is "
-    "as sensitive the other way round. A handover free of the discretisation is not found "
-    "(docs/monte-carlo.md, 4)"))
-
-
 def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
     """Accel VRW at 0.05× the bound (fast phase: what PGA's window sees decides): P(pass) on 48 and
     96-cell scenes within each other's 95 % Wilson intervals (0.50 against 0.09 with a floor of 8
-    samples, 0.50 against 0.56 with the floor of 4 cells)."""
+    samples; 17/32 against 24/32 with the floor of 4 cells while the fast-phase stage's first band
+    began above the cut-back's K over the span, leaving a gap of 0.2–0.5° at 1–4 cycles per
+    aperture that moved with the image's length; 28/32 against 25/32 with the first band from
+    m = 1, :func:`budget.sar.pga_fast._fast_bands`)."""
     counts = {ext: _p_pass(monkeypatch, ext, 0.05, "accel_vrw") for ext in (48.0, 96.0)}
     (k1, n1), (k2, n2) = counts[48.0], counts[96.0]
     lo1, hi1 = wilson_interval(k1, n1)

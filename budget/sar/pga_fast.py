@@ -212,7 +212,8 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
                 band_snr: float, aperture: tuple[int, int] | None = None) -> tuple[np.ndarray, list[dict]]:
     """The fast-phase stage: the bands beyond the settled window ``width`` estimated one octave at
     a time, band (m_{j−1}, m_j] of the DCT over the span at window 2^j·W, the narrowest window that
-    sees it (m_j = ⌊2^j W · span/n⌋: W samples see W/2 cycles per n bins), each kept only where
+    sees it (m_j = ⌊2^j W · span/n⌋: W samples see W/2 cycles per n bins), and first the handover
+    band (0, m_0] at window 2W (:mod:`budget.sar.pga`, "Fast-phase stage"), each kept only where
     significant (:func:`_band`). The span and the interval of the cut-back hold only bins joined
     to the peak (:func:`_joined_to_peak`); ``aperture`` = (first, last + 1) of the processed
     aperture's centred bins, when the caller knows it, is the cut-back's interval instead
@@ -253,9 +254,19 @@ def _fast_bands(d: _Lines, phi_c: np.ndarray, width: int, lines: np.ndarray,
     records = []
     centred = _centre(d, phi_c)  # the lines centred once, on the converged estimate
     added = np.zeros(n)
+    handover = m_prev > 0
     while m_prev < span - 1 and w < n:
         w = min(2 * w, n)
         m_hi = min(int(w * span // n), span - 1)
+        if handover:
+            # the handover band (0, m_prev] at the first band's window: the cut-back above worked
+            # over another interval, and what it took away above K there has a part at m ≤ m_prev
+            # over the span, which the bands above m_prev could never give back. A band of its
+            # own, so that it is kept only where significant.
+            add, rec = _band(d, centred, added, w, lo, hi, 0, m_prev, groups, band_snr)
+            added += add
+            records.append(rec)
+            handover = False
         add, rec = _band(d, centred, added, w, lo, hi, m_prev, m_hi, groups, band_snr)
         added += add
         records.append(rec)
