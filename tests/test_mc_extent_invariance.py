@@ -23,7 +23,7 @@ result is the same at both (tested below). It was the stage's handover: the cut-
 estimate up to K over the aperture, the bands were re-estimated above ⌊W·span/n⌋ over the 10 dB
 span, a shorter interval, and what the cut-back took had a part below that index over the span
 that no band gave back (0.2–0.5° at 1–4 cycles per aperture, enough to lift a −35 dB sidelobe to
-the PSLR limit). The first band now reaches down to m = 1 (docs/monte-carlo.md, "The verdict and
+the PSLR limit). A handover band now estimates that part (docs/monte-carlo.md, "The verdict and
 the simulated scene's size", 4).
 """
 
@@ -95,9 +95,32 @@ def test_vrw_verdict_does_not_depend_on_scene_extent(monkeypatch):
     96-cell scenes within each other's 95 % Wilson intervals (0.50 against 0.09 with a floor of 8
     samples; 17/32 against 24/32 with the floor of 4 cells while the fast-phase stage's first band
     began above the cut-back's K over the span, leaving a gap of 0.2–0.5° at 1–4 cycles per
-    aperture that moved with the image's length; 28/32 against 25/32 with the first band from
-    m = 1, :func:`budget.sar.pga_fast._fast_bands`)."""
+    aperture that moved with the image's length; 25/32 against 24/32 with the handover band,
+    :func:`budget.sar.pga_fast._fast_bands`)."""
     counts = {ext: _p_pass(monkeypatch, ext, 0.05, "accel_vrw") for ext in (48.0, 96.0)}
+    (k1, n1), (k2, n2) = counts[48.0], counts[96.0]
+    lo1, hi1 = wilson_interval(k1, n1)
+    lo2, hi2 = wilson_interval(k2, n2)
+    assert lo2 <= k1 / n1 <= hi2, counts
+    assert lo1 <= k2 / n2 <= hi1, counts
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=False, reason=(
+    "over 256 trials the 48 and 96-cell images still differ beyond their intervals: 221/256 = "
+    "0.86 [0.82, 0.90] against 198/256 = 0.77 [0.72, 0.82] with the handover band (before it 158 "
+    "against 195: 0.62 against 0.76); at other lengths 0.85–0.93 (n_ap 111, 133, 173, 163, 227; "
+    "the 64-cell image, 97 bins as the 48-cell one, 0.90). On the 96-cell image PGA's error at DCT "
+    "index ≤ 3 of the span is 0.75° rms against 0.43° at 48 cells (64 trials) after the handover band, whose "
+    "Wiener gain is 0.99 at both; where that comes from is not found (docs/monte-carlo.md, 4)"))
+def test_vrw_verdict_does_not_depend_on_scene_extent_over_256_trials(monkeypatch):
+    """The same as :func:`test_vrw_verdict_does_not_depend_on_scene_extent` over 256 trials, where
+    the Wilson intervals (±0.05) are narrower than the sampling dependence that 32 trials hide."""
+    counts = {}
+    for ext in (48.0, 96.0):
+        _, model, setup = _single_term(monkeypatch, ext, 0.05, "accel_vrw")
+        out = run_chunk(setup, model, SEED, 0, 256)
+        counts[ext] = (sum(o.passed_after for o in out), len(out))
     (k1, n1), (k2, n2) = counts[48.0], counts[96.0]
     lo1, hi1 = wilson_interval(k1, n1)
     lo2, hi2 = wilson_interval(k2, n2)

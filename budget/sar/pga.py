@@ -110,8 +110,9 @@ a part at low m over the span that the bands above m_0 could never give back. Me
 ``automotive_77ghz``, accel VRW at 0.05× its paper bound, points scene, lever arm 0, seed 1:
 that part was 0.2–0.5° at 1–4 cycles per aperture, enough to lift the Taylor window's −35 dB first
 sidelobe by 1–2 dB, and it changed with the simulated image's length, so the verdict did too
-(17/32 on a 48-cell image, 24/32 on a 96-cell one; 0.62–0.87 over 256 trials at seven lengths).
-With the handover band: 55 / 52 / 54 / 60 of 64 at four lengths (41 / 52 / 53 / 56 without). Re-
+(17/32 on a 48-cell image, 24/32 on a 96-cell one; 0.62–0.87 over 256 trials at eight lengths).
+With the handover band 0.77–0.93 over 256 trials at eight lengths (the 96-cell image lowest, an
+open question in docs/monte-carlo.md). Re-
 estimating the low terms inside the first band instead (one band from m = 1) did as well there
 but, without a test of their own, added error beyond K on other images (KVH1775 on the sonar,
 points: 0.31 → 0.16). On `benchmarks/bench_pga.py`'s clutter, point and chip cases every residual
