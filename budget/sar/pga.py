@@ -112,11 +112,10 @@ that part was 0.2–0.5° at 1–4 cycles per aperture, enough to lift the Taylo
 sidelobe by 1–2 dB, and it changed with the simulated image's length, so the verdict did too
 (17/32 on a 48-cell image, 24/32 on a 96-cell one; 0.62–0.87 over 256 trials at eight lengths).
 With the handover band 0.77–0.93 over 256 trials at eight lengths (the 96-cell image lowest, an
-open question in docs/monte-carlo.md). Re-
-estimating the low terms inside the first band instead (one band from m = 1) did as well there
-but, without a test of their own, added error beyond K on other images (KVH1775 on the sonar,
-points: 0.31 → 0.16). On `benchmarks/bench_pga.py`'s clutter, point and chip cases every residual
-is the same to the third decimal. A band is kept only
+open question in docs/monte-carlo.md). Re-estimating the low terms inside the first band instead
+(one band from m = 1) did as well there but, without a test of their own, added error beyond K on
+other images (KVH1775 on the sonar, points: 0.31 → 0.16). On `benchmarks/bench_pga.py`'s
+clutter, point and chip cases every residual is the same to the third decimal. A band is kept only
 if significant: its power P = Σ a_m² must reach ``band_snr`` (default 9, i.e. 3× in rms) times its
 noise power V = Σ var(a_m), the delete-one-group jackknife variance of the coefficients (Efron &
 Stein 1981; a group = a run of adjacent range lines, whose clutter is correlated by the range
