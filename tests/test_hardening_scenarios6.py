@@ -131,7 +131,8 @@ def test_a_verdict_states_its_lever_arm_acceptance_and_earth_model_defaults():
     assert "[0, 0, 0] m" in j["lever_arm"] and "default" in j["lever_arm"]
     assert "broadening ≤ 10 %" in j["acceptance"] and "peak loss ≤ 1.5 dB" in j["acceptance"]
     assert "range migration ≤ 1 range cell" in j["acceptance"] and "≤ 1° rms" in j["acceptance"]
-    assert "peak shift not judged" in j["acceptance"]
+    # it is judged at 1000 cells (a response that left the scene fails it): never "not judged"
+    assert "peak shift ≤ 1000 cells" in j["acceptance"] and "not judged" not in j["acceptance"]
     assert "flat earth" in j["earth_model"] and "latitude 45° (default" in j["earth_model"]
     for key in ("lever_arm", "acceptance", "earth_model"):
         assert j[key] in text, key

@@ -138,7 +138,10 @@ def acceptance_note(options: McOptions) -> str:
         f"ISLR ≤ the window's ideal + {a.islr_margin_db:g} dB"
     parts = [f"3 dB broadening ≤ {100 * a.max_broadening:g} %", pslr, islr,
              f"peak loss ≤ {a.max_peak_loss_db:g} dB ({' and '.join(a.axes)} cuts)"]
-    parts.append("peak shift not judged" if a.max_peak_shift_cells >= 1000.0 else
+    # at the verdict's 1000 cells a shift is geolocation, not focus: only a response that left
+    # the simulated scene fails it, which the note must say (a "not judged" counted failures)
+    parts.append("peak shift ≤ 1000 cells (geolocation, not focus: only a response that has left the "
+                 "simulated scene fails it)" if a.max_peak_shift_cells >= 1000.0 else
                  f"peak shift ≤ {a.max_peak_shift_cells:g} cells")
     cells = options.max_range_migration_cells
     parts.append("range migration not judged" if cells is None else f"range migration ≤ {cells:g} range cell(s)")

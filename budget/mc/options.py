@@ -6,7 +6,8 @@ where they come from:
 * image (:class:`~budget.sar.acceptance.Acceptance`): 3 dB broadening ≤ 10 %, PSLR and ISLR ≤
   the window's ideal + 3 dB (or absolute ``max_pslr_db`` / ``max_islr_db``), peak loss ≤ 1.5 dB
   — engineering rules stated in :mod:`budget.sar.acceptance`; a peak *shift* is geolocation, not
-  focus (constant and linear phase only move the image), so it is not judged;
+  focus (constant and linear phase only move the image), so the verdict allows 1000 cells: only
+  a response that has left the simulated scene fails it;
 * ``max_range_migration_cells`` = 1: seed 004 budgets every error within one range cell δr,
   because PGA (an azimuth-phase correction) cannot undo range-cell migration;
 * ``max_residual_phase_rms_deg`` = 1°: seed 004's limit on random phase PGA cannot remove
@@ -37,7 +38,8 @@ DEFAULT_SEED = 1
 PREFILTERS = ("none", *PREFILTER_KINDS)
 
 #: Image acceptance for the verdict: as :class:`~budget.sar.acceptance.Acceptance`, except that a
-#: peak shift is not a focus failure (constant and linear phase only move the image).
+#: peak shift is not a focus failure (constant and linear phase only move the image), so only a
+#: shift of 1000 cells — a response that has left any simulated scene — fails it.
 VERDICT_ACCEPTANCE = Acceptance(max_peak_shift_cells=1000.0)
 
 #: Realistic-scene defaults: clutter 25 dB below the strongest target (CTR 25 dB) and SNR 30 dB
