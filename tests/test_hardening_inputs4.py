@@ -6,6 +6,7 @@ expected), not only that something was raised.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import budget
@@ -38,3 +39,45 @@ def test_cli_mc_with_a_huge_trial_count_exits_2(capsys):
                  "-q"]) == 2
     line = _one_line(capsys)
     assert "trials" in line and f"expected 1 … {MAX_TRIALS:,}" in line and "other seeds" in line
+
+
+# --- sar-budget motion: empty datasheet terms and defaults stated -----------------------------
+
+def test_cli_motion_fills_empty_terms_as_mc_does_and_says_so(tmp_path, capsys):
+    # HG9900's catalog row leaves the VRW empty. `motion` ran it as 0 — 55× quieter than `mc`,
+    # which fills the navigation grade's typical VRW — and said nothing.
+    import json
+    from budget.catalog.fill import resolve_unspecified
+    from budget.catalog.io import load_catalog
+    from budget.motion import simulate_motion
+    from budget.presets import PRESETS
+
+    part = load_catalog()["HG9900"]
+    assert part.accel_vrw_m_s_rt_h is None
+    out = tmp_path / "m.json"
+    assert main(["motion", "--preset", "automotive_24ghz", "--part", "HG9900", "--trials", "8",
+                 "-q", "--json", str(out)]) == 0
+    cli = json.loads(out.read_text())
+    filled = resolve_unspecified(part, "fill_grade_typical")
+    assert "accel_vrw_m_s_rt_h" in [f.column for f in filled.filled]
+    assert "accel_vrw_m_s_rt_h" in cli["notes"]["unspecified"] and "filled" in cli["notes"]["unspecified"]
+    # the same numbers as the engine given the filled row at the same (mc's) default seed
+    ref = simulate_motion(PRESETS["automotive_24ghz"], filled.model, 8, 1, keep_series=False)
+    assert cli["seed"] == 1
+    assert cli["residual_rms_deg"] == pytest.approx(ref.residual_rms_deg[:, 0].tolist(), rel=1e-12)
+    # the engine's own default is the terms given, and it says which it took as 0
+    bare = simulate_motion(PRESETS["automotive_24ghz"], part, 8, 1, keep_series=False)
+    assert "taken as 0" in bare.notes["unspecified"] and "accel_vrw_m_s_rt_h" in bare.notes["unspecified"]
+    assert np.median(bare.residual_rms_deg[:, 0]) < np.median(ref.residual_rms_deg[:, 0])
+    # the text states the defaults a user did not set
+    assert main(["motion", "--preset", "automotive_24ghz", "--part", "HG9900", "--trials", "2", "-q"]) == 0
+    text = capsys.readouterr().out
+    for words in ("lever arm IMU → antenna", "imu_rate_hz", "straight, level", "unspecified datasheet terms"):
+        assert words in text, words
+
+
+def test_cli_motion_refuses_empty_terms_when_asked(capsys):
+    assert main(["motion", "--preset", "automotive_24ghz", "--part", "HG9900", "--trials", "2", "-q",
+                 "--unspecified", "refuse"]) == 2
+    line = _one_line(capsys)
+    assert "accel_vrw_m_s_rt_h" in line and "unspecified" in line

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
-from ..errors import InputError
 import sys
 
 from ..aiding_spec import AidingPlan
+from ..catalog.fill import DEFAULT_POLICY, POLICIES
+from ..errors import InputError
+from ..mc.options import DEFAULT_SEED
+from ..mc.runner import MAX_TRIALS
 from ..motion.cost import estimate_cost
 from ..motion.engine import simulate_motion
 from ..nav.platform import Disturbance
@@ -13,7 +16,6 @@ from .common import add_part_or_model_options, add_scenario_options, part_or_mod
 from .output import add_json_option, write_json
 from .progress import add_quiet_option, progress
 
-MAX_TRIALS = 1_000_000
 
 
 def add_parser(sub) -> None:
@@ -23,7 +25,10 @@ def add_parser(sub) -> None:
     add_scenario_options(p, required=True)
     add_part_or_model_options(p)
     p.add_argument("--trials", type=int, default=1000, help="number of trials (default 1000)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"random seed (default {DEFAULT_SEED}, as mc's)")
+    p.add_argument("--unspecified", choices=POLICIES, default=DEFAULT_POLICY,
+                   help="empty datasheet terms: fill_grade_typical (grade typical values, recorded; "
+                        f"default {DEFAULT_POLICY}, as mc's), refuse (error naming them) or zero (stated zero)")
     p.add_argument("--disturbance", metavar="D.json", help="platform disturbance JSON")
     p.add_argument("--workers", type=int, default=1, help="worker threads (results do not depend on it)")
     add_json_option(p)
@@ -47,7 +52,8 @@ def run(args) -> int:
               f"≈ {cost['bytes'] / 1e9:.2g} GB", file=sys.stderr, flush=True)
     with progress(f"motion {getattr(model, 'part_id', None) or 'model'}", quiet=quiet) as bar:
         res = simulate_motion(scen, model, args.trials, args.seed, disturbance=dist,
-                              workers=args.workers, keep_series=False, progress=bar)
+                              workers=args.workers, keep_series=False, progress=bar,
+                              unspecified=args.unspecified)
     if args.json:
         write_json(res.to_dict(), args.json)
     else:

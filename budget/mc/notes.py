@@ -14,6 +14,7 @@ import math
 from ..aiding_spec import AidingPlan
 from ..imu.noise_model import as_noise_model_si
 from ..motion.flat_earth import earth_model
+from ..motion.notes import imu_rate_note, lever_arm_note
 from ..nav.manoeuvre import PlatformMotion
 from ..sar import SarGeometry
 from ..scenario import TC_KEYS, Scenario
@@ -79,21 +80,6 @@ def range_ambiguity_note(geom: SarGeometry) -> str:
 SIMULATED_DEFAULT_KEYS = TC_KEYS + ("depression_deg",)
 
 
-def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
-    """The rate the IMU is simulated at (the scenario's ``imu_rate_hz``) and, when the part states
-    another output rate, that it is not used and why that is harmless for the catalog's terms."""
-    text = (f"IMU simulated at the scenario's imu_rate_hz = {scenario.imu_rate_hz:g} Hz"
-            if "imu_rate_hz" in scenario.model_fields_set else
-            f"IMU simulated at imu_rate_hz = {scenario.imu_rate_hz:g} Hz, the default (the scenario gives "
-            "no imu_rate_hz)")
-    if part_rate_hz is not None and abs(part_rate_hz - scenario.imu_rate_hz) > 1e-9 * scenario.imu_rate_hz:
-        text += (f" (the part's own output rate, {part_rate_hz:g} Hz, is not used: noise densities and "
-                 "bias terms are per √Hz and per second, so the motion error they make over Tc does not "
-                 "depend on the sampling rate; quantization, tones and a pre-filter do — set imu_rate_hz "
-                 "to the part's rate to simulate it at that rate)")
-    return text
-
-
 def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = None) -> str:
     """What the simulated platform does (:meth:`PlatformMotion.describe`; default straight, level,
     unrotated flight, where the IMU's gyro scale factor and misalignment act on a zero rate) and,
@@ -114,19 +100,6 @@ def platform_motion_note(scenario: Scenario, motion: PlatformMotion | None = Non
                  "(McOptions.platform_motion, --platform-motion: oscillation or attitude_change flies a rotation)")
     return text
 
-
-
-def lever_arm_note(scenario: Scenario) -> str:
-    """The lever arm d (m, body frame, IMU → antenna phase centre) the trials were flown with,
-    and whether the scenario gave it or it is the default 0 (seed 004's IMU at the antenna: no
-    attitude error × lever arm in the verdict)."""
-    d = [float(v) for v in scenario.lever_arm_m]
-    arm = "[" + ", ".join(f"{v:g}" for v in d) + "] m"
-    if "lever_arm_m" not in scenario.model_fields_set:
-        return (f"lever arm IMU → antenna {arm}: the default (the scenario gives no lever_arm_m), seed "
-                "004's IMU at the antenna phase centre; attitude error × lever arm is not in this verdict")
-    return (f"lever arm IMU → antenna {arm} (|d| = {math.sqrt(sum(v * v for v in d)):.3g} m, "
-            "the scenario's lever_arm_m)")
 
 
 def acceptance_note(options: McOptions) -> str:

@@ -57,6 +57,7 @@ from ..aiding import InitialUncertainty, correct_free_inertial
 from ..aiding.flexure import antenna_flexure_error, simulate_flexure
 from ..aiding.measurements import measurement_from_config
 from ..aiding_spec import AidingPlan
+from ..catalog.fill import resolve_unspecified
 from ..errors import InputError, from_validation_error, whole_number
 from ..imu.generator import generate_imu_errors
 from ..imu.noise_model import NoiseModel, NoiseModelSI, as_noise_model_si
@@ -68,6 +69,7 @@ from ..units import two_way_wavenumber_rad_m
 from .cost import DEFAULT_CHUNK, aperture_samples, block_trials, check_cost
 from .flat_earth import earth_model
 from .geometry import range_error, scene_targets
+from .notes import imu_rate_note, lever_arm_note, platform_note
 from .phase import decompose_phase
 from .result import METRICS, MotionResult
 
@@ -236,7 +238,7 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                     keep_series: bool | str = True, first_trial: int = 0, prefilter=None,
                     aiding: AidingPlan | dict | str | None = "scenario",
                     latitude_deg: float | None = None, heading_deg: float | None = None,
-                    progress=None) -> MotionResult:
+                    progress=None, unspecified: str = "zero") -> MotionResult:
     """Monte Carlo of the motion error of ``n_trials`` apertures of ``scenario`` with IMU ``model``.
 
     ``model``: :class:`~budget.imu.noise_model.NoiseModel`, catalog ``PartSpec`` or
@@ -262,6 +264,13 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     error (first order, :func:`budget.nav.strapdown.propagate_errors`); default
     :data:`~budget.motion.flat_earth.DEFAULT_LATITUDE_DEG`, ``DEFAULT_HEADING_DEG``, said in ``earth_model``. They act
     only when there is an initial attitude error (``initial_errors``; an aided run's default).
+    ``unspecified``: what to do with a catalog part's empty datasheet terms
+    (:func:`budget.catalog.fill.resolve_unspecified`): ``"zero"`` (default: the engine flies the
+    terms given, so a one-term model is that term alone; the Monte Carlo passes the model it has
+    resolved), ``"fill_grade_typical"`` (the Monte Carlo's and ``sar-budget motion``'s default:
+    the grade's typical values, recorded) or ``"refuse"``. The result's ``notes["unspecified"]``
+    says what was done, so an empty term is never a silent zero (``sar-budget motion`` ran a
+    navigation-grade part's empty VRW as 0, 55× quieter than ``mc``, and said nothing).
     ``progress(done, total)`` (trials) is called after each block (:func:`~budget.motion.cost.estimate_cost`
     gives the cost before the run; one beyond ``MAX_WORKING_BYTES`` is refused).
     """
@@ -271,6 +280,8 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
             raise InputError("scenario must be a Scenario", field="scenario")
     if isinstance(model, dict):
         model = NoiseModel.from_dict(model)
+    resolution = resolve_unspecified(model, unspecified)
+    model = resolution.model
     si = as_noise_model_si(model)
     n_trials = whole_number("n_trials", n_trials, 1)
     seed = whole_number("seed", seed, 0)
@@ -371,7 +382,11 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                         prefilter=prefilter.kind if prefilter is not None else "none",
                         options={"disturbance": _dump(disturbance), "initial_errors": _dump(initial_errors),
                                  "aiding_plan": _dump(aiding), "first_trial": first, "keep_series": keep_series,
-                                 "latitude_deg": latitude_deg, "heading_deg": heading_deg},
+                                 "latitude_deg": latitude_deg, "heading_deg": heading_deg,
+                                 "unspecified": resolution.to_dict()},
+                        notes={"imu_rate": imu_rate_note(scenario, getattr(model, "rate_hz", None)),
+                               "lever_arm": lever_arm_note(scenario), "platform": platform_note(disturbance),
+                               "unspecified": resolution.summary()},
                         **out)
 
 

@@ -32,7 +32,9 @@ class MotionResult:
     other inputs of :func:`~budget.motion.simulate_motion` (disturbance, initial errors, aiding plan,
     first trial), JSON-ready. ``earth_model`` names the error-propagation model (flat earth) and
     the estimated size of the Schuler, Earth-rate and transport-rate terms it leaves out over
-    the aperture (:func:`budget.nav.earth.flat_earth_neglect`).
+    the aperture (:func:`budget.nav.earth.flat_earth_neglect`). ``notes``: what the run was
+    simulated with that the user may not have set — IMU rate, lever arm, platform motion, and
+    how empty datasheet terms were resolved (:mod:`budget.motion.notes`).
     """
 
     scenario: Scenario
@@ -53,6 +55,7 @@ class MotionResult:
     prefilter: str = "none"
     options: dict = field(default_factory=dict)
     earth_model: str = "flat earth"
+    notes: dict = field(default_factory=dict)
 
     @property
     def n_trials(self) -> int:
@@ -91,6 +94,7 @@ class MotionResult:
                  f"{self.time_s.size} samples, λ = {self.wavelength_m:.4g} m (seed {self.seed}); "
                  f"aiding: {self.aiding}; IMU pre-filter: {self.prefilter}",
                  f"earth model: {self.earth_model}",
+                 *self.notes.values(),
                  f"{'metric (|x|)':<22}{'rms':>12}{'median':>12}{'p95':>12}"]
         for name in METRICS:
             m = stats[name]
@@ -111,6 +115,7 @@ class MotionResult:
         return {"trials": self.n_trials, "tc_s": self.tc_s, "seed": self.seed,
                 "scenario": self.scenario.name, "model": self.model_label,
                 "aiding": self.aiding, "prefilter": self.prefilter, "earth_model": self.earth_model,
+                "notes": dict(self.notes),
                 "aperture_simulated_s": float(self.time_s[-1]) if self.time_s.size else 0.0,
                 "n_samples": int(self.time_s.size), "wavelength_m": self.wavelength_m,
                 "range_resolution_m": self.scenario.range_resolution_m,
