@@ -70,14 +70,15 @@ def test_sweep_with_the_sidebar_preset_also_in_the_list_runs_it_once():
 
 @pytest.mark.parametrize("page,radio,uploader", [("pages/noise_lab.py", "noise_source", "noise_upload"),
                                                  ("pages/model_gap.py", "gap_source", "gap_upload")])
-def test_a_log_stamped_in_ms_is_warned_about_on_the_page(tmp_path, page, radio, uploader):
-    """time_s holding ms gives 0.1 Hz: every noise figure scales with it, so the reader's warning
-    is on the page (it was only in a collapsed report, and not shown at all on Model gap)."""
+def test_a_log_stamped_in_ms_is_refused_on_the_page(tmp_path, page, radio, uploader):
+    """time_s holding ms gives 0.1 Hz: every noise figure scales with it, so the reading stops
+    with an error on the page naming the column to use (a warning, first only in a collapsed
+    report, let the figures through)."""
     path = _log_csv(tmp_path / "ms_stamps.csv", 2000, step_s=10.0)
     at = _app(page)
     _upload_log(at, radio, uploader, path)
-    warnings = _texts(at.warning)
-    assert any(w.startswith("ms_stamps.csv:") and "0.1 Hz" in w and "time_ms" in w for w in warnings), warnings
+    errors = _texts(at.error)
+    assert any(e.startswith("ms_stamps.csv") and "0.1 Hz" in e and "time_ms" in e for e in errors), errors
 
 
 def test_a_single_accelerometer_log_says_its_unit_is_unchecked(tmp_path):

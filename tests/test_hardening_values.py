@@ -322,16 +322,18 @@ def test_log_rows_with_more_fields_than_the_header_are_refused_not_cut(tmp_path)
     assert read_log(trail).channels["gyro_z"].tolist() == list(range(8))
 
 
-def test_a_time_column_in_ms_named_time_s_is_warned_about(tmp_path):
-    """100 Hz time stamps written in ms under ``time_s`` read as 0.1 Hz — inside the accepted
-    range, but every noise figure would scale with it: the log carries a warning naming the
-    column to use."""
+def test_a_time_column_in_ms_named_time_s_is_refused_unless_the_rate_is_confirmed(tmp_path):
+    """100 Hz time stamps written in ms under ``time_s`` read as 0.1 Hz, and every noise figure
+    scales with the rate (a warning let ARW 31.6× too large into an appended catalog row): the
+    reading is refused, naming the column to use and how to confirm the rate; a given rate
+    that confirms 0.1 Hz reads it, and 100 Hz reads it as a unit slip."""
     from budget.noise.logs import read_log
     p = tmp_path / "ms.csv"
     rng = np.random.default_rng(2)
     p.write_text("time_s,gyro_x_rps\n" + "".join(f"{10 * i},{rng.normal(0, 1e-3):.6g}\n" for i in range(64)))
-    log = read_log(p)
-    assert log.rate_hz == pytest.approx(0.1)
-    warn = [i for i in log.issues.issues if i.kind == "low_rate"]
-    assert warn and warn[0].severity == "warning" and "time_ms" in warn[0].message
-    assert not [i for i in read_log(p, rate_hz=100.0).issues.issues if i.kind == "low_rate"]
+    with pytest.raises(InputError) as e:
+        read_log(p)
+    assert e.value.field == "time" and "ms.csv" in str(e.value)
+    assert "0.1 Hz" in str(e.value) and "time_ms" in str(e.value) and "--rate-hz" in str(e.value)
+    assert read_log(p, rate_hz=0.1).rate_hz == pytest.approx(0.1)
+    assert read_log(p, rate_hz=100.0).rate_hz == 100.0

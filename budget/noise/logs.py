@@ -501,9 +501,12 @@ def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, 
                 "rate_mismatch", "warning", f"time stamps give {rate:.6g} Hz but {given:.6g} Hz "
                 "was given (a time unit slip, ×10³ or ×10⁶?); using the given rate", 0, (), "time"))
         return float(given)
-    if rate < LOW_RATE_HZ:  # plausible for an averaged log, but also what ms read as s gives
-        report.issues.append(lc.LogIssue(
-            "low_rate", "warning", f"time stamps give {rate:.6g} Hz: if they are in ms (µs), name the "
-            f"column time_ms (time_us) {LOG_TIME_UNIT_WAY.cli}; every noise figure scales with it",
-            0, (), "time"))
+    if rate < LOW_RATE_HZ:
+        # possible for an averaged log, but it is what 100 Hz stamps written in ms under time_s
+        # give, and a warning let ARW 31.6× too large into a catalog row: the user confirms it
+        raise InputError(f"the time stamps give {rate:.6g} Hz, below {LOW_RATE_HZ:g} Hz: an IMU log that slow "
+                         "is rare, and it is what stamps in ms (µs) under a time_s header give; every noise "
+                         "figure scales with the rate", file=path, field="time",
+                         expected=f"a time column named after its unit (time_ms, time_us) "
+                                  f"{LOG_TIME_UNIT_WAY.cli} to confirm {rate:.6g} Hz")
     return rate
