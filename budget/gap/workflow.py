@@ -64,7 +64,7 @@ from .walk import model_mean as walk_model_mean
 from .inputs import check_compatible, load_measured, load_model
 from .effect_size import (DEFAULT_TOLERANCE_DB, EffectSizeBand, LooSizes, Sizes, db_terms,
                           kurtosis_size, loo_sizes)
-from . import coherence, quieter, temperature_curve, two_valued
+from . import coherence, quieter, temperature_curve, two_valued, unit_slip
 from .metric import LINEAR_KINDS, GapTerms, LinearMoments, ModelSummary, NullModel, gap_terms, loo_z
 from .report import ChannelResult, GapReport, GapStep
 from .signatures import Signature, SignatureGrid, series_signature, table_signature
@@ -388,7 +388,12 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     quiet = {ch: q for ch, st in states.items()
              if (q := quieter.median_db(st.d_db, st.terms.gap, null.channel_threshold(ch))) is not None
              and not _trend_open(st, trend_z)}
-    notes += [quieter.note(ch, q) for ch, q in quiet.items()]
+    # a channel a unit factor off the model at every τ and band: a unit slip, not effects
+    slipped = {ch: found for ch, st in states.items() if (found := unit_slip.slip(st.d_db)) is not None}
+    notes += [quieter.note(ch, q) for ch, q in quiet.items() if ch not in slipped]
+    notes += [unit_slip.note(ch, found) for ch, found in slipped.items()]
+    why = {ch: "quieter than the model" for ch in quiet} | {ch: "a likely unit error" for ch in slipped}
+    quiet.update({ch: found[0] for ch, found in slipped.items()})  # neither is worked on
     if quiet:
         null = _null(states, alpha, quiet)
     start = {ch: (st.terms, st.summary, st.sizes(band, ch)) for ch, st in states.items()}
@@ -412,8 +417,9 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
                     "statistics within the model's")
             if quiet:
                 stop = ("every other channel is close enough" if len(quiet) < len(chans) else
-                        "nothing to name") + (f"; {', '.join(quiet)}: quieter than the model "
-                                              "(notes), where no added effect can help")
+                        "nothing to name") + "".join(
+                    f"; {', '.join(c for c in quiet if why[c] == w)}: {w} (notes), where no added effect can help"
+                    for w in dict.fromkeys(why.values()))
             break
         direct = [(ch, eff) for ch in over for eff in direct_proposals(current, ch, states[ch].meas,
                                                                          states[ch].grid)
