@@ -81,3 +81,16 @@ def test_cli_motion_refuses_empty_terms_when_asked(capsys):
                  "--unspecified", "refuse"]) == 2
     line = _one_line(capsys)
     assert "accel_vrw_m_s_rt_h" in line and "unspecified" in line
+
+
+# --- an Allan table of one row -----------------------------------------------------------------
+
+def test_gap_names_a_one_row_allan_table_for_what_it_is(tmp_path, capsys):
+    # it read "log too short … (got 1000000); expected at least 9071 samples": the τ-range check
+    # ran before the table's own count of τ
+    table = tmp_path / "one.csv"
+    table.write_text("tau_s,gyro_x_adev_dps\n1.0,0.01\n")
+    assert main(["gap", str(table), "--rate-hz", "100", "--samples", "1000000", "--part", "ADIS16405",
+                 "--report", str(tmp_path / "r.json"), "-q"]) == 2
+    line = _one_line(capsys)
+    assert "one.csv" in line and "gyro_x" in line and "1 τ" in line and "at least 6 τ" in line

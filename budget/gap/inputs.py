@@ -42,7 +42,7 @@ from ..noise.log_checks import LogReport
 from ..noise.measurement import read_measurement
 from ..noise.stationarity import check_stationarity
 from ..units import CHANNELS
-from .signatures import MIN_SAMPLES
+from .signatures import MIN_SAMPLES, SignatureGrid
 
 RATE_TOLERANCE = 1e-3
 
@@ -235,6 +235,12 @@ def _check_tau(meas: Measured, model: NoiseModel, wanted) -> None:
     si = model.to_si()
     tau_max = (meas.n_samples // 4) / meas.rate_hz
     if meas.kind == "adev_table":
+        for c in wanted:  # a table with too few τ says so first (a one-row table read "log too short")
+            try:
+                SignatureGrid.for_table(meas.tables[c])
+            except InputError as err:
+                raise InputError(err.reason, file=meas.source, field=c,
+                                 expected=err.expected) from None
         tau_max = max(float(meas.tables[c].tau_s[-1]) for c in wanted)
     for ch in wanted:
         effs = si.channel_effects(ch)
