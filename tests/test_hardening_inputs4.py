@@ -89,7 +89,7 @@ def test_gap_names_a_one_row_allan_table_for_what_it_is(tmp_path, capsys):
     # it read "log too short … (got 1000000); expected at least 9071 samples": the τ-range check
     # ran before the table's own count of τ
     table = tmp_path / "one.csv"
-    table.write_text("tau_s,gyro_x_adev_dps\n1.0,0.01\n")
+    table.write_text("channel,tau_s,adev\ngyro_x_dps,0.02,0.257\n")
     assert main(["gap", str(table), "--rate-hz", "100", "--samples", "1000000", "--part", "ADIS16405",
                  "--report", str(tmp_path / "r.json"), "-q"]) == 2
     line = _one_line(capsys)
