@@ -94,3 +94,36 @@ def test_gap_names_a_one_row_allan_table_for_what_it_is(tmp_path, capsys):
                  "--report", str(tmp_path / "r.json"), "-q"]) == 2
     line = _one_line(capsys)
     assert "one.csv" in line and "gyro_x" in line and "1 τ" in line and "at least 6 τ" in line
+
+
+# --- an output that is an input, another output, or the shipped catalog -----------------------
+
+def test_an_output_that_is_an_input_file_is_refused_and_the_input_kept(tmp_path, capsys):
+    # check --catalog mine.csv --json mine.csv exited 0 with the catalog replaced by JSON
+    from budget.catalog.io import shipped_catalog_dir
+
+    mine = tmp_path / "mine.csv"
+    shipped = shipped_catalog_dir() / "parts.csv"
+    mine.write_bytes(shipped.read_bytes())
+    before = mine.read_bytes()
+    assert main(["check", "--preset", "airborne_xband", "--catalog", str(mine), "--json", str(mine)]) == 1
+    line = _one_line(capsys)
+    assert "--json" in line and "mine.csv" in line and "is also the input --catalog" in line
+    assert mine.read_bytes() == before
+    scen = tmp_path / "s.json"
+    assert main(["scenario", "write", "--preset", "airborne_xband", str(scen)]) == 0
+    kept = scen.read_bytes()
+    assert main(["bounds", "--scenario", str(scen), "--json", str(scen)]) == 1
+    assert "is also the input --scenario" in _one_line(capsys) and scen.read_bytes() == kept
+
+
+def test_two_outputs_on_one_file_and_the_shipped_catalog_are_refused(tmp_path, capsys):
+    from budget.catalog.io import shipped_catalog_dir
+
+    same = tmp_path / "same.html"
+    assert main(["report", "--preset", "airborne_xband", "-q", "--out", str(same), "--json", str(same)]) == 1
+    assert "one would overwrite the other" in _one_line(capsys) and not same.exists()
+    shipped = shipped_catalog_dir() / "parts.csv"
+    before = shipped.read_bytes()
+    assert main(["check", "--preset", "airborne_xband", "--json", str(shipped)]) == 1
+    assert "shipped catalog" in _one_line(capsys) and shipped.read_bytes() == before

@@ -113,17 +113,68 @@ def check_output_path(path: str | os.PathLike, option: str, *, must_exist_dir: b
     return target
 
 
+def _input_files(args) -> dict[Path, str]:
+    """Real path → option of every existing file among ``args`` that is not an output (the
+    scenario, catalog, model, log, phase histories, …), and the user catalog of
+    ``$SAR_BUDGET_CATALOG``."""
+    outputs = set(OUTPUT_FILE_OPTIONS) | set(APPEND_OPTIONS) | set(OUTPUT_DIR_OPTIONS)
+    found: dict[Path, str] = {}
+    for name, value in vars(args).items():
+        if name in outputs or name == "func":
+            continue
+        for v in value if isinstance(value, (list, tuple)) else (value,):
+            if isinstance(v, (str, os.PathLike)) and str(v).strip() and "\x00" not in str(v):
+                with contextlib.suppress(OSError, ValueError):
+                    if Path(v).is_file():
+                        found.setdefault(Path(os.path.realpath(v)), "--" + name.replace("_", "-"))
+    env = os.environ.get("SAR_BUDGET_CATALOG", "").strip()
+    if env and Path(env).is_file():
+        found.setdefault(Path(os.path.realpath(env)), "$SAR_BUDGET_CATALOG")
+    return found
+
+
+def _shipped_catalog() -> Path | None:
+    from ..catalog.io import shipped_catalog_dir
+
+    try:
+        return Path(os.path.realpath(shipped_catalog_dir()))
+    except InputError:
+        return None
+
+
 def check_output_args(args) -> None:
     """Check every output path among ``args`` (see :data:`OUTPUT_FILE_OPTIONS` …) before the
-    command runs; the CLI entry point calls this for every command."""
+    command runs; the CLI entry point calls this for every command. An output that is one of
+    the command's input files, another output of it, or a file of the shipped catalog is refused
+    (``check --catalog mine.csv --json mine.csv`` overwrote the user catalog with the JSON)."""
+    inputs = _input_files(args)
+    shipped = _shipped_catalog()
+    written: dict[Path, str] = {}
+
+    def guard(target: Path | None, option: str, *, append: bool = False) -> None:
+        if target is None:
+            return
+        if shipped is not None and shipped in target.parents:
+            raise OutputError(f"is in the shipped catalog ({shipped}), which is never written; a user "
+                              "catalog is a file of its own (--catalog, $SAR_BUDGET_CATALOG)",
+                              file=str(target), option=option)
+        if target in inputs and not append:  # appending a row to the catalog read is the intent
+            raise OutputError(f"is also the input {inputs[target]}: writing it would destroy the input",
+                              file=str(target), option=option)
+        if target in written:
+            raise OutputError(f"is also the output {written[target]}: one would overwrite the other",
+                              file=str(target), option=option)
+        written[target] = option
+
     for name in OUTPUT_FILE_OPTIONS:
         value = getattr(args, name, None)
         if isinstance(value, (str, os.PathLike)):
-            check_output_path(value, "--" + name.replace("_", "-"))
+            option = "--" + name.replace("_", "-")
+            guard(check_output_path(value, option), option)
     for name in APPEND_OPTIONS:
         value = getattr(args, name, None)
         if isinstance(value, (str, os.PathLike)):
-            check_output_path(value, "--" + name, must_exist_dir=True)
+            guard(check_output_path(value, "--" + name, must_exist_dir=True), "--" + name, append=True)
     for name in OUTPUT_DIR_OPTIONS:
         value = getattr(args, name, None)
         if isinstance(value, (str, os.PathLike)):
