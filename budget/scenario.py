@@ -10,6 +10,7 @@ from __future__ import annotations
 import difflib
 import json
 import math
+import unicodedata
 import warnings
 from pathlib import Path
 from typing import Literal
@@ -272,6 +273,19 @@ class Scenario(BaseModel):
                              value=data["aiding_smoother"], expected="aiding_mode: realtime | frozen | "
                              "feedforward | smoothed (aiding_smoother: rts is aiding_mode: smoothed)")
         return data
+
+    @field_validator("name")
+    @classmethod
+    def _printable_name(cls, v: str) -> str:
+        # the name is printed by every command: a terminal escape or a newline in it would act
+        # on the user's terminal or split a report line
+        bad = sorted({repr(c) for c in v if unicodedata.category(c) in ("Cc", "Cf")})
+        if bad:
+            raise ValueError(f"control characters in the name ({', '.join(bad)}): letters, digits, spaces "
+                             "and punctuation only")
+        if not v.strip():
+            raise ValueError("the name is blank")
+        return v
 
     @field_validator("lever_arm_m", mode="before")
     @classmethod

@@ -127,3 +127,20 @@ def test_two_outputs_on_one_file_and_the_shipped_catalog_are_refused(tmp_path, c
     before = shipped.read_bytes()
     assert main(["check", "--preset", "airborne_xband", "--json", str(shipped)]) == 1
     assert "shipped catalog" in _one_line(capsys) and shipped.read_bytes() == before
+
+
+# --- a scenario name that would act on the terminal ------------------------------------------
+
+def test_a_scenario_name_with_control_characters_or_blank_is_refused(tmp_path, capsys):
+    # scenario write --name $'\x1b[31mX' was accepted, and show, bounds and check printed the
+    # escape raw; --name "" was silently ignored
+    for name in ("\x1b[31mX", "two\nlines", ""):
+        assert main(["scenario", "write", "--preset", "sas_100khz", "--name", name, str(tmp_path / "e.json")]) == 2
+        line = _one_line(capsys)
+        assert "field name" in line and "\x1b" not in line
+        assert not (tmp_path / "e.json").exists()
+    from budget.scenario import Scenario
+    with pytest.raises(InputError) as e:
+        Scenario.from_dict({"name": "a\x07b", "carrier_frequency_hz": 1e10, "slant_range_m": 1e3,
+                            "azimuth_resolution_m": 1.0, "range_resolution_m": 1.0, "platform_speed_m_s": 50.0})
+    assert e.value.field == "name" and "control characters" in str(e.value)

@@ -68,7 +68,7 @@ def run_write(args) -> int:
     if out.exists() and not args.force:
         raise InputError("file exists", file=out, expected="a new file name, or --force to overwrite")
     s = get_preset(args.preset)
-    if args.name:
+    if args.name is not None:  # "" is refused by name, not ignored
         s = Scenario.from_dict({**s.model_dump(), "name": args.name}, source="--name")
     s.save(out)
     print(f"wrote {out} (preset {args.preset}; Tc = {s.tc_s:.4g} s)")
