@@ -409,6 +409,10 @@ def _check_tree(data, path) -> None:
                              value=obj, expected="a number of sensible size")
 
 
+#: A number as JSON writes it (and .inf / .nan, which the models refuse with their own words).
+_PLAIN_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|[-+]?\.(inf|Inf|INF)|\.(nan|NaN|NAN)")
+
+
 def _yaml_node(text: str, path):
     """Compose the YAML document and check depth and *expanded* size before constructing it."""
     import yaml
@@ -453,6 +457,14 @@ def _check_yaml_nodes(root, path) -> None:
             if node.tag.endswith(":int") and len(node.value.lstrip("+-0")) > MAX_INT_DIGITS:
                 raise InputError(f"integer with more than {MAX_INT_DIGITS} digits", file=path,
                                  value=node.value, expected="a number of sensible size")
+            text = node.value.strip()
+            if node.tag.endswith((":int", ":float")) and (not _PLAIN_NUMBER.fullmatch(text) or (
+                    node.tag.endswith(":int") and re.fullmatch(r"[-+]?0\d+", text))):
+                # YAML 1.1 reads 1:40 as 100 (base 60), 0x64 as 100, 1_000 as 1000, 012 as 10
+                raise InputError(f"a number in a form YAML 1.1 reads as another value (line "
+                                 f"{node.start_mark.line + 1})", file=path, value=node.value,
+                                 expected="a plain decimal number (digits, a decimal point, an exponent), or the "
+                                          "value in quotes if it is text")
             size[key] = 1
             continue
         if isinstance(node, yaml.MappingNode):

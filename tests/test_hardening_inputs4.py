@@ -144,3 +144,37 @@ def test_a_scenario_name_with_control_characters_or_blank_is_refused(tmp_path, c
         Scenario.from_dict({"name": "a\x07b", "carrier_frequency_hz": 1e10, "slant_range_m": 1e3,
                             "azimuth_resolution_m": 1.0, "range_resolution_m": 1.0, "platform_speed_m_s": 50.0})
     assert e.value.field == "name" and "control characters" in str(e.value)
+
+
+# --- numbers read as other numbers -------------------------------------------------------------
+
+@pytest.mark.parametrize("cell,why", [("1_0", "an underscore"), ("1e-400", "it underflows to 0")])
+def test_a_catalog_cell_python_reads_as_another_number_is_refused(tmp_path, capsys, cell, why):
+    # float() reads 1_0 as 10 and 1e-400 as 0.0 (a "perfect" term): both validated
+    from budget.catalog.io import shipped_catalog_dir
+
+    lines = (shipped_catalog_dir() / "parts.csv").read_text(encoding="utf-8").splitlines()
+    header = lines[0].split(",")
+    row = next(r for r in lines[1:] if r.startswith("STIM300,")).split(",")
+    row[0] = "MYSTIM"
+    row[header.index("gyro_arw_deg_rt_h")] = cell
+    path = tmp_path / "mine.csv"
+    path.write_text(lines[0] + "\n" + ",".join(row) + "\n", encoding="utf-8")
+    assert main(["catalog", "validate", str(path)]) == 2
+    line = _one_line(capsys)
+    assert "row 2" in line and "gyro_arw_deg_rt_h" in line and why in line and cell in line
+
+
+@pytest.mark.parametrize("value", ["1:40", "0x64", "1_000", "012"])
+def test_a_yaml_number_yaml_1_1_reads_as_another_value_is_refused(tmp_path, capsys, value):
+    # YAML 1.1 reads 1:40 as 100 (base 60), 0x64 as 100, 1_000 as 1000 and 012 as 10
+    path = tmp_path / "s.yaml"
+    assert main(["scenario", "write", "--preset", "airborne_xband", str(path)]) == 0
+    text = path.read_text(encoding="utf-8")
+    lines = [f"slant_range_m: {value}" if ln.startswith("slant_range_m:") else ln for ln in text.splitlines()]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    capsys.readouterr()
+    assert main(["scenario", "validate", str(path)]) == 2
+    line = _one_line(capsys)
+    assert "s.yaml" in line and value in line and "plain decimal number" in line
+    assert f"line {lines.index(f'slant_range_m: {value}') + 1}" in line

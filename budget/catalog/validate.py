@@ -76,6 +76,8 @@ _PART_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._\-]{0,63}")
 _BAD_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
 #: A number written with a comma (``0,4``, ``1,000``): a spreadsheet's decimal comma or separator.
 _DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+")
+#: A number whose mantissa has a non-zero digit (so a float of 0.0 from it is an underflow).
+_NONZERO_MANTISSA = re.compile(r"\s*[+-]?\d*\.?\d*[1-9]")
 _BOOL_CELL = re.compile(r'(?im)(^|,)[ \t"]*(true|false)[ \t"]*(,|\r?$)')
 _TEXT_COLUMNS = tuple(c for c in PART_COLUMNS if c not in PART_NUMERIC_COLUMNS)
 
@@ -218,6 +220,17 @@ def _numbers(cells: tuple[str, ...], rows: list[int], path: Path, col: str, cano
                          expected=f"a number in {unit}"
                          + (f" with a decimal point (e.g. {cells[k].replace(',', '.')} if the comma is decimal)"
                             if comma else "") + " (or an empty cell if unknown)") from None
+    # Python's float() also reads 1_0 as 10, and 1e-400 underflows to a "perfect" 0: neither is
+    # what a datasheet cell means
+    suspect = [k for k in np.flatnonzero((vals == 0.0) & ~empty) if _NONZERO_MANTISSA.match(cells[k])]
+    if any("_" in c for c in cells):
+        suspect = sorted(set(suspect) | {k for k, c in enumerate(cells) if "_" in c})
+    if suspect:
+        c = cells[suspect[0]]
+        raise InputError("not a plain decimal number" + (" (an underscore)" if "_" in c else " (it underflows to 0)"),
+                         file=path, row=rows[suspect[0]], field=col, value=c,
+                         expected=f"a number in {unit} written with digits, a decimal point and an "
+                                  "exponent within ±300 (or an empty cell if unknown)")
     return _check_numbers(vals, empty, rows, path, col, canon, lambda k: cells[k])
 
 
