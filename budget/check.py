@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 
 from .bounds import BoundsTable, compute_bounds
+from .catalog.fill import row_warnings
 from .catalog.schema import GRADE_RANK, GradeSpec, PartSpec
 from .errors import InputError, refuse_repeats
 from .parameters import FAMILIES, PARAMETERS, grade_value
@@ -110,6 +111,9 @@ class CheckResult:
     #: in words (:meth:`Scenario.defaults_note`; '' when every key was set)
     scenario_defaults: tuple[dict, ...] = ()
     defaults_notes: tuple[str, ...] = ()
+    #: per part, what its row asks a reader to look at (:func:`budget.catalog.fill.row_warnings`:
+    #: figures given as 0, figures of another grade than its grade column); () when nothing
+    row_notes: tuple[tuple[str, ...], ...] = ()
 
     def fast_phase(self, i: int, s: int) -> float:
         """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
@@ -224,6 +228,7 @@ class CheckResult:
                 "margins": {p: float(m[j]) for j, p in enumerate(self.params) if spec[j]},
                 "unspecified": [p for j, p in enumerate(self.params) if not spec[j]],
                 "bias_convention": self.bias_conventions[i] if self.bias_conventions else None,
+                "row_notes": list(self.row_notes[i]) if self.row_notes else [],
                 "flag": flagged,
                 "flag_reason": why,
                 "pga_limited_verdict": limited,
@@ -319,6 +324,8 @@ class CheckResult:
                       "its window, attitude error × lever arm); where the verdicts differ:"] + notes
         if self.defaults_notes and self.defaults_notes[scenario_index]:
             lines.append(self.defaults_notes[scenario_index])
+        # a 0 passes every bound (a perfect term): said, not silently counted as a margin of ∞
+        lines += [f"row note, {pid}: {n}" for pid, ns in zip(self.part_ids, self.row_notes) for n in ns]
         return "\n".join(lines)
 
 
@@ -471,7 +478,8 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        fast_phase_share=tuple(a.fast_residual_share for a in assumed), fast_phase_margin=fast_margin,
                        rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen),
                        scenario_defaults=tuple(sc.defaults_taken(keys) for sc in scen),
-                       defaults_notes=tuple(sc.defaults_note(keys) for sc in scen))
+                       defaults_notes=tuple(sc.defaults_note(keys) for sc in scen),
+                       row_notes=tuple(row_warnings(p) for p in parts))
 
 
 def _platform_motion(value):

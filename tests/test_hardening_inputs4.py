@@ -178,3 +178,30 @@ def test_a_yaml_number_yaml_1_1_reads_as_another_value_is_refused(tmp_path, caps
     line = _one_line(capsys)
     assert "s.yaml" in line and value in line and "plain decimal number" in line
     assert f"line {lines.index(f'slant_range_m: {value}') + 1}" in line
+
+
+# --- a row's own warnings in the part check ----------------------------------------------------
+
+def test_check_states_a_term_given_as_zero(tmp_path, capsys):
+    # STIM300's row with gyro_arw_deg_rt_h = 0 passed 8/8 with no word that the ARW is "perfect"
+    import json
+    from budget.catalog.io import shipped_catalog_dir
+
+    lines = (shipped_catalog_dir() / "parts.csv").read_text(encoding="utf-8").splitlines()
+    header = lines[0].split(",")
+    row = next(r for r in lines[1:] if r.startswith("STIM300,")).split(",")
+    row[0] = "MYSTIM"
+    row[header.index("gyro_arw_deg_rt_h")] = "0"
+    path = tmp_path / "mine.csv"
+    path.write_text(lines[0] + "\n" + ",".join(row) + "\n", encoding="utf-8")
+    assert main(["check", "--preset", "airborne_xband", "--catalog", str(path), "--part", "MYSTIM"]) == 0
+    text = capsys.readouterr().out
+    assert "row note, MYSTIM: given as 0" in text and "gyro_arw_deg_rt_h" in text
+    out = tmp_path / "c.json"
+    assert main(["check", "--preset", "airborne_xband", "--catalog", str(path), "--part", "MYSTIM",
+                 "--json", str(out)]) == 0
+    rec = json.loads(out.read_text())["parts"][0]
+    assert rec["part_id"] == "MYSTIM" and any("gyro_arw_deg_rt_h" in n for n in rec["row_notes"])
+    # the shipped STIM300 has no such note
+    assert main(["check", "--preset", "airborne_xband", "--part", "STIM300"]) == 0
+    assert "row note" not in capsys.readouterr().out

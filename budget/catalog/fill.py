@@ -183,7 +183,7 @@ def _zero_figures_note(model) -> tuple[str, ...]:
     zero = [prm.column for prm in PARAMETERS if getattr(model, prm.column, None) == 0]
     if not zero:
         return ()
-    return (f"given as 0 (a perfect sensor term, simulated as such): {', '.join(zero)}; leave a cell empty "
+    return (f"given as 0 (a perfect sensor term, checked and simulated as such): {', '.join(zero)}; leave a cell empty "
             "when the figure is unknown, so that it is filled from the grade and stated",)
 
 
@@ -202,6 +202,24 @@ def _convention_note(model) -> tuple[str, ...]:
     return (f"bias_instability_convention not given: {', '.join(given)} taken as in-run Allan-deviation "
             "minima (adev_min, the default) and simulated as flicker noise; write total_1sigma or "
             "turn_on_1sigma if the datasheet's figure is a total or turn-on 1σ bias (one constant per trial)",)
+
+
+def row_warnings(model, grades: Mapping[str, GradeSpec] | None = None) -> tuple[str, ...]:
+    """What a reader of any verdict on ``model`` (a catalog ``PartSpec`` or ``NoiseModel``) should
+    look at in its row: figures given as 0 (a perfect term), and figures that as a whole place the
+    part two or more grades from its grade column (:func:`_grade_mismatch_note`); () for an SI
+    model or a row without a grade."""
+    if not isinstance(model, PartSpec):
+        return ()
+    zero = _zero_figures_note(model)
+    if model.grade is None:
+        return zero
+    if grades is None:
+        from .io import load_grades
+        grades = load_grades()
+    if model.grade not in grades:
+        return zero
+    return _grade_mismatch_note(model, grades, model.grade, model.part_id or "the noise model") + zero
 
 
 def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
