@@ -11,11 +11,16 @@ from .aggregate import Aggregate
 from .chain import TRIAL_METRICS
 from .notes import SIMULATION_NOTES
 from .options import McOptions
-from .stats import wilson_interval
+from .stats import StreamingQuantiles, wilson_interval
 
 #: How decisions use P(pass): the lower 95 % Wilson bound, not the point estimate (at p̂ = 0.9
 #: with 64 trials the interval is [0.80, 0.95]).
 DECISION_RULE = "pass when the lower 95 % Wilson bound of P(pass after PGA) ≥ the target"
+#: How the table's percentiles are read (:class:`budget.mc.stats.StreamingQuantiles`: memory that
+#: does not grow with the trials); the per-trial values, when kept, are in the JSON.
+QUANTILE_NOTE = (f"p50 / p95: read from the run's streaming histograms ({StreamingQuantiles.per_decade} bins per "
+                 f"decade: within {100 * (10 ** (1 / StreamingQuantiles.per_decade) - 1):.1f} % of the exact "
+                 "order statistic); the per-trial values, when the run keeps them, are in the JSON (metrics_after)")
 
 #: Per-trial metrics in the CLI JSON (``metrics_after``).
 JSON_METRICS = ("azimuth_broadening", "range_broadening", "pslr_db", "islr_db", "residual_phase_rms_deg",
@@ -70,6 +75,7 @@ class McResult:
         return bool(self.ci_after[0] >= target)
 
     def percentiles(self, when: str = "after") -> dict[str, dict[str, float]]:
+        """p50 and p95 of every metric from the run's streaming histograms (:data:`QUANTILE_NOTE`)."""
         q = self.agg.q_after if when == "after" else self.agg.q_before
         return {m: {"p50": q[m].quantile(0.5), "p95": q[m].quantile(0.95)} for m in TRIAL_METRICS}
 
@@ -184,4 +190,5 @@ class McResult:
                 f"P(pass) before PGA {self.p_pass_before:.3f} [{lb:.3f}, {hb:.3f}], "
                 f"after PGA {self.p_pass_after:.3f} [{lo:.3f}, {hi:.3f}] (95 % Wilson)\n"
                 f"failure reasons: {reasons}\n" + self._judged_line() + self._unspecified_line() + self.to_frame().to_string(
-                    index=False, na_rep="n/a", float_format=lambda v: f"{v:.4g}"))  # PGA's error: after only
+                    index=False, na_rep="n/a", float_format=lambda v: f"{v:.4g}")  # PGA's error: after only
+                + f"\n{QUANTILE_NOTE}")

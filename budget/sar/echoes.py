@@ -110,8 +110,10 @@ def _clutter_spectrum(geom: SarGeometry, scene: Scene, apc: np.ndarray,
         raise InputError(f"the clutter of this scene needs {geom.n_pulses} pulses × {n_q / 1e6:.3g} M clutter "
                          f"points = {work:.2g} phase evaluations (≈ {work / 1e7 / 60:.0f} min to simulate)",
                          field="scene", value="clutter",
-                         expected=f"≤ {MAX_CLUTTER_EVALUATIONS:.0e} (the points scene, a lower clutter "
-                                  "density, or a smaller image: coarser resolution or shorter aperture)")
+                         expected=f"≤ {MAX_CLUTTER_EVALUATIONS:.0e} (the points scene: scene='points', "
+                                  "--scene points; a smaller image: coarser resolution or a shorter aperture; "
+                                  "or, calling the simulator with a Scene of your own, a lower "
+                                  "clutter_density_per_cell — the Monte Carlo's realistic scene fixes it)")
     xq = rng.uniform(-0.5 * x_s, 0.5 * x_s, n_q)
     rq = rng.uniform(r_lo, r_hi, n_q)
     # mean pixel power = density · σ² · ∫∫|h|² dA  (h: ideal IRF with unit peak)
