@@ -59,6 +59,10 @@ class Measured:
     tables: dict[str, AllanResult] = field(default_factory=dict)
     temp_c: np.ndarray | None = None
     notes: list[str] = field(default_factory=list)
+    #: channels whose log holds two noise levels (:func:`budget.noise.stationarity.check_stationarity`,
+    #: kind ``noise_level_change``) → what was found: no effect of the vocabulary is a change of
+    #: regime, so the workflow does not work on them (:mod:`budget.gap.workflow`)
+    regimes: dict[str, str] = field(default_factory=dict)
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -130,11 +134,18 @@ def _from_log(log: ImuLog) -> Measured:
     notes += [f"log: {i.text()}" for i in log.issues.issues]
     notes += [f"log repair: {r}" for r in log.issues.repairs]
     # the comparison assumes one stationary regime, as the Allan fit does: say where it is not
+    regimes: dict[str, str] = {}
     for issue in check_stationarity(series, repaired=bool(log.issues.repairs)):
-        meaning = ("a bias step reads as a rate random walk" if issue.kind == "bias_step"
-                   else "a noise-level change reads as heavy tails or a level misfit")
-        notes.append(f"WARNING, not one stationary regime: {issue.column}: {issue.message} — {meaning}; "
-                     f"what is named on {issue.column} is doubtful")
+        if issue.kind == "noise_level_change":
+            # no effect of the vocabulary changes the noise level mid-record: whatever it named
+            # there (heavy tails, a Gauss–Markov term, a ramp …) fitted the change, not the unit
+            regimes.setdefault(issue.column, issue.message)
+            notes.append(f"WARNING, not one stationary regime: {issue.column}: {issue.message} — no effect is "
+                         f"named on {issue.column} (a noise-level change reads as heavy tails or a level "
+                         "misfit); compare each regime's rows on its own")
+            continue
+        notes.append(f"WARNING, not one stationary regime: {issue.column}: {issue.message} — a bias step "
+                     f"reads as a rate random walk; what is named on {issue.column} is doubtful")
     temp = None
     if log.temp_c is not None:
         temp = np.asarray(log.temp_c, float)
@@ -143,7 +154,8 @@ def _from_log(log: ImuLog) -> Measured:
         if np.ptp(temp) == 0:
             notes.append("temperature channel is constant: no temperature statistic")
             temp = None
-    return Measured("log", log.source, float(log.rate_hz), n, series, temp_c=temp, notes=notes)
+    return Measured("log", log.source, float(log.rate_hz), n, series, temp_c=temp, notes=notes,
+                    regimes=regimes)
 
 
 def _from_tables(tables: dict[str, AllanResult], source: str) -> Measured:

@@ -392,8 +392,11 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     slipped = {ch: found for ch, st in states.items() if (found := unit_slip.slip(st.d_db)) is not None}
     notes += [quieter.note(ch, q) for ch, q in quiet.items() if ch not in slipped]
     notes += [unit_slip.note(ch, found) for ch, found in slipped.items()]
-    why = {ch: "quieter than the model" for ch in quiet} | {ch: "a likely unit error" for ch in slipped}
-    quiet.update({ch: found[0] for ch, found in slipped.items()})  # neither is worked on
+    regimes = {ch: msg for ch, msg in meas.regimes.items() if ch in states}
+    why = ({ch: "quieter than the model" for ch in quiet} | {ch: "a likely unit error" for ch in slipped}
+           | {ch: "two noise regimes" for ch in regimes})
+    quiet.update({ch: found[0] for ch, found in slipped.items()})  # none of these is worked on
+    quiet.update({ch: 0.0 for ch in regimes})
     if quiet:
         null = _null(states, alpha, quiet)
     start = {ch: (st.terms, st.summary, st.sizes(band, ch)) for ch, st in states.items()}
