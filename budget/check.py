@@ -429,6 +429,10 @@ def check_scenario_keys(mode: str = "paper", platform_motion=None) -> tuple[str,
     return tuple(dict.fromkeys(keys))
 
 
+#: Most part × scenario pairs one check takes (:func:`check_parts`; the shipped catalog has 20 parts).
+MAX_CHECKS = 10_000
+
+
 def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scenario,
                 mode: str = "paper", assumptions=None, platform_motion=None) -> CheckResult:
     """Check parts against each scenario's bounds (Tc and δr from the scenario).
@@ -444,6 +448,14 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
         raise InputError(f"no {what} to check", field=f"{what}s",
                          expected=f"at least one {what}")
     refuse_repeats(parts, lambda p: getattr(p, "part_id", None), field="parts", what="part")
+    if len(parts) * len(scen) > MAX_CHECKS:
+        # the exact share of apertures within the fast-phase limit (an eigen-decomposition and a
+        # quadrature per part with VRW and ARW) costs ≈ 0.05–0.2 s per part and scenario: a
+        # 200,000-row user catalog ran for hours with nothing said
+        raise InputError(f"{len(parts):,} parts × {len(scen)} scenario(s) to check, more than {MAX_CHECKS:,} "
+                         f"(≈ 0.05–0.2 s each: about {len(parts) * len(scen) * 0.1 / 3600:.2g} h)", field="parts",
+                         value=len(parts), expected=f"at most {MAX_CHECKS:,} part × scenario pairs: the parts of "
+                         "interest (--part ID ID …), or a smaller user catalog")
     tc = np.array([s.tc_s for s in scen])
     dr = np.array([s.range_resolution_m for s in scen])
     from .bounds import check_bounds_tc

@@ -227,3 +227,20 @@ def test_an_aperture_of_few_imu_samples_says_its_fast_phase_is_low():
     model = budget.load_part("ADIS16405")
     assert "the simulation's 17 IMU samples" in fast_phase_note(short, McOptions(), model)
     assert "IMU samples" not in fast_phase_note(PRESETS["airborne_xband"], McOptions(), model)
+
+
+# --- a user catalog too large to check ----------------------------------------------------------
+
+def test_check_refuses_more_parts_than_it_can_check_in_reasonable_time(monkeypatch):
+    # a valid 200,000-row user catalog ran `check` for hours (≈ 0.13 s per part) with nothing said
+    import budget.check as check
+    from budget.catalog.io import load_catalog
+    from budget.presets import PRESETS
+
+    monkeypatch.setattr(check, "MAX_CHECKS", 10)
+    base = load_catalog()["STIM300"]
+    parts = [base.model_copy(update={"part_id": f"P{i}"}) for i in range(11)]
+    with pytest.raises(InputError) as e:
+        check.check_parts(parts, [PRESETS["airborne_xband"]])
+    assert e.value.field == "parts" and "11 parts × 1 scenario" in str(e.value) and "--part" in str(e.value)
+    assert check.check_parts(parts[:10], [PRESETS["automotive_77ghz"]]).part_ids[-1] == "P9"
