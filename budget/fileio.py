@@ -524,7 +524,12 @@ def parse_structured(text: str, *, yaml_syntax: bool, path=None):
     except InputError:
         raise
     except (json.JSONDecodeError, yaml.YAMLError) as err:
-        raise InputError(f"not valid {kind}: {str(err).splitlines()[0][:200]}", file=path) from None
+        # PyYAML's first line names the construct only ("while scanning for the next token"):
+        # the problem and its line and column are in its mark
+        mark = getattr(err, "problem_mark", None)
+        where = (f" (line {mark.line + 1}, column {mark.column + 1}: {getattr(err, 'problem', '')})"
+                 if mark is not None else "")
+        raise InputError(f"not valid {kind}: {str(err).splitlines()[0][:200]}{where}", file=path) from None
     except RecursionError:
         raise InputError(f"nested too deeply to read (more than {MAX_DEPTH} levels expected)",
                          file=path, expected="a flat configuration mapping") from None

@@ -244,3 +244,12 @@ def test_check_refuses_more_parts_than_it_can_check_in_reasonable_time(monkeypat
         check.check_parts(parts, [PRESETS["airborne_xband"]])
     assert e.value.field == "parts" and "11 parts × 1 scenario" in str(e.value) and "--part" in str(e.value)
     assert check.check_parts(parts[:10], [PRESETS["automotive_77ghz"]]).part_ids[-1] == "P9"
+
+
+def test_a_yaml_syntax_error_names_its_line_and_column(tmp_path, capsys):
+    # it named the construct only ("while scanning for the next token")
+    path = tmp_path / "t.yaml"
+    path.write_text("name: x\n\tcarrier_frequency_hz: 1e10\n", encoding="utf-8")
+    assert main(["scenario", "validate", str(path)]) == 2
+    line = _one_line(capsys)
+    assert "t.yaml" in line and "line 2, column 1" in line and "'\\t'" in line
