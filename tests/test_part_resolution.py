@@ -83,7 +83,7 @@ def test_motion_gives_the_same_numbers_for_a_part_and_its_model_file(tmp_path):
     path = _model_file(tmp_path)
     out = {}
     for how, src in (("part", ["--part", "STIM300"]), ("model", ["--model", str(path)])):
-        dest = tmp_path / f"{how}.json"
+        dest = tmp_path / f"out_{how}.json"  # not model.json: that is the input
         assert main(["motion", "--preset", "airborne_xband", *src, "--trials", "4", "--seed", "3",
                      "--json", str(dest)]) == 0
         out[how] = json.loads(dest.read_text())
