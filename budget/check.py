@@ -1,4 +1,5 @@
-"""Check catalog parts against the Tc-driven bounds, and recommend a grade per Tc.
+"""Check catalog parts against the Tc-driven bounds (the grade recommendation per Tc, on the same
+margins, is :mod:`budget.recommend`).
 
 Margin of a parameter = bound / spec (≥ 1 passes). The verdict of a part is ``pass`` when every
 *specified* parameter has margin ≥ 1; unspecified (empty) datasheet values are listed in
@@ -29,9 +30,9 @@ import pandas as pd
 
 from .bounds import BoundsTable, compute_bounds
 from .catalog.fill import row_warnings
-from .catalog.schema import GRADE_RANK, GradeSpec, PartSpec
+from .catalog.schema import PartSpec
 from .errors import InputError, refuse_repeats
-from .parameters import FAMILIES, PARAMETERS, grade_value
+from .parameters import PARAMETERS
 from .scenario import Scenario
 
 #: Part columns checked, in margin order (from the parameter table).
@@ -484,7 +485,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
                        pga_margins=margins(specs, pmat), pga_rules=tuple(r for _, r in limited), mode=mode,
-                       assumptions=_assumptions_dict(assumptions),
+                       assumptions=assumptions_dict(assumptions),
                        fast_phase_deg=fast_deg, fast_phase_p_within=fast_p,
                        fast_phase_limit_deg=tuple(float(a.fast_residual_limit_deg) for a in assumed),
                        fast_phase_share=tuple(a.fast_residual_share for a in assumed), fast_phase_margin=fast_margin,
@@ -507,7 +508,7 @@ def _platform_motion(value):
         raise from_validation_error(err) from None
 
 
-def _assumptions_dict(assumptions) -> dict | None:
+def assumptions_dict(assumptions) -> dict | None:
     """JSON-ready form of bound assumptions (a pydantic model or a mapping); None stays None."""
     if assumptions is None:
         return None
@@ -522,86 +523,3 @@ def check_arrays(specs: np.ndarray, tc_s: np.ndarray, range_resolution_m: np.nda
     m = np.where(np.isnan(m), np.inf, m)
     mm = m.min(axis=-1)
     return mm >= 1.0, mm
-
-
-def grade_spec_matrix(grades: Sequence[GradeSpec], use: str = "best") -> np.ndarray:
-    """(G, 8) SI values of each grade (``best`` = range minimum, ``worst`` = maximum, ``typical``
-    = geometric mean), :func:`budget.parameters.grade_value`."""
-    if use not in ("best", "worst", "typical"):
-        raise ValueError("use must be 'best', 'worst' or 'typical'")
-    out = np.empty((len(grades), len(PARAMETERS)))
-    for i, g in enumerate(grades):
-        for j, prm in enumerate(PARAMETERS):
-            out[i, j] = grade_value(g, prm, use) * prm.to_si
-    return out
-
-
-@dataclass(frozen=True)
-class GradeRecommendation:
-    """Lowest sufficient grade per Tc (s) and δr (m), with the options it was found with."""
-
-    tc_s: np.ndarray
-    range_resolution_m: np.ndarray
-    grade: tuple[str | None, ...]
-    include: tuple[str, ...]
-    use: str
-    mode: str = "paper"
-    #: the bounds' wavelength (m, ``no-autofocus`` and ``lever-arm``) and assumptions (``model_dump``)
-    wavelength_m: float | None = None
-    assumptions: dict | None = None
-
-    def to_frame(self) -> pd.DataFrame:
-        return pd.DataFrame({"tc_s": np.ravel(self.tc_s), "range_resolution_m": np.ravel(self.range_resolution_m),
-                             "lowest_sufficient_grade": list(self.grade)})
-
-    def to_dict(self) -> dict:
-        """JSON-ready: the options (``mode``, ``include``, ``use``, ``wavelength_m``, ``assumptions``)
-        and one row per Tc."""
-        return {"mode": self.mode, "include": list(self.include), "use": self.use,
-                "wavelength_m": self.wavelength_m, "assumptions": self.assumptions,
-                "rows": [{"tc_s": float(t), "range_resolution_m": float(d), "lowest_sufficient_grade": g}
-                         for t, d, g in zip(np.ravel(self.tc_s), np.ravel(self.range_resolution_m), self.grade)]}
-
-    def summary(self) -> str:
-        return (f"lowest sufficient grade ({self.mode} bounds, {self.use} typical values; checked: "
-                f"{', '.join(self.include)})\n"
-                + self.to_frame().to_string(index=False))
-
-
-def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mode: str = "paper",
-                    include: Sequence[str] = ("bias", "noise"), use: str = "best", wavelength_m=None,
-                    assumptions=None, bounds=None) -> GradeRecommendation:
-    """Lowest grade (highest rank) whose typical values meet the bounds of ``mode``, per Tc.
-
-    ``wavelength_m`` (m) is needed by the ``no-autofocus`` and ``lever-arm`` modes, ``assumptions``
-    is passed to :func:`budget.bounds.compute_bounds` (default assumptions when ``None``).
-    ``bounds``: a ready :class:`~budget.bounds.BoundsTable` instead (e.g. the PGA-limited table of
-    :func:`budget.bounds.lever_arm.pga_limited_bounds`); its ``mode`` is reported.
-
-    Defaults follow seed 004's reading of its Tables 1–4: scale factor and misalignment are
-    left out because calibration removes most of them (the paper says so), and a grade counts
-    as sufficient when the best of its typical range meets the bound (``use="best"``).
-    ``None`` where no grade suffices.
-    """
-    unknown = set(include) - set(FAMILIES)
-    if unknown:
-        raise ValueError(f"unknown parameter families {sorted(unknown)}; expected {sorted(FAMILIES)}")
-    tc = np.atleast_1d(np.asarray(tc_s, float))
-    dr = np.broadcast_to(np.asarray(range_resolution_m, float), tc.shape)
-    cols = [PARAM_NAMES.index(p) for fam in include for p in FAMILIES[fam]]
-    ordered = sorted(grades, key=lambda g: GRADE_RANK[g.grade])
-    if bounds is None:
-        bounds = compute_bounds(tc, dr, mode, wavelength_m=wavelength_m, assumptions=assumptions)
-    else:
-        mode = bounds.mode
-        if np.size(bounds.tc_s) != tc.size:
-            raise ValueError(f"bounds hold {np.size(bounds.tc_s)} aperture times, tc_s {tc.size}")
-    m = margins(grade_spec_matrix(ordered, use), bound_matrix(bounds))[:, :, cols]
-    ok = np.all(m >= 1.0, axis=-1)  # (G, S)
-    out = []
-    for s in range(tc.size):
-        passing = [ordered[g].grade for g in range(len(ordered)) if ok[g, s]]
-        out.append(passing[-1] if passing else None)
-    return GradeRecommendation(tc, np.asarray(dr), tuple(out), tuple(include), use, mode,
-                               None if wavelength_m is None else float(wavelength_m),
-                               _assumptions_dict(assumptions))

@@ -8,7 +8,8 @@ import pytest
 from budget.bounds import paper_bounds
 from budget.catalog.io import load_catalog
 from budget.catalog.schema import GradeSpec, PartSpec
-from budget.check import (PARAM_NAMES, check_arrays, check_parts, recommend_grade, spec_matrix)
+from budget.check import PARAM_NAMES, check_arrays, check_parts, spec_matrix
+from budget.recommend import recommend_grade
 from budget.presets import get_preset
 from budget.scenario import Scenario
 
@@ -127,7 +128,7 @@ def test_total_bias_row_is_checked_as_given_and_reported():
 
 
 def test_grade_typical_values_sit_between_best_and_worst():
-    from budget.check import grade_spec_matrix
+    from budget.recommend import grade_spec_matrix
     g = grades()
     best, typ, worst = (grade_spec_matrix(g, use) for use in ("best", "typical", "worst"))
     assert np.all(best <= typ) and np.all(typ <= worst)

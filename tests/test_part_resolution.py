@@ -11,7 +11,7 @@ import pytest
 from budget.api import load_part
 from budget.catalog.io import get_part, load_catalog, load_grades
 from budget.catalog.schema import PartSpec
-from budget.check import recommend_grade
+from budget.recommend import recommend_grade
 from budget.cli.main import main
 from budget.errors import InputError
 from budget.imu.noise_model import NoiseModel

@@ -185,7 +185,7 @@ def _build_check():
 
 def _build_grade():
     from budget.catalog.io import load_grades
-    from budget.check import recommend_grade
+    from budget.recommend import recommend_grade
     return recommend_grade([1.0, 10.0], 0.1, list(load_grades().values()), use="typical"), \
         {"use": "typical", "mode": "paper", "rows.1.tc_s": 10.0}
 
@@ -466,7 +466,7 @@ BUILDERS = {
     "budget.bounds.fast_phase:FastPhaseResidual": _build_fast_phase_residual,
     "budget.bounds.rotation:RotationExcursion": _build_rotation,
     "budget.check:CheckResult": _build_check,
-    "budget.check:GradeRecommendation": _build_grade,
+    "budget.recommend:GradeRecommendation": _build_grade,
     "budget.catalog.fill:Resolution": _build_resolution,
     "budget.mc.result:McResult": _build_mc,
     "budget.motion.result:MotionResult": _build_motion,

@@ -6,7 +6,8 @@ import streamlit as st
 
 from budget.bounds.lever_arm import pga_limited_bounds
 from budget.catalog.schema import GRADES
-from budget.check import check_parts, check_scenario_keys, recommend_grade, rotation_line
+from budget.check import check_parts, check_scenario_keys, rotation_line
+from budget.recommend import recommend_grade
 from budget.fileio import json_text
 from budget.safe_text import frame_csv_text
 from budget.plots.check import margin_heatmap_figure

@@ -11,7 +11,7 @@ import streamlit as st
 from budget import units as u
 from budget.bounds import (BOUND_FIELDS, DerivedAssumptions, NoAutofocusAssumptions, compute_bounds,
                            fast_phase_limits, scenario_keys)
-from budget.check import recommend_grade
+from budget.recommend import recommend_grade
 from budget.sar.windows import verdict_window
 from budget.plots.bounds import BOUND_LABELS, bounds_vs_tc_figure
 

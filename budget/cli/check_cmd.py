@@ -6,7 +6,8 @@ from ..api import load_parts
 from ..bounds import scenario_assumptions
 from ..bounds.lever_arm import pga_limited_bounds
 from ..catalog.io import catalog_note, load_catalog, load_grades, user_catalog_path
-from ..check import check_parts, check_scenario_keys, recommend_grade
+from ..check import check_parts, check_scenario_keys
+from ..recommend import recommend_grade
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
 from .mc_cmd import add_platform_motion_options, platform_motion_from_args
 from .output import add_json_option, write_json

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..bounds import compute_bounds, fast_phase_limits
 from ..catalog.io import load_catalog, load_grades
-from ..check import check_parts, recommend_grade
+from ..check import check_parts
+from ..recommend import recommend_grade
 from ..presets import PRESETS, get_preset
 from ..sar.windows import verdict_window
 
