@@ -253,3 +253,20 @@ def test_a_yaml_syntax_error_names_its_line_and_column(tmp_path, capsys):
     assert main(["scenario", "validate", str(path)]) == 2
     line = _one_line(capsys)
     assert "t.yaml" in line and "line 2, column 1" in line and "'\\t'" in line
+
+
+def test_catalog_validate_reads_the_grades_table_as_one(tmp_path, capsys):
+    # it read grades.csv as a parts file: "field rank: unknown column"
+    from budget.catalog.io import shipped_catalog_dir
+
+    grades = shipped_catalog_dir() / "grades.csv"
+    assert main(["catalog", "validate", str(grades)]) == 0
+    assert "grades table, 6 grades valid" in capsys.readouterr().out
+    lines = grades.read_text(encoding="utf-8").splitlines()
+    cells = lines[2].split(",")
+    cells[1] = "x"  # the rank of the second grade
+    bad = tmp_path / "g.csv"
+    bad.write_text("\n".join([lines[0], lines[1], ",".join(cells), *lines[3:]]) + "\n", encoding="utf-8")
+    assert main(["catalog", "validate", str(bad)]) == 2
+    line = _one_line(capsys)
+    assert "g.csv" in line and "row 3" in line and "field rank" in line
