@@ -261,7 +261,8 @@ def test_catalog_validate_reads_the_grades_table_as_one(tmp_path, capsys):
 
     grades = shipped_catalog_dir() / "grades.csv"
     assert main(["catalog", "validate", str(grades)]) == 0
-    assert "grades table, 6 grades valid" in capsys.readouterr().out
+    from budget.catalog.io import load_grades
+    assert f"grades table, {len(load_grades())} grades valid" in capsys.readouterr().out
     lines = grades.read_text(encoding="utf-8").splitlines()
     cells = lines[2].split(",")
     cells[1] = "x"  # the rank of the second grade
