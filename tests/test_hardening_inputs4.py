@@ -271,3 +271,11 @@ def test_catalog_validate_reads_the_grades_table_as_one(tmp_path, capsys):
     assert main(["catalog", "validate", str(bad)]) == 2
     line = _one_line(capsys)
     assert "g.csv" in line and "row 3" in line and "field rank" in line
+
+
+def test_focus_refuses_an_image_name_that_is_not_png(tmp_path, capsys):
+    # --image out.txt wrote a PNG into a .txt file; refused before the phase history is read
+    assert main(["focus", str(tmp_path / "missing.mat"), "--image", str(tmp_path / "out.txt")]) == 2
+    line = _one_line(capsys)
+    assert "--image" in line and "out.txt" in line and ".png" in line
+    assert not (tmp_path / "out.txt").exists()

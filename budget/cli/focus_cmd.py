@@ -118,6 +118,10 @@ def _verdict(args, ph, options: FocusOptions) -> int:
 
 
 def run(args) -> int:
+    if args.image and not str(args.image).lower().endswith(".png"):
+        # the file is a PNG whatever its name (out.txt held one)
+        raise InputError("the image is written as PNG", field="--image", value=args.image,
+                         expected="a file name ending in .png")
     verdict = bool(getattr(args, "part", None) or getattr(args, "model", None))
     extent = DEFAULT_EXTENT_M if verdict else None  # the verdict's smaller default patch: one image per trial
     options = FocusOptions.build(spacing_m=args.spacing_m,
