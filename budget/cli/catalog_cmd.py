@@ -7,6 +7,7 @@ import sys
 from ..catalog.io import count_valid_parts, get_part, load_catalog, part_origins, read_grades, shipped_catalog_dir
 from ..catalog.validate import collect_errors
 from ..errors import InputError
+from ..fileio import open_input, text_encoding
 from .common import add_catalog_option
 from .output import add_json_option, printable, write_json
 
@@ -36,10 +37,12 @@ def _is_grades_table(path) -> bool:
     """The header names ``grade`` and ``rank`` and no ``part_id``: the grades table (``grades.csv``),
     validated as one, not as a parts file missing ``part_id``."""
     try:
-        with open(path, encoding="utf-8-sig", errors="replace") as fh:
-            head = fh.readline(100_000)
-    except OSError:
+        with open_input(path) as fh:
+            raw = fh.read(100_000)
+    except (OSError, InputError):
         return False  # the parts reader names the problem
+    head = raw.decode(text_encoding(raw[:4]), errors="replace").splitlines()  # the codec drops the mark
+    head = head[0] if head else ""
     cols = {c.strip().strip('"').lower() for c in head.split(",")}
     return {"grade", "rank"} <= cols and "part_id" not in cols
 
