@@ -180,8 +180,9 @@ def _excess(ch: str, st: _State, null: NullModel) -> float:
 
 def _null(states: dict[str, _State], alpha: float, apart=()) -> NullModel:
     """The null of the channels' gaps, pooled over channels with the same statistics; the
-    channels ``apart`` (those quieter than the model, not worked on) form pools of their own, so
-    that their unchanged models do not set the thresholds of the channels being fitted."""
+    channels ``apart`` (not worked on: quieter than the model, a unit slip, two regimes) form
+    pools of their own, so that their unchanged models do not set the thresholds of the channels
+    being fitted."""
     return NullModel.fit({ch: (s.loo, s.layout + (ch in apart,)) for ch, s in states.items()}, alpha)
 
 
@@ -393,12 +394,11 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
     notes += [quieter.note(ch, q) for ch, q in quiet.items() if ch not in slipped]
     notes += [unit_slip.note(ch, found) for ch, found in slipped.items()]
     regimes = {ch: msg for ch, msg in meas.regimes.items() if ch in states}
-    why = ({ch: "quieter than the model" for ch in quiet} | {ch: "a likely unit error" for ch in slipped}
-           | {ch: "two noise regimes" for ch in regimes})
-    quiet.update({ch: found[0] for ch, found in slipped.items()})  # none of these is worked on
-    quiet.update({ch: 0.0 for ch in regimes})
-    if quiet:
-        null = _null(states, alpha, quiet)
+    # the channels not worked on, and why (the stop reason names them)
+    apart = ({ch: "quieter than the model" for ch in quiet} | {ch: "a likely unit error" for ch in slipped}
+             | {ch: "two noise regimes" for ch in regimes})
+    if apart:
+        null = _null(states, alpha, apart)
     start = {ch: (st.terms, st.summary, st.sizes(band, ch)) for ch, st in states.items()}
     null_before, overall_before, band_before = null, _overall(states), band
     steps: list[GapStep] = []
@@ -413,16 +413,16 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         # a channel is worked on while its effect size exceeds its band; whether an effect is
         # named there is then up to the penalised test of each candidate (a targeted test:
         # far more power than the omnibus gap for a misfit confined to a few τ)
-        over = [ch for ch in chans if ch not in quiet and _open(ch, states[ch], band, trend_z)]
+        over = [ch for ch in chans if ch not in apart and _open(ch, states[ch], band, trend_z)]
         if not over:
             stop = ("every channel is close enough: its peak misfit beyond the model's own spread is "
                     f"within {tolerance_db:g} dB, its kurtosis within its band and its trend "
                     "statistics within the model's")
-            if quiet:
-                stop = ("every other channel is close enough" if len(quiet) < len(chans) else
+            if apart:
+                stop = ("every other channel is close enough" if len(apart) < len(chans) else
                         "nothing to name") + "".join(
-                    f"; {', '.join(c for c in quiet if why[c] == w)}: {w} (notes), where no added effect can help"
-                    for w in dict.fromkeys(why.values()))
+                    f"; {', '.join(c for c in apart if apart[c] == w)}: {w} (notes), where no added effect can help"
+                    for w in dict.fromkeys(apart.values()))
             break
         direct = [(ch, eff) for ch in over for eff in direct_proposals(current, ch, states[ch].meas,
                                                                          states[ch].grid)
@@ -499,7 +499,7 @@ def _run_gap(measured, model, *, seed, realizations, channels, rate_hz, samples,
         states[ch] = new
         current = trial
         cache.pop(ch, None)
-        null = _null(states, alpha, quiet)
+        null = _null(states, alpha, apart)
         band_step, band = band, _band(states, alpha, tolerance_db)
         steps.append(GapStep(effect.name, ch, dict(effect.params), old.terms.gap,
                              new.terms.gap, before_all, _overall(states),

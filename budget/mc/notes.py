@@ -14,6 +14,7 @@ import math
 from ..aiding_spec import AidingPlan
 from ..imu.noise_model import as_noise_model_si
 from ..motion.flat_earth import earth_model
+from ..motion.cost import aperture_samples
 from ..motion.notes import FEW_SAMPLES, imu_rate_note, lever_arm_note
 from ..nav.manoeuvre import PlatformMotion
 from ..sar import SarGeometry
@@ -221,7 +222,7 @@ def fast_phase_note(scenario: Scenario, options: McOptions, model) -> str:
         return ""
     if not fr.total_deg > 0:
         return ""
-    n = int(round(scenario.tc_s * scenario.imu_rate_hz)) + 1
+    n = aperture_samples(scenario)
     sampled = (f"; continuous-time noise, where the simulation's {n} IMU samples over the aperture carry less "
                "(see the IMU rate)") if n < FEW_SAMPLES else ""
     return (f"analytic: {fr.p_within_limit():.3f} of apertures keep the phase beyond PGA's window within "

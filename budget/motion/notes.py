@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from ..scenario import Scenario
+from .cost import aperture_samples
 
 
 #: Fewer IMU samples than this over the aperture and a motion run says its fast phase is low.
@@ -26,7 +27,7 @@ def imu_rate_note(scenario: Scenario, part_rate_hz: float | None) -> str:
                  "bias terms are per √Hz and per second, so the motion error they make over Tc does not "
                  "depend on the sampling rate while the aperture holds enough samples; quantization, tones "
                  "and a pre-filter do — set imu_rate_hz to the part's rate to simulate it at that rate)")
-    n = int(round(scenario.tc_s * scenario.imu_rate_hz)) + 1
+    n = aperture_samples(scenario)
     if n < FEW_SAMPLES:
         text += (f"; only {n} IMU samples span the aperture (Tc = {scenario.tc_s:.3g} s): the simulated error "
                  "has no content between samples, so its phase beyond PGA's window is below what the noise "
