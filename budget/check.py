@@ -492,7 +492,15 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen),
                        scenario_defaults=tuple(sc.defaults_taken(keys) for sc in scen),
                        defaults_notes=tuple(sc.defaults_note(keys) for sc in scen),
-                       row_notes=tuple(row_warnings(p) for p in parts))
+                       row_notes=_row_notes(parts))
+
+
+def _row_notes(parts: Sequence[PartSpec]) -> tuple[tuple[str, ...], ...]:
+    """:func:`budget.catalog.fill.row_warnings` of each part, the grades table read once."""
+    from .catalog.io import load_grades
+
+    grades = load_grades()
+    return tuple(row_warnings(p, grades) for p in parts)
 
 
 def _platform_motion(value):
