@@ -177,6 +177,43 @@ def _grade_mismatch_note(model, grades: Mapping[str, GradeSpec], grade: str, lab
             f"{grade} grade may not describe it (check its grade column, or give the empty figures)",)
 
 
+#: How far beyond its own grade's range (seed 004 Tables 3–4) one figure may lie before it is
+#: named as a possible unit slip: 10× worse than the grade's worst, 100× better than its best.
+#: The shipped catalog's figures lie at most 3.4× worse and 40× better (consumer parts beat the
+#: printed consumer row on scale factor and ARW), while the usual slips are larger: deg/s typed
+#: as deg/h 3600×, mg as µg 1000×, % as ppm 10⁴×, µg/√Hz as m/s/√h 1700×.
+FAR_WORSE, FAR_BETTER = 10.0, 100.0
+#: The in-run bias instability columns, judged against the grade's (total) bias range, worse side only.
+_IN_RUN = {"gyro": "gyro_bias_instability_deg_h", "accel": "accel_bias_instability_ug"}
+
+
+def _far_from_grade_note(model, grades: Mapping[str, GradeSpec], grade: str, label: str) -> tuple[str, ...]:
+    """A note naming each given figure that lies more than :data:`FAR_WORSE` × beyond the worst
+    or :data:`FAR_BETTER` × beyond the best of its own grade's range: the signature of a figure
+    typed in another unit than its column's (one slipped figure moves the median of
+    :func:`_grade_mismatch_note` by nothing). An in-run bias instability (the ``adev_min``
+    convention) is judged on the worse side only: a grade's bias is a turn-on / total figure, which an in-run figure never exceeds
+    but may undercut by 10³ (ADIS16465-1: 3.6 µg in-run, industrial grade 3000 µg)."""
+    g = grades[grade]
+    far = []
+    for prm in PARAMETERS:
+        columns = [prm.column] if prm.family != "bias" else [_IN_RUN[prm.triad], _REPEATABILITY[prm.triad]]
+        for column in dict.fromkeys(columns):
+            v = getattr(model, column, None)
+            if v is None or v <= 0:
+                continue
+            lo, hi = grade_value(g, prm, "best"), grade_value(g, prm, "worst")
+            if v > FAR_WORSE * hi:
+                far.append(f"{column} = {v:g} {prm.unit} is {v / hi:.3g}× the {grade} grade's worst ({hi:g})")
+            elif v < lo / FAR_BETTER and (column != _IN_RUN[prm.triad] or model.bias_is_constant):
+                far.append(f"{column} = {v:g} {prm.unit} is 1/{lo / v:.3g} of the {grade} grade's best ({lo:g})")
+    if not far:
+        return ()
+    return (f"{label}: " + "; ".join(far) + " — a figure this far from its grade is often typed in "
+            "another unit (deg/s for deg/h is 3600×, mg for µg 1000×, % for ppm 10⁴×, deg for mrad "
+            "17.5×): check it against the datasheet's unit and the column's",)
+
+
 def _zero_figures_note(model) -> tuple[str, ...]:
     """A note naming the figures given as 0 (a perfect term: what a datasheet never states; an
     unknown figure is an empty cell, filled from the grade and stated)."""
@@ -206,9 +243,10 @@ def _convention_note(model) -> tuple[str, ...]:
 
 def row_warnings(model, grades: Mapping[str, GradeSpec] | None = None) -> tuple[str, ...]:
     """What a reader of any verdict on ``model`` (a catalog ``PartSpec`` or ``NoiseModel``) should
-    look at in its row: figures given as 0 (a perfect term), and figures that as a whole place the
-    part two or more grades from its grade column (:func:`_grade_mismatch_note`); () for an SI
-    model or a row without a grade."""
+    look at in its row: figures given as 0 (a perfect term), figures that as a whole place the
+    part two or more grades from its grade column (:func:`_grade_mismatch_note`), and single
+    figures far outside their grade's range (:func:`_far_from_grade_note`); () for an SI model
+    or a row without a grade."""
     if not isinstance(model, PartSpec):
         return ()
     zero = _zero_figures_note(model)
@@ -219,7 +257,9 @@ def row_warnings(model, grades: Mapping[str, GradeSpec] | None = None) -> tuple[
         grades = load_grades()
     if model.grade not in grades:
         return zero
-    return _grade_mismatch_note(model, grades, model.grade, model.part_id or "the noise model") + zero
+    label = model.part_id or "the noise model"
+    return (_grade_mismatch_note(model, grades, model.grade, label)
+            + _far_from_grade_note(model, grades, model.grade, label) + zero)
 
 
 def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
@@ -241,8 +281,13 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
     not_modelled = tuple(c for c in _NO_GRADE_VALUE if getattr(model, c) is None)
     label = model.part_id or "the noise model"
     zero_note = _zero_figures_note(model) + _convention_note(model)
+    if grade is not None and grades is None:
+        from .io import load_grades
+        grades = load_grades()
+    far_note = _far_from_grade_note(model, grades, grade, label) if grade is not None and grade in grades else ()
     if not missing:
-        return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled, warnings=zero_note)
+        return Resolution(model=model, policy=policy, grade=grade, not_modelled=not_modelled,
+                          warnings=far_note + zero_note)
     if policy == "refuse":
         raise InputError(f"{label} leaves {', '.join(missing)} unspecified", field="unspecified",
                          value=policy, expected="the datasheet values in the catalog row, or "
@@ -252,10 +297,7 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
         note = ("stated zero (policy 'zero')" if policy == "zero" else
                 "no grade to fill from: taken as 0 (give the model a grade, or use 'refuse')")
         return Resolution(model=model, policy=policy, grade=grade, unspecified=missing,
-                          zeroed=missing, not_modelled=not_modelled, notes=(note,), warnings=zero_note)
-    if grades is None:
-        from .io import load_grades
-        grades = load_grades()
+                          zeroed=missing, not_modelled=not_modelled, notes=(note,), warnings=far_note + zero_note)
     if grade not in grades:
         raise InputError(f"grade {grade!r} is not in the grades table", field="grade", value=grade,
                          expected=", ".join(grades))
@@ -278,7 +320,8 @@ def resolve_unspecified(model, policy: str = DEFAULT_POLICY,
             update[column] = value
     notes = (("in-run bias instability has no grade value (grade biases are turn-on / total "
               "figures): " + ", ".join(zeroed) + " not modelled"),) if zeroed else ()
-    warned = (_grade_mismatch_note(model, grades, grade, label) if fills else ()) + zero_note
+    warned = ((_grade_mismatch_note(model, grades, grade, label) if fills else ())
+              + far_note + zero_note)
     data = model.model_dump()
     data.update(update)
     filled_model = type(model).model_validate(data)
