@@ -37,7 +37,7 @@ class Preprocessed:
 
     x: np.ndarray
     outliers: np.ndarray          # indices replaced
-    trend: np.ndarray             # polynomial coefficients (highest power first, t in samples/n)
+    trend: np.ndarray             # polynomial coefficients (highest power first, t from −1 at the first sample to +1 at the last)
     mean_removed: float
     steps: tuple[str, ...]
 
@@ -46,7 +46,8 @@ class Preprocessed:
 
     def to_dict(self) -> dict:
         """JSON-ready: the steps done, outlier indices replaced, trend coefficients (highest power
-        first, t in samples/n), mean removed and the number of samples."""
+        first, t from −1 at the first sample to +1 at the last, as :func:`detrend` fits them), mean
+        removed and the number of samples."""
         return {"steps": list(self.steps), "samples": int(self.x.size), "outliers": self.outliers.tolist(),
                 "trend": np.asarray(self.trend, float).tolist(), "mean_removed": float(self.mean_removed)}
 
