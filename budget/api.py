@@ -122,17 +122,53 @@ def check_parts(parts=None, scenarios="airborne_xband", mode: str = "paper", ass
     return _check(plist, load_scenarios(scenarios), mode, assumptions, platform_motion=platform_motion)
 
 
+#: Keywords of the engines beside the options (:func:`budget.mc.runner.run_mc`, :func:`budget.mc.sweep.sweep`).
+_RUN_KEYWORDS = {"run_mc": ("options", "workers", "backend", "client", "progress", "cancel", "keep_detail"),
+                 "sweep": ("options", "workers", "backend", "client", "progress", "cancel")}
+
+
+def _mc_keywords(kwargs: dict, engine: str) -> dict:
+    """``kwargs`` with every :class:`~budget.mc.options.McOptions` field given by name
+    (``scene="points"``, ``window="taylor"`` …) moved into ``options`` (a validated copy of the
+    given ``options``, or of the defaults); any other unknown keyword is refused by name."""
+    from pydantic import ValidationError
+
+    from .errors import from_validation_error
+    from .mc.options import McOptions
+
+    fields = {k: kwargs.pop(k) for k in list(kwargs) if k in McOptions.model_fields}
+    unknown = [k for k in kwargs if k not in _RUN_KEYWORDS[engine]]
+    if unknown:
+        raise InputError(f"unknown keyword(s) {', '.join(unknown)}", field=unknown[0],
+                         expected=", ".join(_RUN_KEYWORDS[engine]) + ", or a McOptions field: "
+                         + ", ".join(McOptions.model_fields))
+    if fields:
+        base = kwargs.get("options")
+        if base is not None and not isinstance(base, McOptions):
+            raise InputError(f"options is not McOptions (type {type(base).__name__})", field="options",
+                             expected="budget.mc.McOptions or None")
+        data = {**(base.model_dump(exclude_unset=True) if base is not None else {}), **fields}
+        try:
+            kwargs["options"] = McOptions(**data)
+        except ValidationError as err:
+            raise from_validation_error(err) from None
+    return kwargs
+
+
 def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED, *,
            catalog: Mapping | str | Path | None = None, **kwargs):
     """Monte Carlo verdict of one part on one scenario (:func:`budget.mc.runner.run_mc`).
 
     ``scenario`` and ``part`` may be names (``part`` an id of ``catalog``: a mapping, a user CSV
     merged over the shipped parts, or None: shipped); keyword arguments (``options``,
-    ``workers``, ``progress``, ``keep_detail`` …) are passed on.
+    ``workers``, ``progress``, ``keep_detail`` …) are passed on, and a
+    :class:`~budget.mc.options.McOptions` field given by name (``scene="points"``) sets that
+    option (over ``options`` when both are given).
     """
     from .mc.runner import run_mc as _run
     from .scenario import name_scenario_file
 
+    kwargs = _mc_keywords(kwargs, "run_mc")
     s = load_scenario(scenario)
     imu = load_part(part, catalog)
     try:
@@ -151,6 +187,7 @@ def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int 
     --catalog``)."""
     from .mc.sweep import sweep as _sweep
 
+    kwargs = _mc_keywords(kwargs, "sweep")
     given = _scenario_sources(scenarios)
     return _sweep(load_parts(parts, catalog), [load_scenario(s) for s in given], trials, seed,
                   sources=[s if _is_file(s) else None for s in given], **kwargs)
@@ -200,7 +237,8 @@ def compute_bounds(scenario, mode: str = "paper", assumptions=None):
                    defaults_note=s.defaults_note(keys))
 
 
-def consistency_table(scenario, terms=None, scales=None, trials: int = DEFAULT_TRIALS, seed: int = 0, **kwargs):
+def consistency_table(scenario, terms=None, scales=None, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED,
+                      **kwargs):
     """P(pass after PGA) of one error term at multiples of its paper bound, and the scale where it
     crosses 50 % (:func:`budget.mc.consistency.consistency_table`; ``terms`` default the four
     seed 004 budgets, ``scales`` 0.1 … 10 ×). ``scenario`` may be a preset name or a file;
@@ -242,7 +280,8 @@ def vary_scenario(base, field: str, values) -> list:
             raise InputError(f"not a number for {field}", field="values", value=v,
                              expected=f"numbers of {field} (SI unit in its name)")
         # the keys the base left out stay out, so each copy still states the defaults it takes
-        data = {**s.model_dump(exclude_unset=True), field: float(v), "name": f"{s.name}@{field}={float(v):g}"}
+        # 12 significant digits: two values that differ get two names (":g" gave 5000 for 5000.0000001)
+        data = {**s.model_dump(exclude_unset=True), field: float(v), "name": f"{s.name}@{field}={float(v):.12g}"}
         out.append(Scenario.from_dict(data, source=f"{field}={v}"))
     return out
 
@@ -255,6 +294,6 @@ def sweep_over(parts, base, field: str, values, trials: int = DEFAULT_TRIALS, se
     scens = vary_scenario(base, field, values)
     table = sweep(parts, scens, trials, seed, catalog=catalog, **kwargs)
     by_name = {sc.name: getattr(sc, field) for sc in scens}
-    if len(table):
+    if len(table) and field not in table.columns:  # range_resolution_m is a column of every sweep
         table.insert(1, field, table["scenario"].map(by_name))
     return table

@@ -306,10 +306,10 @@ def test_sweep_over_refuses_no_or_non_numeric_values(values, said):
 
 # --- 4. errors after a scenario file was loaded name the file ----------------------------------
 
-def _write_scenario(tmp_path, name: str, **changes):
+def _write_scenario(tmp_path, filename: str, **changes):
     data = get_preset("airborne_xband").model_dump(mode="json")
     data.update(changes)
-    p = tmp_path / name
+    p = tmp_path / filename
     if p.suffix == ".json":
         p.write_text(json.dumps(data))  # json writes NaN as NaN (what a hand-written file holds)
     else:
@@ -361,9 +361,10 @@ def test_a_preset_error_names_no_file(capsys):
 def test_a_sweep_over_several_scenario_files_names_the_one_in_error(tmp_path, capsys):
     """With several ``--scenario`` files, an error raised after loading names the file it came
     from (the first one is fine), in the CLI and in the library's sweep."""
-    good = _write_scenario(tmp_path, "good.yaml", carrier_frequency_hz=77e9, slant_range_m=500.0,
+    # distinct names: two different scenarios under one name are refused before anything runs
+    good = _write_scenario(tmp_path, "good.yaml", name="good", carrier_frequency_hz=77e9, slant_range_m=500.0,
                            azimuth_resolution_m=0.1, range_resolution_m=0.1, platform_speed_m_s=20.0)
-    bad = _write_scenario(tmp_path, "slowimu.yaml", imu_rate_hz=0.5)
+    bad = _write_scenario(tmp_path, "slowimu.yaml", name="slowimu", imu_rate_hz=0.5)
     out = tmp_path / "t.csv"
     assert main(["sweep", "--scenario", str(good), "--scenario", str(bad), "--part", "HG9900",
                  "--trials", "1", "--out", str(out), "-q"]) == 2

@@ -230,7 +230,13 @@ def consistency_table(scenario: Scenario, terms: Sequence[str] = DEFAULT_TERMS,
             row["crossing_scale"] = fit["scale"]
             row["crossing_lo"], row["crossing_hi"] = fit["lo"], fit["hi"]
             row["crossing_method"] = fit["method"]
-    return pd.DataFrame(rows)
+    table = pd.DataFrame(rows)
+    # how the table was made, as a sweep's: trials and seed survive a CSV export as columns
+    table.insert(2, "trials", trials)
+    table.insert(3, "seed", seed)
+    table.attrs.update({"scenario": scenario.name, "trials": trials, "seed": seed,
+                        "options": (options or McOptions()).model_dump(mode="json")})
+    return table
 
 
 def crossing_scale(scales: Sequence[float], p_pass: Sequence[float], level: float = 0.5) -> float:

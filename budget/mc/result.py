@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
+from ..sar.residual import DEFAULT_PASS_SHARE
 from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import TRIAL_METRICS
@@ -70,9 +71,17 @@ class McResult:
     def ci_after(self) -> tuple[float, float]:
         return wilson_interval(self.agg.pass_after, self.agg.n)
 
-    def meets(self, target: float) -> bool:
-        """Decision at P(pass after PGA) ≥ ``target`` on the lower Wilson bound (:data:`DECISION_RULE`)."""
+    def meets(self, target: float = DEFAULT_PASS_SHARE) -> bool:
+        """Decision at P(pass after PGA) ≥ ``target`` (default 0.9, the share the analytic
+        fast-phase limits and ``cheapest_passing`` ask for) on the lower Wilson bound
+        (:data:`DECISION_RULE`)."""
         return bool(self.ci_after[0] >= target)
+
+    def verdict(self, target: float = DEFAULT_PASS_SHARE) -> str:
+        """``pass`` (lower Wilson bound ≥ ``target``), ``fail`` (upper bound < ``target``) or
+        ``undecided`` (the interval straddles it: more trials decide)."""
+        lo, hi = self.ci_after
+        return "pass" if lo >= target else "fail" if hi < target else "undecided"
 
     def percentiles(self, when: str = "after") -> dict[str, dict[str, float]]:
         """p50 and p95 of every metric from the run's streaming histograms (:data:`QUANTILE_NOTE`)."""
@@ -189,6 +198,8 @@ class McResult:
                 f"{', IMU pre-filter: ' + self.extra['prefilter'] if self.extra.get('prefilter') else ''}\n"
                 f"P(pass) before PGA {self.p_pass_before:.3f} [{lb:.3f}, {hb:.3f}], "
                 f"after PGA {self.p_pass_after:.3f} [{lo:.3f}, {hi:.3f}] (95 % Wilson)\n"
+                f"verdict at P(pass after PGA) ≥ {DEFAULT_PASS_SHARE:g}: {self.verdict()}"
+                f"{' (the interval straddles the target: more trials decide)' if self.verdict() == 'undecided' else ''}\n"
                 f"failure reasons: {reasons}\n" + self._judged_line() + self._unspecified_line() + self.to_frame().to_string(
                     index=False, na_rep="n/a", float_format=lambda v: f"{v:.4g}")  # PGA's error: after only
                 + f"\n{QUANTILE_NOTE}")

@@ -12,6 +12,7 @@ kept with ``status`` "not simulated: <reason>" and empty probabilities, and
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import pandas as pd
@@ -22,7 +23,7 @@ from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
 from ..sar.residual import DEFAULT_PASS_SHARE
 from ..scenario import Scenario, name_scenario_file
-from .notes import SIMULATED_DEFAULT_KEYS, aiding_defaults_note
+from .notes import SIMULATED_DEFAULT_KEYS, aiding_defaults_note, platform_motion_note
 from .options import McOptions
 from .runner import check_options, check_run_counts, model_label, run_mc
 from .stats import wilson_interval
@@ -50,6 +51,35 @@ def _cell(scen: Scenario, part) -> dict:
     return {"scenario": scen.name, "tc_s": scen.tc_s, "range_resolution_m": scen.range_resolution_m,
             "part_id": model_label(part), "grade": getattr(part, "grade", None),
             "price_usd": getattr(part, "price_usd", None)}
+
+
+def _refuse_shared_names(given: Sequence[tuple[Scenario, object]]) -> None:
+    """Two scenarios under one name (a preset and an edited copy of it that kept the preset's
+    name, say) would give rows the table, its heat map and ``cheapest_passing`` cannot tell
+    apart: one cell overwrote the other's P(pass). Refused, naming both: as a repeat when they
+    are equal (a preset and a file holding it), as a clash when they differ."""
+    seen: dict[str, tuple[Scenario, object]] = {}
+    for sc, src in given:
+        first = seen.setdefault(sc.name, (sc, src))
+        if first[0] is sc:
+            continue
+        where = [f"file {w}" if w is not None else ("preset" if x.name in PRESETS else "a Scenario object")
+                 for x, w in (first, (sc, src))]
+        if _same(first[0], sc):
+            raise InputError(f"scenario {sc.name!r} given more than once ({where[0]} and {where[1]}, equal)",
+                             field="scenarios", value=sc.name,
+                             expected="each scenario once (a repeat adds identical rows and runs the same trials again)")
+        raise InputError(f"two different scenarios are named {sc.name!r}: {where[0]} and {where[1]}",
+                         field="scenarios", value=sc.name,
+                         expected="a distinct name for each scenario (its 'name' key): the sweep's "
+                                  "rows, heat map and cheapest part are keyed by it")
+
+
+def _same(a: Scenario, b: Scenario) -> bool:
+    try:
+        return bool(a == b)
+    except Exception:  # noqa: BLE001 — incomparable contents: not the same scenario
+        return False
 
 
 def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int, *,
@@ -91,6 +121,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
                    what="preset", cost=cost)
     refuse_repeats([g for g, p in zip(given, preset) if not p], lambda g: g[0].name, field="scenarios",
                    what="scenario", cost=cost)
+    _refuse_shared_names(given)
     trials, seed, workers = check_run_counts(trials, seed, workers, backend)  # before any cell runs
     options = check_options(options).model_copy(update={"keep_trial_metrics": False})
     rows = []
@@ -102,8 +133,12 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
         except InputError as e:
             status = f"not simulated: {name_scenario_file(e, source)}"
             for part in parts:
-                rows.append(_cell(scen, part) | {"trials": 0, "seed": seed, "status": status,
-                                                 "platform_motion": options.platform_motion.kind,
+                # the P(pass) columns are there, empty: a table of unsimulated cells only still
+                # has the columns its plots and cheapest_passing read
+                rows.append(_cell(scen, part) | {"trials": 0, "seed": seed, "p_pass_before": math.nan,
+                                                 "p_pass_after": math.nan, "ci_after_lo": math.nan,
+                                                 "ci_after_hi": math.nan, "status": status,
+                                                 "platform_motion": platform_motion_note(scen, options.platform_motion),
                                                  "scenario_defaults": scenario_defaults_text(scen)})
                 done += 1
                 if progress:

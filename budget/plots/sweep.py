@@ -29,7 +29,8 @@ def pass_heatmap_figure(table: pd.DataFrame, *, value: str = P_COL) -> go.Figure
     for _, r in table.iterrows():
         i, j = parts.index(r["part_id"]), scens.index(r["scenario"])
         z[i, j] = r[value]
-        text[i, j] = f"{r[value]:.2f} [{r[LO_COL]:.2f}, {r[HI_COL]:.2f}]"
+        text[i, j] = (f"{r[value]:.2f} [{r[LO_COL]:.2f}, {r[HI_COL]:.2f}]" if np.isfinite(r[value])
+                      else "not simulated")  # the table's status column says why
     fig = go.Figure(go.Heatmap(z=z, x=scens, y=parts, zmin=0, zmax=1, colorscale="RdYlGn", text=text,
                                texttemplate="%{text}", hovertemplate="%{y} on %{x}: %{text}<extra></extra>",
                                colorbar=dict(title="P(pass)")))
