@@ -279,3 +279,20 @@ def test_focus_refuses_an_image_name_that_is_not_png(tmp_path, capsys):
     line = _one_line(capsys)
     assert "--image" in line and "out.txt" in line and ".png" in line
     assert not (tmp_path / "out.txt").exists()
+
+
+# --- a Taylor window out of its range ----------------------------------------------------------
+
+def test_a_taylor_window_out_of_range_says_which_number_is_wrong():
+    # taylor-10-4 read "unknown window": its sidelobe level must be ≤ −13.5 dB
+    from budget.sar.windows import Window
+    with pytest.raises(InputError) as e:
+        Window.parse("taylor-10-4")
+    assert e.value.field == "window" and "sidelobe_db is out of range" in str(e.value)
+    assert "13.5–80 dB" in str(e.value)
+    with pytest.raises(InputError) as e:
+        Window.parse("taylor-35-20")
+    assert "nbar is out of range" in str(e.value)
+    with pytest.raises(InputError) as e:
+        Window.parse("hann")
+    assert "unknown window" in str(e.value)

@@ -115,7 +115,14 @@ def test_focus_cli_reports_the_known_error_on_real_data(shared_data, capsys):
                  "--azimuth-extent-m", "40"]) == 0
     out = capsys.readouterr().out
     line = next(ln for ln in out.splitlines() if ln.startswith("against the known error (recorded + injected)"))
-    assert "difference" in line and "within PGA's bandwidth" in line
+    assert "difference" in line and "low-passed to PGA's bandwidth" in line
+    # the difference's part within the bandwidth is a projection of the whole difference
+    whole = float(line.split("difference ")[1].split(" rad")[0])
+    in_band = float(line.split("the difference's part within the bandwidth ")[1].split(" rad")[0])
+    assert in_band <= whole * 1.05
+    # the 3 dB widths of the Taylor-windowed image beside the closed-form resolutions (1.184 cells)
+    widths = next(ln for ln in out.splitlines() if ln.startswith("3 dB widths of this image"))
+    assert "1.184 / 1.184 of those resolutions" in widths
 
 
 def test_smooth_injection_matches_the_model_and_refuses_bad_numbers():

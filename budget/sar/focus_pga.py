@@ -23,7 +23,12 @@ a correction multiplies by its negative): ψ_rec,n = −(χ_n − 4π f_r ΔR_n 
   sees is ψ_rec less :func:`budget.sar.residual.highpass_phase` (the Monte Carlo's definition:
   Legendre terms to the cubic and DCT-II cosines below that number of cycles, fitted together;
   a DCT truncation alone leaks ≈ 7 % of a 1.4 rad smooth error beyond the cut, from the even
-  extension's kinks at the ends, measured).
+  extension's kinks at the ends, measured): ``rms_diff_slow_rad`` = rms(ψ̂ − slow(ψ_rec)), which
+  counts the estimate's own content beyond the bandwidth as error and so can exceed the whole
+  difference when ψ̂ follows part of ψ_rec's faster content;
+* ``rms_diff_in_band_rad``: the part of the difference ψ̂ − ψ_rec within that bandwidth
+  (the same low-pass applied to the difference: a projection, never above ``rms_diff_rad``
+  by more than the constant + linear refit).
 
 Injection experiments (:meth:`~budget.sar.phase_history.PhaseHistory.with_phase_error`): the data
 then carry ψ_rec + ψ_inj, so the same numbers are also reported against that known error
@@ -92,6 +97,8 @@ def compare_with_recorded(estimate_rad: np.ndarray, recorded_rad: np.ndarray, ma
                     "recorded_slow_rms_rad": _rms(slow[mask]),
                     "recorded_fast_rms_rad": _rms((rec - slow)[mask]),
                     "rms_diff_slow_rad": _rms(remove_linear(est - slow, mask)[mask])})
+        diff = remove_linear(est - rec, mask)
+        out["rms_diff_in_band_rad"] = _rms(remove_linear(diff - highpass_phase(diff, bandwidth_cycles), mask)[mask])
     return out
 
 

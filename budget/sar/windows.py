@@ -23,7 +23,7 @@ from functools import lru_cache
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ..errors import InputError
 
@@ -58,6 +58,12 @@ class Window(BaseModel):
                     sll = -float(parts[1]) if len(parts) > 1 else -35.0
                     nbar = int(parts[2]) if len(parts) > 2 else 4
                     return cls(kind="taylor", sidelobe_db=sll, nbar=nbar)
+            except ValidationError as err:  # a Taylor window out of its range (taylor-10-4)
+                first = err.errors(include_url=False)[0]
+                raise InputError(f"the Taylor window's {first['loc'][0]} is out of range ({first['msg']})",
+                                 field="window", value=spec,
+                                 expected="taylor-SLL-NBAR with a sidelobe level SLL of 13.5–80 dB below the "
+                                          "peak and n̄ of 2–12, e.g. taylor-35-4") from None
             except (ValueError, TypeError):
                 pass
         raise InputError("unknown window", field="window", value=spec,
