@@ -3,6 +3,8 @@ then autofocus it, printing the impulse-response metrics before and after PGA.""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import InputError
@@ -42,7 +44,17 @@ def run(args) -> int:
             raise InputError("must be a finite number", field="--" + name.replace("_", "-"))
     if args.seed < 0:
         raise InputError("seed must be ≥ 0", field="--seed", value=args.seed)
-    geom = SarGeometry.from_scenario(scenario, window=args.window)
+    # the injected error moves a response by (dψ/du)/π azimuth cells (a phase slope of σ rad per
+    # pulse shifts it σN/2π cells, u = −1 … 1 over the N pulses): the image gets that room, as the
+    # Monte Carlo's defocus_room_cells, so a large error defocuses inside it instead of aliasing
+    slope = 2 * abs(args.quadratic_rad) + 3 * abs(args.cubic_rad) + abs(args.sinusoid_rad * args.sinusoid_cycles) * math.pi
+    room = slope / math.pi
+    if room > 1024:
+        raise InputError(f"the injected error spreads a response over ±{room:.0f} azimuth cells",
+                         field="--quadratic-rad, --cubic-rad, --sinusoid-rad",
+                         expected="an error whose slope 2|q| + 3|c| + π|s·N| stays below 1024π rad "
+                                  "(±1024 cells of defocus)")
+    geom = SarGeometry.from_scenario(scenario, window=args.window, defocus_room_cells=room)
     nyquist = geom.n_pulses / 2.0  # cycles over the aperture that its pulses can still sample
     if abs(args.sinusoid_cycles) > nyquist:
         raise InputError(f"the {geom.n_pulses} pulses of the aperture cannot sample this sinusoid "
