@@ -11,13 +11,13 @@ from dataclasses import dataclass, field
 
 import streamlit as st
 
-from budget.bounds import DerivedAssumptions, NoAutofocusAssumptions
+from budget.bounds import DerivedAssumptions, NoAutofocusAssumptions, scenario_assumptions
 from budget.errors import InputError
 from budget.fileio import parse_structured
 from budget.presets import PRESETS, get_preset
 from budget.scenario import Scenario
 
-from components import STORE_KEY, keep, keep_model_state, model_from_state, model_inputs
+from components import STORE_KEY, field_label, keep, keep_model_state, model_from_state, model_inputs
 from uploads import error_text
 
 DEFAULT_PRESET = "airborne_xband"
@@ -31,6 +31,11 @@ MODE_HELP = {
     "derived": "same bounds from physics; assumptions editable below",
     "no-autofocus": "without PGA the phase error itself must stay small",
 }
+#: Assumption fields the scenario sets (assumption field → scenario field): the acceleration level
+#: the scale factor and misalignment see is the scenario's ``platform_accel_m_s2``, as
+#: ``sar-budget bounds``/``check`` take it (:func:`budget.bounds.scenario_assumptions`) — one
+#: input for one quantity, so the assumptions' expanders do not offer it.
+FROM_SCENARIO = {"accel_level_m_s2": "platform_accel_m_s2"}
 #: Scenario fields shown at the top of the sidebar; the rest go in an expander.
 MAIN_FIELDS = ("medium", "carrier_frequency_hz", "slant_range_m", "platform_speed_m_s",
                "azimuth_resolution_m", "range_resolution_m", "squint_deg", "window_broadening")
@@ -39,21 +44,60 @@ MORE_FIELDS = tuple(f for f in Scenario.model_fields if f not in MAIN_FIELDS)
 
 @dataclass(frozen=True)
 class Context:
-    """What the pages work from: the current scenario, bounds mode and assumptions."""
+    """What the pages work from: the current scenario, bounds mode and the user's edits of the
+    derived and no-autofocus assumptions (only the fields changed from their defaults; None when
+    none is: the library then takes every assumption from the scenario, as the CLI does)."""
 
     scenario: Scenario | None
     mode: str
-    derived: DerivedAssumptions | None
-    no_autofocus: NoAutofocusAssumptions | None
+    derived_edits: dict | None
+    no_autofocus_edits: dict | None
     errors: tuple[str, ...] = field(default=())
     #: The scenario's warnings (e.g. an echo delay longer than Tc: stop-and-go does not hold),
     #: shown beside every result drawn from it.
     notes: tuple[str, ...] = field(default=())
 
-    def assumptions(self, mode: str | None = None):
-        """Assumptions model for ``mode`` (default: the selected mode); None for ``paper``."""
+    def edits(self, mode: str | None = None) -> dict | None:
+        """The sidebar's edits of ``mode``'s assumptions (default: the selected mode), to be passed
+        to the library as a partial dict — it completes them from the scenario
+        (:func:`budget.bounds.scenario_assumptions`); None where there are none (and for the modes
+        without sidebar assumptions: paper, lever-arm)."""
         mode = mode or self.mode
-        return {"derived": self.derived, "no-autofocus": self.no_autofocus}.get(mode)
+        return {"derived": self.derived_edits, "no-autofocus": self.no_autofocus_edits}.get(mode)
+
+    def assumptions(self, mode: str | None = None, scenario: Scenario | None = None):
+        """The assumptions the library computes ``mode`` with for this scenario and these edits
+        (:func:`budget.bounds.scenario_assumptions`: the scenario's ``platform_accel_m_s2`` for
+        derived and no-autofocus, its lever arm and turn rate for lever-arm); None for paper.
+        ``scenario``: another than the sidebar's (default: the sidebar's). Raises the library's
+        :class:`InputError` where it refuses (``platform_accel_m_s2`` = 0 for the derived and
+        no-autofocus bounds, as ``sar-budget bounds --mode derived`` does)."""
+        mode = mode or self.mode
+        if mode == "paper":
+            return None
+        return scenario_assumptions(mode, scenario or self.scenario, self.edits(mode))
+
+    def assumptions_words(self, mode: str | None = None, scenario: Scenario | None = None) -> str:
+        """One line for the page: which values ``mode`` was computed with — the scenario's
+        acceleration level (or lever arm and turn rate) and the sidebar's edits. ``scenario``:
+        another than the sidebar's (e.g. the one a kept Monte Carlo run used). Raises as
+        :meth:`assumptions` does."""
+        mode = mode or self.mode
+        a = self.assumptions(mode, scenario)
+        if a is None:
+            return f"{mode}: seed 004 (6)–(11) as printed (no assumption to set)"
+        if mode == "lever-arm":
+            share = ("rms over apertures" if a.fast_residual_share is None
+                     else f"on {a.fast_residual_share:g} of apertures")
+            arm = ", ".join(f"{v:g}" for v in a.lever_arm_m)
+            return (f"lever-arm: lever arm [{arm}] m and platform rate {a.platform_rate_deg_s:g} deg/s from the "
+                    f"scenario, {a.aperture_window} window (the Monte Carlo's), what PGA cannot remove ≤ "
+                    f"{a.fast_residual_limit_deg:g}° {share}")
+        edits = self.edits(mode)
+        edited = (", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in edits.items())
+                  if edits else "none (defaults)")
+        return (f"{mode}: acceleration level {a.accel_level_m_s2:g} m/s² — the scenario's platform_accel_m_s2, "
+                f"as `sar-budget bounds`/`check` take it; assumptions edited in the sidebar: {edited}")
 
     @property
     def ok(self) -> bool:
@@ -158,6 +202,27 @@ def _build(model_cls, prefix: str, what: str, errors: list[str]):
         return None
 
 
+def _edits(model) -> dict | None:
+    """The fields of an assumptions model the user changed from their defaults (without those the
+    scenario sets, :data:`FROM_SCENARIO`); None when none is."""
+    if model is None:
+        return None
+    defaults = type(model)().model_dump(mode="json")
+    edits = {k: v for k, v in model.model_dump(mode="json").items()
+             if k not in FROM_SCENARIO and v != defaults[k]}
+    return edits or None
+
+
+def _assumption_inputs(model_cls, prefix: str) -> None:
+    """The assumptions' widgets, without the fields the scenario sets (stated instead)."""
+    model_inputs(model_cls, prefix, [f for f in model_cls.model_fields if f not in FROM_SCENARIO], st)
+    for name, scenario_field in FROM_SCENARIO.items():
+        if name in model_cls.model_fields:
+            value = st.session_state.get(SCENARIO_PREFIX + scenario_field)
+            st.caption(f"{field_label(name)}: the scenario's {scenario_field} = {value:g} m/s² (under "
+                       "*More scenario fields*), as `sar-budget bounds`/`check` take it")
+
+
 def render() -> Context:
     """Draw the sidebar and store the resulting :class:`Context` in session state."""
     keep("scn_preset", DEFAULT_PRESET)
@@ -187,11 +252,11 @@ def render() -> Context:
     sb.radio("bounds mode", MODES, key="bounds_mode", format_func=lambda m: f"{m} — {MODE_HELP[m]}",
              help="used by the check matrix and highlighted in the plots")
     with sb.expander("Derived-mode assumptions"):
-        model_inputs(DerivedAssumptions, DERIVED_PREFIX, DerivedAssumptions.model_fields, st)
+        _assumption_inputs(DerivedAssumptions, DERIVED_PREFIX)
         st.button("reset to defaults", key="da_reset", on_click=_reset_assumptions,
                   args=(DERIVED_PREFIX, DerivedAssumptions()))
     with sb.expander("No-autofocus assumptions"):
-        model_inputs(NoAutofocusAssumptions, NOAF_PREFIX, NoAutofocusAssumptions.model_fields, st)
+        _assumption_inputs(NoAutofocusAssumptions, NOAF_PREFIX)
         st.button("reset to defaults", key="na_reset", on_click=_reset_assumptions,
                   args=(NOAF_PREFIX, NoAutofocusAssumptions()))
 
@@ -207,7 +272,7 @@ def render() -> Context:
     noaf = _build(NoAutofocusAssumptions, NOAF_PREFIX, "no-autofocus assumptions", errors)
     for e in errors:
         sb.error(e, icon=":material/error:")
-    ctx = Context(scenario, st.session_state["bounds_mode"], derived, noaf, tuple(errors), notes)
+    ctx = Context(scenario, st.session_state["bounds_mode"], _edits(derived), _edits(noaf), tuple(errors), notes)
     st.session_state["ctx"] = ctx
     return ctx
 

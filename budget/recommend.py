@@ -97,3 +97,37 @@ def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mo
     return GradeRecommendation(tc, np.asarray(dr), tuple(out), tuple(include), use, mode,
                                None if wavelength_m is None else float(wavelength_m),
                                assumptions_dict(assumptions))
+
+
+def lowest_sufficient_grades(scenario, mode: str, grades: Sequence[GradeSpec], assumptions=None
+                             ) -> dict[str, str | None]:
+    """``{mode: grade, "pga_limited": grade}``: the lowest grade whose typical bias and noise
+    figures meet ``mode``'s bounds for ``scenario`` (``assumptions``: the mode's, default the
+    scenario's own, :func:`budget.bounds.scenario_assumptions`) and the PGA-limited bounds
+    (:func:`budget.bounds.lever_arm.pga_limited_bounds`); None where no grade suffices. What
+    ``sar-budget check`` prints and writes, and the dashboard's Check page shows."""
+    from .bounds import scenario_assumptions
+    from .bounds.lever_arm import pga_limited_bounds
+
+    grades = list(grades)
+    rec = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades, mode=mode,
+                          wavelength_m=scenario.wavelength_m,
+                          assumptions=scenario_assumptions(mode, scenario, assumptions))
+    limited = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades,
+                              bounds=pga_limited_bounds(scenario)[0])
+    return {mode: rec.grade[0], "pga_limited": limited.grade[0]}
+
+
+def check_record(result, scenario, mode: str, grades: dict[str, str | None], *, catalog: str,
+                 catalog_note: str | None, scenario_keys) -> dict:
+    """The JSON record of one part check (``sar-budget check --json``, the dashboard's download):
+    mode, scenario, Tc, the catalog the parts came from, the assumptions the verdicts were
+    computed with, the part records, the rotation flown, the lowest sufficient grades
+    (:func:`lowest_sufficient_grades`), the scenario keys taken at their defaults and the
+    catalog note."""
+    return {"mode": mode, "scenario": scenario.model_dump(mode="json"), "tc_s": float(scenario.tc_s),
+            "catalog": catalog, "assumptions": result.assumptions,
+            "parts": result.to_dict()["scenarios"][0]["parts"],
+            "rotation": result.rotation[0] if result.rotation else None,
+            "lowest_sufficient_grade": dict(grades),
+            "scenario_defaults": scenario.defaults_taken(scenario_keys), "catalog_note": catalog_note or None}

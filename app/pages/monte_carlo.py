@@ -3,6 +3,7 @@ distributions and the worst trials (images and phase error), all from :func:`bud
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import pandas as pd
@@ -145,17 +146,27 @@ def _summary(results: dict[str, McResult], scenario: Scenario, seed: int) -> Non
                               columns=["part_id", *REASONS]), hide_index=True, key="mc_reasons")
 
 
-def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict, mode: str) -> None:
-    """The analytic check of the same parts next to the Monte Carlo; a disagreement is said."""
+def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict, ctx: sidebar.Context) -> None:
+    """The analytic check of the same parts next to the Monte Carlo, in the Check page's mode with
+    its assumptions (the sidebar's bounds mode; the scenario's acceleration level with the
+    sidebar's edits, as ``sar-budget check --mode M``); the mode is said, and so is a disagreement."""
     st.subheader("Analytic check vs. Monte Carlo")
     parts = [catalog[p] for p in results if p in catalog]
     if not parts:
         return
     opts = next(iter(results.values())).options
     motion = opts.rotation_for_check if opts is not None else None
-    recs = {r["part_id"]: r for r in check_parts(parts, scenario, mode if mode != "no-autofocus" else "paper",
-                                                 platform_motion=motion)
-            .to_dict()["scenarios"][0]["parts"]}
+    try:
+        checked = check_parts(parts, scenario, ctx.mode, ctx.edits(), platform_motion=motion)
+        words = ctx.assumptions_words(scenario=scenario) if ctx.mode != "paper" else ""
+    except InputError as err:  # e.g. derived bounds with platform_accel_m_s2 = 0: the CLI's refusal
+        st.error(f"{ctx.mode} check of scenario {scenario.name} not run: {error_text(err)}", icon=":material/error:")
+        return
+    st.caption(f"Check verdict: **{ctx.mode}** bounds (the sidebar's bounds mode, as on the Check matrix)"
+               + (f"; {words}" if words else "") + ". The Monte Carlo is compared with the verdict named in "
+               "'compared verdict' (the PGA-limited check where it is known: seed 004's bounds tightened by what "
+               "PGA cannot remove, `budget.report.check_vs_mc`).")
+    recs = {r["part_id"]: r for r in checked.to_dict()["scenarios"][0]["parts"]}
     rows = []
     for pid, r in results.items():
         cmp_ = check_vs_mc(recs.get(pid, {"part_id": pid, "verdict": "not checked"}), r)
@@ -163,7 +174,9 @@ def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict
         if cmp_["agree"] is False:
             st.warning(f"**{pid}: the check and the Monte Carlo disagree.** {cmp_['reason']}",
                        icon=":material/warning:")
-    frame = pd.DataFrame([{"part_id": x["part_id"], "check verdict": x["check_verdict"],
+    frame = pd.DataFrame([{"part_id": x["part_id"],
+                           f"check verdict ({ctx.mode})": x.get("seed004_verdict", x["check_verdict"]),
+                           "compared verdict": f"{x['check_verdict']} ({x.get('check_basis', 'analytic check')})",
                            "MC P(pass) after PGA": x["mc_p_pass_after"], "MC verdict": x["mc_verdict"],
                            "agree": {True: "yes", False: "NO", None: "n/a"}[x["agree"]]} for x in rows])
     st.dataframe(tidy(frame), hide_index=True, key="mc_check_vs_mc")
@@ -171,7 +184,7 @@ def _check_vs_mc(results: dict[str, McResult], scenario: Scenario, catalog: dict
                f"{rows[0]['target']:g}, fail when below, undecided otherwise.")
 
 
-def _downloads(results: dict[str, McResult], scenario: Scenario, catalog: dict, mode: str,
+def _downloads(results: dict[str, McResult], scenario: Scenario, catalog: dict, ctx: sidebar.Context,
                request: tuple) -> None:
     st.subheader("Export")
     a, b, c3 = st.columns(3)
@@ -180,11 +193,15 @@ def _downloads(results: dict[str, McResult], scenario: Scenario, catalog: dict, 
     b.download_button("Full results (JSON)", json_text({pid: mc_dict(r) for pid, r in results.items()}),
                       f"mc_{scenario.name}.json", mime="application/json", key="mc_dl_json")
     parts = [catalog[p] for p in results if p in catalog]
-    key = (request, ctx_mode(mode))
+    key = (request, ctx.mode, repr(ctx.edits("derived")), repr(ctx.edits("no-autofocus")))
     if c3.button("Build the report (HTML)", key="mc_build_report",
                  help="scenario, bounds, check, these P(pass) with intervals, figures, provenance"):
-        rep = build_report(scenario, parts, mode=ctx_mode(mode), mc_results=results)
-        st.session_state[REPORT_KEY] = (key, rep.html())
+        try:  # the check in the sidebar's mode, every mode's bounds with the scenario's assumptions and the edits
+            assumed = {m: ctx.edits(m) for m in sidebar.MODES if ctx.edits(m)}  # completed from the scenario
+            rep = build_report(scenario, parts, mode=ctx.mode, assumptions=assumed, mc_results=results)
+            st.session_state[REPORT_KEY] = (key, rep.html())
+        except InputError as err:
+            c3.error(f"report not built: {error_text(err)}", icon=":material/error:")
     got = st.session_state.get(REPORT_KEY)
     if got is not None and got[0] == key:
         c3.download_button("Download the report (opens offline)", got[1], f"report_{scenario.name}.html",
@@ -197,22 +214,43 @@ def run_error(scenario: str, origin: str | None, parts: list[str], text: str) ->
     return c.refused_run("Monte Carlo", [c.scenario_named(scenario, origin)], parts, text)
 
 
-def ctx_mode(mode: str) -> str:
-    """Bounds mode of the report's check (no-autofocus has no grade advice: paper then)."""
-    return mode if mode in ("paper", "derived") else "paper"
+#: The trial metric that is a different quantity before and after PGA (:mod:`budget.mc.chain`):
+#: after PGA the residual (estimate − truth) beyond PGA's settled window, before PGA the whole
+#: phase error, constant and linear removed. The library has one label for it
+#: (:data:`budget.plots.mc.METRIC_LABELS`, the after-PGA one); its before-PGA values get their own.
+PHASE_METRIC = "residual_phase_rms_deg"
+PHASE_BEFORE_LABEL = "whole phase error rms, constant and linear removed (deg) — before PGA"
+
+
+def phase_after_label() -> str:
+    return f"{METRIC_LABELS.get(PHASE_METRIC, PHASE_METRIC)} — after PGA"
+
+
+def labelled_metrics(frame: pd.DataFrame, before: list[str], after: list[str]) -> pd.DataFrame:
+    """``frame`` (one row per metric key in ``metric``; ``before`` and ``after`` its columns before
+    and after PGA) with each metric's label; :data:`PHASE_METRIC`, not the same quantity before
+    and after PGA, is two rows, each holding only the columns its label names."""
+    rows = []
+    for rec in frame.to_dict("records"):
+        m = rec["metric"]
+        if m == PHASE_METRIC:
+            rows.append({**rec, "metric": PHASE_BEFORE_LABEL, **{col: math.nan for col in after}})
+            rows.append({**rec, "metric": phase_after_label(), **{col: math.nan for col in before}})
+        else:
+            rows.append({**rec, "metric": METRIC_LABELS.get(m, m)})
+    return pd.DataFrame(rows, columns=frame.columns)
 
 
 def _percentiles(results: dict[str, McResult]) -> None:
     st.subheader("Metric percentiles (worst target per trial)")
     tabs = st.tabs(list(results))
     for tab, (pid, r) in zip(tabs, results.items()):
-        frame = r.to_frame()
-        frame["metric"] = frame["metric"].map(lambda m: METRIC_LABELS.get(m, m))
+        frame = labelled_metrics(r.to_frame(), ["p50_before", "p95_before"], ["p50_after", "p95_after"])
         tab.dataframe(tidy(frame), hide_index=True, key=f"mc_pct_{pid}")
 
 
 def _distribution(results: dict[str, McResult]) -> None:
-    st.subheader("Metric distribution over trials")
+    st.subheader("Metric distribution over trials (after PGA)")
     metric = st.selectbox("metric", TRIAL_METRICS, index=TRIAL_METRICS.index("residual_phase_rms_deg"),
                           format_func=lambda m: METRIC_LABELS.get(m, m), key="mc_metric")
     values = {pid: mc_dict(r).get("metrics_after", {}).get(metric, []) for pid, r in results.items()}
@@ -230,9 +268,10 @@ def _inspector(results: dict[str, McResult]) -> None:
     labels = {o.trial: f"trial {o.trial} — {', '.join(o.reasons) or 'passed'}" for o in worst}
     trial = right.selectbox("trial (worst first)", list(labels), format_func=labels.get, key="mc_worst_trial")
     o = next(w for w in worst if w.trial == trial)
-    st.dataframe(tidy(pd.DataFrame([{"metric": METRIC_LABELS.get(m, m), "before PGA": o.before.get(m),
-                                     "after PGA": o.after.get(m)} for m in TRIAL_METRICS])),
-                 hide_index=True, key="mc_worst_metrics")
+    metrics = pd.DataFrame([{"metric": m, "before PGA": o.before.get(m), "after PGA": o.after.get(m)}
+                            for m in TRIAL_METRICS])
+    st.dataframe(tidy(labelled_metrics(metrics, ["before PGA"], ["after PGA"])), hide_index=True,
+                 key="mc_worst_metrics")
     st.caption(f"peak range migration {o.peak_range_cells:.3g} range cells · PGA "
                f"{'converged' if o.pga_converged else 'did not converge'} ({o.pga_reason})")
     if not has_detail(o.detail):
@@ -272,8 +311,8 @@ def render() -> None:
     if not results:
         return
     _summary(results, run.scenario, run.seed)
-    _check_vs_mc(results, run.scenario, catalog, ctx.mode)
-    _downloads(results, run.scenario, catalog, ctx.mode, last.inputs)
+    _check_vs_mc(results, run.scenario, catalog, ctx)
+    _downloads(results, run.scenario, catalog, ctx, last.inputs)
     _percentiles(results)
     _distribution(results)
     _inspector(results)

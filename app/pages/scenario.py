@@ -1,4 +1,6 @@
-"""Page: scenario and bounds — Tc, aperture length, the bounds table in every mode, bounds vs. Tc."""
+"""Page: scenario and bounds — Tc, aperture length, the bounds table in every mode (paper, derived,
+no-autofocus and lever-arm, as ``sar-budget bounds --scenario`` computes them), the lowest
+sufficient grades (the PGA-limited one beside seed 004's), bounds vs. Tc."""
 
 from __future__ import annotations
 
@@ -9,8 +11,12 @@ import pandas as pd
 import streamlit as st
 
 from budget import units as u
-from budget.bounds import (BOUND_FIELDS, DerivedAssumptions, NoAutofocusAssumptions, compute_bounds,
+from budget.api import compute_bounds as scenario_bounds
+from budget.bounds import MODES as BOUND_MODES
+from budget.bounds import (BOUND_FIELDS, DerivedAssumptions, LeverArmAssumptions, NoAutofocusAssumptions,
                            fast_phase_limits, scenario_keys)
+from budget.bounds.lever_arm import pga_limited_bounds
+from budget.errors import InputError
 from budget.recommend import recommend_grade
 from budget.sar.windows import verdict_window
 from budget.plots.bounds import BOUND_LABELS, bounds_vs_tc_figure
@@ -18,26 +24,37 @@ from budget.plots.bounds import BOUND_LABELS, bounds_vs_tc_figure
 import components as c
 import sidebar
 from page_frame import run_page
+from uploads import error_text
 
 #: Tc choices (s) for the plot's range slider (log-spaced).
 TC_CHOICES = (0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0)
 
 
-def bounds_tables(ctx: sidebar.Context) -> dict:
-    """The library's bounds table of each mode at the scenario's Tc (as ``sar-budget bounds``)."""
+def bounds_tables(ctx: sidebar.Context) -> tuple[dict, dict]:
+    """The library's bounds table of each mode (:data:`budget.bounds.MODES`: paper, derived,
+    no-autofocus, lever-arm) at the scenario's Tc, as ``sar-budget bounds --scenario … --mode M``
+    computes them (:func:`budget.api.compute_bounds`: the scenario's ``platform_accel_m_s2``, lever
+    arm and turn rate), with the sidebar's assumption edits. → (tables, refusals): a mode the
+    library refuses (e.g. derived with ``platform_accel_m_s2`` = 0) is in ``refusals`` with the
+    library's one-line message, not computed with some other value."""
     s = ctx.scenario
-    return {mode: compute_bounds(np.array([s.tc_s]), s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
-                                 assumptions=ctx.assumptions(mode))
-            for mode in sidebar.MODES}
+    tables, refused = {}, {}
+    for mode in BOUND_MODES:
+        try:
+            tables[mode] = scenario_bounds(s, mode, ctx.edits(mode))
+        except InputError as err:
+            refused[mode] = error_text(err)
+    return tables, refused
 
 
 def bounds_frame(ctx: sidebar.Context, tables: dict | None = None) -> pd.DataFrame:
-    """One row per bound (datasheet unit in the label), one column per mode, at the scenario's Tc."""
-    tables = tables or bounds_tables(ctx)
+    """One row per bound (datasheet unit in the label), one column per mode, at the scenario's Tc;
+    a mode the library refused is a column of NaN (shown "–")."""
+    tables = tables if tables is not None else bounds_tables(ctx)[0]
     data = {"parameter": [BOUND_LABELS[k] for k in BOUND_FIELDS], "key": list(BOUND_FIELDS)}
-    for mode, table in tables.items():
-        ds = table.datasheet()
-        data[mode] = [float(np.ravel(ds[k])[0]) for k in BOUND_FIELDS]
+    for mode in BOUND_MODES:
+        ds = tables[mode].datasheet() if mode in tables else None
+        data[mode] = [float(np.ravel(ds[k])[0]) if ds is not None else np.nan for k in BOUND_FIELDS]
     return pd.DataFrame(data)
 
 
@@ -49,17 +66,18 @@ def limit_notes(tables: dict) -> list[str]:
 def defaults_note(s) -> str:
     """The scenario keys the bounds use that its file (or preset) left out, with the defaults
     taken (:meth:`budget.scenario.Scenario.defaults_note`, as ``sar-budget bounds`` prints it)."""
-    keys = tuple(dict.fromkeys(k for mode in sidebar.MODES for k in scenario_keys(mode)))
+    keys = tuple(dict.fromkeys(k for mode in BOUND_MODES for k in scenario_keys(mode)))
     return s.defaults_note(keys)
 
 
 @st.cache_data(show_spinner="Drawing bounds vs. Tc …", max_entries=64)
 def _figure(dr: float, modes: tuple[str, ...], lo: float, hi: float, tc: float, lam: float,
-            derived_json: str, noaf_json: str):
+            assumptions_json: tuple[tuple[str, str], ...]):
+    classes = {"derived": DerivedAssumptions, "no-autofocus": NoAutofocusAssumptions,
+               "lever-arm": LeverArmAssumptions}
     return bounds_vs_tc_figure(
         dr, c.grades(), modes=modes, tc_range_s=(lo, hi), current_tc_s=tc, wavelength_m=lam,
-        assumptions={"derived": DerivedAssumptions.model_validate_json(derived_json),
-                     "no-autofocus": NoAutofocusAssumptions.model_validate_json(noaf_json)})
+        assumptions={m: classes[m].model_validate_json(a) for m, a in assumptions_json})
 
 
 def _metrics(s) -> None:
@@ -71,16 +89,43 @@ def _metrics(s) -> None:
     cols[3].metric("range resolution δr", f"{s.range_resolution_m:.4g} m")
 
 
-def _recommendation(ctx: sidebar.Context) -> None:
+def grade_verdicts(ctx: sidebar.Context) -> dict[str, str | None]:
+    """Lowest sufficient grade (bias and noise terms vs. the best typical values of each grade)
+    against the paper bounds, the derived bounds (the scenario's assumptions with the sidebar's
+    edits, as ``sar-budget check --mode derived`` computes it) and the PGA-limited bounds (seed
+    004's tightened by what PGA cannot remove and attitude error × lever arm,
+    :func:`budget.bounds.lever_arm.pga_limited_bounds`, as the Check page and ``sar-budget check``
+    give it). None where no grade suffices; a mode the library refuses is left out."""
     s = ctx.scenario
     grades = list(c.grades().values())
-    rec = {m: recommend_grade([s.tc_s], s.range_resolution_m, grades, mode=m).grade[0]
-           for m in ("paper", "derived")}
-    cols = st.columns(2)
-    cols[0].metric("lowest sufficient grade (paper bounds)", rec["paper"] or "none")
-    cols[1].metric("lowest sufficient grade (derived, default assumptions)", rec["derived"] or "none")
+    out: dict[str, str | None] = {}
+    for mode in ("paper", "derived"):
+        try:
+            out[mode] = recommend_grade([s.tc_s], s.range_resolution_m, grades, mode=mode,
+                                        wavelength_m=s.wavelength_m, assumptions=ctx.assumptions(mode)).grade[0]
+        except InputError:
+            continue  # the refusal is shown above the bounds table
+    out["pga_limited"] = recommend_grade([s.tc_s], s.range_resolution_m, grades,
+                                         bounds=pga_limited_bounds(s)[0]).grade[0]
+    return out
+
+
+def _recommendation(ctx: sidebar.Context) -> None:
+    rec = grade_verdicts(ctx)
+    cols = st.columns(3)
+    cols[0].metric("lowest sufficient grade (paper bounds)", rec.get("paper") or "none")
+    cols[1].metric("lowest sufficient grade (derived bounds)",
+                   (rec.get("derived") or "none") if "derived" in rec else "–",
+                   help="the scenario's acceleration level and the sidebar's assumptions, as above")
+    cols[2].metric("lowest sufficient grade (PGA-limited, binding)", rec["pga_limited"] or "none",
+                   help="seed 004's bounds tightened by what PGA cannot remove: fast phase beyond its window "
+                        "and attitude error × lever arm — the verdict the Monte Carlo's after-PGA pass rule "
+                        "follows")
     st.caption("Bias and noise terms against the best typical values of each grade (seed 004 Tables 3–4); "
-               "scale factor and misalignment are left to calibration, as the paper says.")
+               "scale factor and misalignment are left to calibration, as the paper says. The paper and "
+               "derived grades are seed 004's verdict; the **PGA-limited** one is the binding verdict (the "
+               "Check matrix's 'PGA-limited' column, `sar-budget check`'s second grade line): a part of a "
+               "lower grade may pass seed 004's bounds and still fail the Monte Carlo.")
 
 
 def _fast_phase(s) -> None:
@@ -93,21 +138,24 @@ def _fast_phase(s) -> None:
     }).style.format({"value": "{:.4g}"}), hide_index=True, key="scn_fast_table")
 
 
-def _plot(ctx: sidebar.Context) -> None:
+def _plot(ctx: sidebar.Context, refused: dict) -> None:
     s = ctx.scenario
     left, right = st.columns([2, 1])
     lo, hi = left.select_slider("Tc range of the plot (s)", options=TC_CHOICES, value=(0.1, 100.0),
                                 key="scn_plot_range")
-    modes = right.multiselect("curves", sidebar.MODES, default=list(sidebar.MODES), key="scn_plot_modes")
+    offered = [m for m in BOUND_MODES if m not in refused]  # a refused mode has no curve
+    modes = right.multiselect("curves", offered, default=[m for m in sidebar.MODES if m in offered],
+                              key="scn_plot_modes")
     lo, hi = min(lo, s.tc_s / 2), max(hi, s.tc_s * 2)  # keep the scenario's Tc in view
     if lo >= hi:
         st.info("Pick a Tc range with two different ends.")
         return
-    fig = _figure(s.range_resolution_m, tuple(modes), float(lo), float(hi), s.tc_s, s.wavelength_m,
-                  ctx.derived.model_dump_json(), ctx.no_autofocus.model_dump_json())
+    used = tuple((m, ctx.assumptions(m).model_dump_json()) for m in modes if m != "paper")
+    fig = _figure(s.range_resolution_m, tuple(modes), float(lo), float(hi), s.tc_s, s.wavelength_m, used)
     st.plotly_chart(fig, key="scn_plot", width="stretch")
     st.caption("Shaded: typical ranges per grade (seed 004 Tables 3–4; dash-dot where the paper prints one "
-               "value). A grade whose band lies below a curve meets that bound. Dotted vertical: this scenario.")
+               "value). A grade whose band lies below a curve meets that bound. Dotted vertical: this scenario. "
+               "The curves use the same assumptions as the table above.")
 
 
 def render() -> None:
@@ -120,12 +168,18 @@ def render() -> None:
                f"R = {s.slant_range_m:.4g} m · V = {s.platform_speed_m_s:.4g} m/s — edit it in the sidebar")
     _metrics(s)
     st.subheader("Maximum allowed IMU errors at this Tc")
-    tables = bounds_tables(ctx)
+    tables, refused = bounds_tables(ctx)
+    for mode, text in refused.items():  # the library's refusal, as `sar-budget bounds --mode M` gives it
+        st.error(f"{mode} bounds not computed: {text}", icon=":material/error:")
     df = bounds_frame(ctx, tables)
-    st.dataframe(df.style.format({m: "{:.4g}" for m in sidebar.MODES}), hide_index=True,
+    st.dataframe(df.style.format({m: "{:.4g}" for m in BOUND_MODES}, na_rep="–"), hide_index=True,
                  column_config={"key": st.column_config.TextColumn("key (JSON/CLI)")}, key="scn_bounds_table")
-    st.caption("paper: seed 004 (6)–(11); derived: the same from physics with the sidebar's assumptions; "
-               "no-autofocus: phase limits without PGA. Each source alone within one range cell.")
+    st.caption("paper: seed 004 (6)–(11); derived: the same from physics; no-autofocus: phase limits without "
+               "PGA; lever-arm: seed 004's bounds together with attitude error × lever arm (the range "
+               "migration it makes and what PGA cannot remove of it) — where it is below paper, it binds. "
+               "Each source alone within one range cell. As `sar-budget bounds --scenario … --mode M` computes "
+               "them, with:")
+    st.markdown("\n".join(f"- {ctx.assumptions_words(m)}" for m in BOUND_MODES if m in tables and m != "paper"))
     for note in limit_notes(tables):  # a bound that does not constrain must not read as a limit
         st.warning(note, icon=":material/warning:")
     if note := defaults_note(s):
@@ -133,7 +187,7 @@ def render() -> None:
     _recommendation(ctx)
     _fast_phase(s)
     st.subheader("Bounds vs. aperture time")
-    _plot(ctx)
+    _plot(ctx, refused)
     st.download_button("Download scenario (JSON)", data=json.dumps(s.model_dump(mode="json"), indent=2) + "\n",
                        file_name=f"{s.name}.json", mime="application/json", key="scn_download")
 

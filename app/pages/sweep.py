@@ -28,11 +28,34 @@ DEFAULT_PARTS = ("ADIS16405", "STIM300")
 CURRENT = "current scenario (sidebar)"
 #: Session-state keys of the last runs: (inputs, table) and (inputs, (field, table)).
 GRID_KEY, LINE_KEY = "sw_grid_last", "sw_line_last"
+#: Most part × scenario cells the page's grid runs at once (at :data:`SETUP_S_PER_CELL` each,
+#: 200 cells are about half an hour before any trial); the page says so above the button.
 MAX_CELLS = 200
+#: Time estimate of a sweep: each part × scenario cell pays a set-up before its trials, the first
+#: time this server process runs it (a cell run before in the same process skips most of it), then
+#: its trials. Measured on this machine (2 cores, shared with other jobs) with
+#: ``budget.api.sweep(["ADIS16405", "STIM300"], ["airborne_xband", "automotive_77ghz"], T, 1)`` in
+#: a fresh process and again in the same process: set-up 9–12 s per airborne_xband cell (15–19 s
+#: for the first cell of a fresh process), 4–6 s per automotive_77ghz cell; then 4 (ADIS16405 on
+#: airborne_xband) to 25 (automotive_77ghz) trials/s. 8 trials per cell took 37 s in all (41 s in the
+#: review that asked for this), 64 trials 49 s.
+SETUP_S_PER_CELL = 8.0
+TRIALS_PER_S = 10.0
+
+
+#: Session-state keys of the aiding-mode control: whether the user changed it on this page, and
+#: the sidebar's mode it last followed.
+AIDING_KEY, AIDING_OVERRIDE_KEY, AIDING_FOLLOWED_KEY = "sw_aiding_mode", "sw_aiding_override", "sw_aiding_followed"
+
+
+def _aiding_changed_here() -> None:
+    st.session_state[AIDING_OVERRIDE_KEY] = True
 
 
 def _aiding_mode(scenario) -> str | None:
-    """Aiding correction mode to use when the scenario has aiding sensors (else None)."""
+    """Aiding correction mode the sweep runs when the scenario has aiding sensors (else None): the
+    sidebar scenario's ``aiding_mode``, unless the user changed this page's control (and the
+    sidebar's mode has not changed since: the later edit wins). The page says which mode runs."""
     if not getattr(scenario, "aiding", None):
         st.caption("The sidebar scenario has no aiding sensors (unaided IMU, as seed 004 assumes); "
                    "load a scenario with `aiding` to compare aiding modes here.")
@@ -41,10 +64,39 @@ def _aiding_mode(scenario) -> str | None:
         from budget.aiding_spec import CORRECTION_MODES
     except ImportError:  # aiding section not typed in this version
         return None
-    return st.selectbox("aiding correction mode (scenarios with aiding)", CORRECTION_MODES,
-                        index=CORRECTION_MODES.index(scenario.aiding_mode)
-                        if getattr(scenario, "aiding_mode", None) in CORRECTION_MODES else 0,
-                        key="sw_aiding_mode")
+    own = scenario.aiding_mode
+    state = st.session_state
+    if (AIDING_KEY not in state or state.get(AIDING_FOLLOWED_KEY) != own
+            or not state.get(AIDING_OVERRIDE_KEY)):
+        state[AIDING_KEY] = own  # follow the sidebar (its mode changed, or the control was not touched)
+        state[AIDING_OVERRIDE_KEY] = False
+    state[AIDING_FOLLOWED_KEY] = own
+    mode = st.selectbox("aiding correction mode (scenarios with aiding)", CORRECTION_MODES, key=AIDING_KEY,
+                        on_change=_aiding_changed_here,
+                        help="follows the sidebar scenario's aiding_mode until changed here")
+    if mode == own:
+        st.caption(f"The sweep runs aiding mode **{mode}**, the sidebar scenario's aiding_mode.")
+    else:
+        st.caption(f"The sweep runs aiding mode **{mode}**, chosen here: the sidebar scenario says **{own}** "
+                   "(a change of it in the sidebar is followed again). Every swept scenario with aiding "
+                   f"sensors runs **{mode}**.")
+    return mode
+
+
+def estimate_s(cells: int, trials: int) -> float:
+    """Rough time (s) of a sweep of ``cells`` part × scenario cells of ``trials`` trials each run
+    for the first time in this server: set-up per cell plus the trials
+    (:data:`SETUP_S_PER_CELL`, :data:`TRIALS_PER_S`)."""
+    return cells * (SETUP_S_PER_CELL + trials / TRIALS_PER_S)
+
+
+def estimate_words(cells: int, trials: int) -> str:
+    """The estimate as the page says it, with what it rests on."""
+    total = estimate_s(cells, trials)
+    when = f"{total:.0f} s" if total < 120 else f"{total / 60:.0f} min"
+    return (f"≈ {when} — about {SETUP_S_PER_CELL:g} s set-up per cell the first time this server runs that part "
+            f"on that scenario (less for a cell run before), then about {TRIALS_PER_S:g} trials/s; both vary about "
+            "2× with the part and the scenario")
 
 
 def _with_mode(scenarios, mode: str | None):
@@ -86,6 +138,14 @@ def _inputs_key(scenario, parts: list, trials: int, seed: int, mode: str | None)
     return scenario.model_dump_json(), tuple(p.model_dump_json() for p in parts), trials, seed, mode
 
 
+def _mode_run(inputs: tuple) -> None:
+    """Say which aiding correction mode the shown run used (from its :func:`_inputs_key`)."""
+    mode = inputs[4]
+    if mode is not None:
+        st.caption(f"Run with aiding correction mode **{mode}** on the scenarios with aiding sensors "
+                   "(column 'navigation').")
+
+
 def _sidebar_scenario(s) -> str:
     """The sidebar's scenario as a refusal names it (with where its fields came from)."""
     return c.scenario_named(s.name, st.session_state.get(sidebar.BASE_ORIGIN_KEY))
@@ -112,7 +172,11 @@ def _grid(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
                            key="sw_scenarios")
     same = _same_preset(ctx.scenario, names)
     n = len(parts) * (len(names) - bool(same))
-    st.caption(f"{n} cells × {trials} trials (≈ {n * trials / 20:.0f} s at 20 trials/s)")
+    st.caption(f"{n} cells × {trials} trials: {estimate_words(n, trials)}")
+    if n > MAX_CELLS:
+        st.warning(f"{n} part × scenario cells is more than this page runs at once ({MAX_CELLS}, about "
+                   f"{n * SETUP_S_PER_CELL / 60:.0f} min of set-up alone): pick fewer parts or scenarios to "
+                   "enable **Run the sweep**.", icon=":material/warning:")
     if same:  # the library refuses a scenario given twice; here it is one row of the list
         st.caption(f"The sidebar scenario is the preset **{same}**, also picked in the list: swept once.")
     scens = [ctx.scenario if s == CURRENT else s for s in names if not (same and s == CURRENT)]
@@ -127,6 +191,7 @@ def _grid(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
         return
     table = last.result
     st.markdown(f"<span id='sweep-grid-done'>{len(table)} cells</span>", unsafe_allow_html=True)
+    _mode_run(last.inputs[0])
     for name, status in not_simulated(table).items():
         st.warning(f"**{name}**: {status} (its cells are empty; the analytic check still applies)")
     st.plotly_chart(pass_heatmap_figure(table), key="sw_heatmap", width="stretch")
@@ -154,6 +219,7 @@ def _line(ctx, parts: list, trials: int, seed: int, mode: str | None) -> None:
     if last is None:
         return
     f, table = last.result
+    _mode_run(last.inputs[0])
     x = "tc_s" if x_tc else f
     for name, status in not_simulated(table).items():
         st.warning(f"**{name}**: {status}")

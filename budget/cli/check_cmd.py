@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 from ..api import load_parts
-from ..bounds import scenario_assumptions
-from ..bounds.lever_arm import pga_limited_bounds
 from ..catalog.io import catalog_note, load_catalog, load_grades, user_catalog_path
 from ..check import check_parts, check_scenario_keys
-from ..recommend import recommend_grade
+from ..recommend import check_record, lowest_sufficient_grades
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
 from .mc_cmd import add_platform_motion_options, platform_motion_from_args
 from .output import add_json_option, write_json
@@ -31,30 +29,21 @@ def run(args) -> int:
     catalog = load_catalog(args.catalog)
     parts = load_parts(args.part, catalog) if args.part else list(catalog.values())
     res = check_parts(parts, scen, mode=args.mode, platform_motion=platform_motion_from_args(args))
-    grades = list(load_grades().values())
-    rec = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, mode=args.mode,
-                          wavelength_m=scen.wavelength_m, assumptions=scenario_assumptions(args.mode, scen))
-    limited, _ = pga_limited_bounds(scen)
-    rec_limited = recommend_grade([scen.tc_s], scen.range_resolution_m, grades, bounds=limited)
+    grades = lowest_sufficient_grades(scen, args.mode, load_grades().values())
     keys = check_scenario_keys(args.mode, getattr(args, "platform_motion", None))
     origin = catalog_note(res.part_ids, args.catalog)  # '' with the shipped catalog alone
     if args.json:
         # the user catalog merged over the shipped one: --catalog, else $SAR_BUDGET_CATALOG
         user = user_catalog_path(args.catalog)
         # what the verdicts were computed with, beside the records
-        write_json({"mode": args.mode, "scenario": scen.model_dump(mode="json"), "tc_s": float(scen.tc_s),
-                    "catalog": str(user) if user else "shipped",
-                    "assumptions": res.assumptions, "parts": res.to_dict()["scenarios"][0]["parts"],
-                    "rotation": res.rotation[0] if res.rotation else None,
-                    "lowest_sufficient_grade": {args.mode: rec.grade[0], "pga_limited": rec_limited.grade[0]},
-                    "scenario_defaults": scen.defaults_taken(keys), "catalog_note": origin or None},
-                   args.json)
+        write_json(check_record(res, scen, args.mode, grades, catalog=str(user) if user else "shipped",
+                                catalog_note=origin, scenario_keys=keys), args.json)
         return 0
     print(f"scenario {scen.name}: Tc = {scen.tc_s:.3g} s, δr = {scen.range_resolution_m:g} m, "
           f"λ = {scen.wavelength_m:.4g} m ({args.mode} bounds)")
     print(res.summary())
     if origin:
         print(origin)
-    print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {rec.grade[0] or 'none'}")
-    print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {rec_limited.grade[0] or 'none'}")
+    print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {grades[args.mode] or 'none'}")
+    print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {grades['pga_limited'] or 'none'}")
     return 0

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..sar import SarGeometry, Scene, smooth_phase_error
+from ..sar.geometry import IMAGE_MARGIN_CELLS
 from ..sar.injected import run_injected_phase_trial
 from ..sar.phase import check_phase_sampled, normalised_time
 from .common import add_scenario_options, scenario_from_args
@@ -44,6 +45,16 @@ def run(args) -> int:
             raise InputError("must be a finite number", field="--" + name.replace("_", "-"))
     if args.seed < 0:
         raise InputError("seed must be ≥ 0", field="--seed", value=args.seed)
+    geom = SarGeometry.from_scenario(scenario, window=args.window)
+    nyquist = geom.n_pulses / 2.0  # cycles over the aperture that its pulses can still sample
+    if abs(args.sinusoid_cycles) > nyquist:
+        raise InputError(f"the {geom.n_pulses} pulses of the aperture cannot sample this sinusoid "
+                         "(it would alias to a slower one)", field="--sinusoid-cycles",
+                         value=args.sinusoid_cycles, expected=f"|cycles| ≤ {nyquist:g}")
+    scene = Scene.build(**Scene.default(geom).model_dump(exclude={"snr_db"}), snr_db=args.snr_db)
+    psi = smooth_phase_error(normalised_time(geom), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
+                             sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)
+    check_phase_sampled(psi, "--quadratic-rad, --cubic-rad, --sinusoid-rad")
     # the injected error moves a response by (dψ/du)/π azimuth cells (a phase slope of σ rad per
     # pulse shifts it σN/2π cells, u = −1 … 1 over the N pulses): the image gets that room, as the
     # Monte Carlo's defocus_room_cells, so a large error defocuses inside it instead of aliasing
@@ -54,16 +65,10 @@ def run(args) -> int:
                          field="--quadratic-rad, --cubic-rad, --sinusoid-rad",
                          expected="an error whose slope 2|q| + 3|c| + π|s·N| stays below 1024π rad "
                                   "(±1024 cells of defocus)")
-    geom = SarGeometry.from_scenario(scenario, window=args.window, defocus_room_cells=room)
-    nyquist = geom.n_pulses / 2.0  # cycles over the aperture that its pulses can still sample
-    if abs(args.sinusoid_cycles) > nyquist:
-        raise InputError(f"the {geom.n_pulses} pulses of the aperture cannot sample this sinusoid "
-                         "(it would alias to a slower one)", field="--sinusoid-cycles",
-                         value=args.sinusoid_cycles, expected=f"|cycles| ≤ {nyquist:g}")
-    scene = Scene.build(**Scene.default(geom).model_dump(exclude={"snr_db"}), snr_db=args.snr_db)
-    psi = smooth_phase_error(normalised_time(geom), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
-                             sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)
-    check_phase_sampled(psi, "--quadratic-rad, --cubic-rad, --sinusoid-rad")
+    if room > IMAGE_MARGIN_CELLS:  # the image's own margin already holds a smaller defocus
+        geom = SarGeometry.from_scenario(scenario, window=args.window, defocus_room_cells=room)
+        psi = smooth_phase_error(normalised_time(geom), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
+                                 sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)
     trial = run_injected_phase_trial(geom, scene, psi, np.random.default_rng(args.seed), method=args.method,
                                      kernel=args.kernel)
     if args.json:

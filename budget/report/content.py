@@ -190,6 +190,9 @@ class Report:
     comparisons: list = field(default_factory=list)
     figures: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=dict)
+    #: the assumptions given per mode (completed from the scenario for the bounds: its
+    #: platform_accel_m_s2), None when none were given
+    assumptions: Mapping | None = None
 
     def check_frame(self) -> pd.DataFrame:
         recs = self.check.to_dict()["scenarios"][0]["parts"]
@@ -250,12 +253,29 @@ def bounds_frame(scenario, assumptions: Mapping | None = None) -> pd.DataFrame:
     from ..plots.bounds import BOUND_LABELS
 
     data = {"parameter": [BOUND_LABELS[k] for k in BOUND_FIELDS], "key": list(BOUND_FIELDS)}
+    refused = {}
     for m in BOUND_MODES:
+        try:  # the scenario's own assumptions (its platform_accel_m_s2), completed by the given ones
+            a = scenario_mode_assumptions(m, scenario, assumptions)
+        except InputError as err:  # platform_accel_m_s2 = 0: that mode's column is empty, and why
+            data[m], refused[m] = [math.nan] * len(BOUND_FIELDS), str(err)
+            continue
         t = compute_bounds(np.array([scenario.tc_s]), scenario.range_resolution_m, m,
-                           wavelength_m=scenario.wavelength_m, assumptions=(assumptions or {}).get(m))
+                           wavelength_m=scenario.wavelength_m, assumptions=a)
         ds = t.datasheet()
         data[m] = [float(np.ravel(ds[k])[0]) for k in BOUND_FIELDS]
-    return pd.DataFrame(data)
+    frame = pd.DataFrame(data)
+    frame.attrs["refused"] = refused
+    return frame
+
+
+def scenario_mode_assumptions(mode: str, scenario, assumptions: Mapping | None = None):
+    """The assumptions the report computes ``mode``'s bounds with: the given ones for that mode,
+    completed from the scenario (:func:`budget.bounds.scenario_assumptions`: its
+    ``platform_accel_m_s2``, as ``sar-budget bounds --scenario`` and the check take it)."""
+    from ..bounds import scenario_assumptions
+
+    return scenario_assumptions(mode, scenario, (assumptions or {}).get(mode))
 
 
 def provenance(trials: int | None, seed: int | None, options=None, extra: Mapping | None = None) -> dict:
@@ -322,7 +342,7 @@ def build_report(scenario, parts: Sequence | None = None, *, mc_parts: Sequence 
     ids = list(dict.fromkeys([*check.part_ids, *mc]))
     origin = {"catalog": catalog_note(ids, user) if user is not None else "shipped"}
     rep = Report(scenario=s, mode=mode, bounds=bounds_frame(s, assumptions), check=check, mc=mc,
-                 comparisons=comparisons,
+                 comparisons=comparisons, assumptions=assumptions,
                  provenance=provenance(trials if mc else None, seed if mc else None, options if mc else None,
                                        extra=origin))
     rep.figures = _figures(rep)
@@ -336,9 +356,12 @@ def _figures(rep: Report) -> dict:
 
     s = rep.scenario
     tc_range = (min(0.1, s.tc_s / 2), max(100.0, 2 * s.tc_s))
-    figs = {"bounds vs Tc": bounds_vs_tc_figure(s.range_resolution_m, load_grades(), modes=BOUND_MODES,
+    modes = tuple(m for m in BOUND_MODES if m not in rep.bounds.attrs.get("refused", {}))
+    figs = {"bounds vs Tc": bounds_vs_tc_figure(s.range_resolution_m, load_grades(), modes=modes,
                                                 tc_range_s=tc_range, current_tc_s=s.tc_s,
-                                                wavelength_m=s.wavelength_m),
+                                                wavelength_m=s.wavelength_m,
+                                                assumptions={m: scenario_mode_assumptions(m, s, rep.assumptions)
+                                                             for m in modes}),
             "check margins": margin_heatmap_figure(rep.check)}
     if rep.mc:
         from ..plots.mc import pass_probability_figure

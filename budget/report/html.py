@@ -104,6 +104,11 @@ def render_html(rep) -> str:
              f"{s.aperture_length_m:.4g} m; check with <b>{html.escape(rep.mode)}</b> bounds.</p>",
              "<h2>Scenario</h2>", table_html(scen, table_id="scenario"), table_html(derived),
              "<h2>Bounds at this Tc (datasheet units)</h2>", table_html(bounds, table_id="bounds"),
+             *(f"<p class='judged' data-key='bounds_refused'><small>{html.escape(m)} bounds not computed: "
+               f"{html.escape(why)}</small></p>" for m, why in rep.bounds.attrs.get("refused", {}).items()),
+             f"<p><small>derived and no-autofocus bounds at the acceleration level the scale factor and "
+             f"misalignment see: the scenario's platform_accel_m_s2 = {s.platform_accel_m_s2:g} m/s² "
+             "unless the assumptions give another</small></p>",
              "<h2>Analytic check (margin = bound / datasheet value, ≥ 1 passes)</h2>",
              table_html(rep.check_frame(), table_id="check", verdict_col="verdict")]
     if rep.check.rotation:
