@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import json
 import math
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -25,6 +24,7 @@ from budget.errors import InputError
 from budget.plots.sweep import pass_heatmap_figure, pass_vs_figure
 from budget.presets import PRESETS
 from budget.report.content import check_vs_mc
+from mc_stub import stub_mc
 
 
 def test_sweep_over_the_range_resolution_keeps_the_tables_own_column():
@@ -95,10 +95,7 @@ def test_a_sweep_of_unsimulated_cells_only_still_plots_and_says_why():
 
 
 def _mc(p, lo, hi, reasons, filled=()):
-    agg = SimpleNamespace(failure_reasons=lambda: dict(reasons))
-    return SimpleNamespace(p_pass_after=p, ci_after=(lo, hi), agg=agg, trials=16,
-                           extra={"unspecified_terms": {"filled": [
-                               {"column": c, "value": v, "unit": u} for c, v, u in filled]}})
+    return stub_mc(p, lo, hi, reasons, filled, trials=16)
 
 
 def test_check_vs_mc_compares_the_pga_limited_verdict_and_keeps_seed_004s_beside_it():

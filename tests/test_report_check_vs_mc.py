@@ -3,7 +3,6 @@ Monte Carlo result says what its platform does (straight, level, unrotated fligh
 
 from __future__ import annotations
 
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -11,13 +10,11 @@ from budget.catalog.io import get_part
 from budget.mc import McOptions, run_mc
 from budget.presets import get_preset
 from budget.report.content import check_vs_mc
+from mc_stub import stub_mc
 
 
 def _mc(p, lo, hi, reasons, filled=()):
-    agg = SimpleNamespace(failure_reasons=lambda: dict(reasons))
-    return SimpleNamespace(p_pass_after=p, ci_after=(lo, hi), agg=agg, trials=64,
-                           extra={"unspecified_terms": {"filled": [
-                               {"column": c, "value": v, "unit": u} for c, v, u in filled]}})
+    return stub_mc(p, lo, hi, reasons, filled, trials=64)
 
 
 def test_check_pass_mc_fail_names_the_reason_and_the_filled_terms_not_the_fast_phase():
