@@ -56,7 +56,7 @@ def test_an_mc_option_given_by_name_sets_that_option():
 
 
 def _file(tmp_path, fname, **changes):
-    data = PRESETS["airborne_xband"].model_dump(mode="json")
+    data = PRESETS["automotive_24ghz"].model_dump(mode="json")
     data.update(changes)
     path = tmp_path / fname
     path.write_text(json.dumps(data), encoding="utf-8")
@@ -64,19 +64,19 @@ def _file(tmp_path, fname, **changes):
 
 
 def test_a_preset_and_an_edited_copy_under_its_name_are_refused_before_anything_runs(tmp_path):
-    edited = _file(tmp_path, "myxband.json", slant_range_m=8000.0)
+    edited = _file(tmp_path, "myxband.json", slant_range_m=80.0)
     with pytest.raises(InputError) as e:
-        budget.sweep(["STIM300"], ["airborne_xband", edited], trials=1)
-    assert e.value.field == "scenarios" and "two different scenarios are named 'airborne_xband'" in str(e.value)
+        budget.sweep(["STIM300"], ["automotive_24ghz", edited], trials=1)
+    assert e.value.field == "scenarios" and "two different scenarios are named 'automotive_24ghz'" in str(e.value)
     assert "myxband.json" in str(e.value) and "preset" in str(e.value)
     same = _file(tmp_path, "same.json")
     with pytest.raises(InputError) as e:
-        budget.sweep(["STIM300"], ["airborne_xband", same], trials=1)
+        budget.sweep(["STIM300"], ["automotive_24ghz", same], trials=1)
     assert "given more than once" in str(e.value) and "same.json" in str(e.value)
     # renamed, both run: two rows, two names
-    renamed = _file(tmp_path, "renamed.json", slant_range_m=8000.0, name="xband_8km")
-    t = budget.sweep(["STIM300"], ["airborne_xband", renamed], trials=1)
-    assert list(t["scenario"]) == ["airborne_xband", "xband_8km"]
+    renamed = _file(tmp_path, "renamed.json", slant_range_m=80.0, name="auto24_80m")
+    t = budget.sweep(["STIM300"], ["automotive_24ghz", renamed], trials=1)
+    assert list(t["scenario"]) == ["automotive_24ghz", "auto24_80m"]
 
 
 def test_a_sweep_of_unsimulated_cells_only_still_plots_and_says_why():
