@@ -219,7 +219,8 @@ def _assumption_inputs(model_cls, prefix: str) -> None:
     for name, scenario_field in FROM_SCENARIO.items():
         if name in model_cls.model_fields:
             value = st.session_state.get(SCENARIO_PREFIX + scenario_field)
-            st.caption(f"{field_label(name)}: the scenario's {scenario_field} = {value:g} m/s² (under "
+            shown = f"{value:g}" if isinstance(value, (int, float)) else "its value"
+            st.caption(f"{field_label(name)}: the scenario's {scenario_field} = {shown} m/s² (under "
                        "*More scenario fields*), as `sar-budget bounds`/`check` take it")
 
 
