@@ -19,6 +19,7 @@ from budget.seeds.transfer_alignment import TransferParams, run_transfer_alignme
 from budget.presets import get_preset
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_seed001_master_slave_variation_within_imaging_period():
     tc = get_preset("missile_borne").tc_s   # 0.75 s: the preset's imaging period
     r = run_master_slave(MasterSlaveParams(trials=3, imaging_periods_s=(tc, 2.0)),
@@ -44,6 +45,7 @@ def test_seed002_smoother_beats_filter():
     assert t.loc[("rts", True), "heading_arcsec_predicted"] < t.loc[("rts", False), "heading_arcsec_predicted"]
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_seed003_fused_compensation_is_best():
     r = run_sonar_fusion(SonarParams(trials=6, warmup_s=60.0), rng=np.random.default_rng(13))
     t = r.table.set_index(["case", "estimator"])

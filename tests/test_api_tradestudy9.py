@@ -123,6 +123,7 @@ def test_filled_turn_on_terms_are_not_named_as_the_cause_of_a_fast_phase_failure
     assert "unspecified='zero'" in check_vs_mc(rec, noisy)["reason"]
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_real_check_vs_mc_on_adis16405_agrees_on_the_pga_limited_verdict():
     # seed 004 passes ADIS16405 on airborne X band (margin 11.4), the PGA-limited check fails it
     # (0.368) and the Monte Carlo fails it: the comparison agrees, on the PGA-limited verdict

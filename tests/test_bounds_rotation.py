@@ -186,6 +186,7 @@ def _p_pass(scen, term: str, aware_multiple: float, kind: str) -> float:
     return run_mc(scen, single_term_model(scen, term, paper_multiple), 64, 1, options=opt).p_pass_after
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_monte_carlo_agrees_with_the_motion_aware_gyro_scale_factor_bound():
     """Airborne X-band, the MC flying the manoeuvre the check is judged on (64 trials, seed 1; the
     scale factor drawn per trial with 1σ = the value): a roll through 1 rad passes at 0.25× the
@@ -197,6 +198,7 @@ def test_monte_carlo_agrees_with_the_motion_aware_gyro_scale_factor_bound():
     assert _p_pass(scen, "gyro_scale_factor", 0.25, "oscillation") >= 0.95
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_monte_carlo_agrees_with_the_motion_aware_gyro_misalignment_bound():
     """The oscillation's gyro misalignment (64 trials, seed 1; six entries drawn per trial with
     1σ = the value): P(pass after PGA) ≥ 0.95 at 0.25× the check's motion-aware bound and ≥ 0.5 at

@@ -53,6 +53,7 @@ def test_a_part_with_nothing_specified_has_no_margin_in_either_verdict():
     assert row["verdict"] == "unknown" and np.isnan(row["min_margin"])
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_vectorised_matches_per_part():
     rng = np.random.default_rng(1)
     parts = [PartSpec(part_id=f"P{i}", grade="tactical", source="x",

@@ -52,6 +52,7 @@ def test_effect_that_does_not_carry_over_is_not_named():
     assert out["not_carried_over"] and out["test"]["validated"]["gap"] == pytest.approx(g_val)
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 @pytest.mark.shared_data
 def test_mpu6050_raw_counts_through_an_explicit_mapping(shared_data):
     path = shared_data / "logs" / "mpu6050" / "mpu6050_static_counts.csv"

@@ -161,6 +161,7 @@ def test_false_positive_rate_over_seeds():
     assert len(named) <= 3, f"effects named on model-following logs, seeds {named}"
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_rerun_with_updated_model_names_nothing(tmp_path):
     level, channel, params, tol = CASES["sinusoid"][0]
     log = make_log("sinusoid", channel, params, N_LOG, 7)

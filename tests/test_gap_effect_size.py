@@ -54,6 +54,7 @@ def test_model_following_log_is_within_its_band():
     assert out["close_enough_after"] is True
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_stops_on_effect_size_not_max_steps():
     """A clear tone is named, then the channel's effect size is within its band: the run stops
     for that reason, long before max_steps."""

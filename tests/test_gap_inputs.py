@@ -76,6 +76,7 @@ def test_cli_contract(sine_log, tmp_path):
     assert json.loads(rep2.read_text())["effects"] == []
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_cli_same_seed_same_report(sine_log, tmp_path):
     model = write_model(tmp_path / "model.json", MODEL_JSON)
     outs = []

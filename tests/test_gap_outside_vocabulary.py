@@ -108,6 +108,7 @@ def test_component_common_to_three_channels_and_a_common_flicker():
     assert abs(acc["phase_deg"]) > 150.0
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_run_gap_reports_the_common_component():
     x, temp, truth = go.make("common", TEN_MIN, 22)
     rep = run_gap(log_from_arrays(x, go.RATE, temp_c=temp), BASE, seed=0, realizations=6)

@@ -44,6 +44,7 @@ def test_a_model_following_log_gets_no_such_note():
     assert not [n for n in rep.notes if "quieter than the model" in n]
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_a_line_standing_out_of_a_quieter_floor_is_still_named():
     """The same third-amplitude log with a 5 Hz tone on gyro_x (amplitude 10 × the white noise's
     per-sample σ of the quieter log: a PSD line far above the model): gyro_x stays open and the

@@ -67,6 +67,7 @@ def test_model_following_log_stops_by_the_effect_size_rule(seed):
         assert rep.stop_reason.startswith("no candidate gives a significant"), rep.stop_reason
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_mapping_may_be_given_as_a_path(tmp_path):
     """A raw-count log with a preamble read through a mapping given as the path of its JSON
     (as on the command line), not only as a LogMapping object."""
@@ -155,6 +156,7 @@ def test_size_gain_lets_a_peak_cross_its_band_by_scatter():
     assert gain == pytest.approx(1.0) and not worse
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_a_channel_within_its_null_threshold_but_beyond_tolerance_is_not_labelled_ok():
     """One 5000 deg/s spike in a ten-minute log: after the outliers step the spike-laden model's
     null threshold is so wide that the gap is 'within noise', yet a 7 dB misfit remains at short
@@ -173,6 +175,7 @@ def test_a_channel_within_its_null_threshold_but_beyond_tolerance_is_not_labelle
     assert "MISFIT" in line and " ok " not in line
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_one_spike_names_outliers_at_the_rate_floor_and_says_so():
     """One 30-σ spike in 10 min of gyro_z (written here, not by the detector): outliers are
     named at the candidate's floor of 2 per record, and the report says the rate is not

@@ -16,6 +16,7 @@ from budget import run_mc
 from budget.mc.options import McOptions
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_the_perfect_imu_reference_does_not_move_and_the_options_say_which_ran():
     one = run_mc("airborne_xband", "HG9900", 4, 1, options=McOptions(pga_second_pass=False))
     two = run_mc("airborne_xband", "HG9900", 4, 1)
