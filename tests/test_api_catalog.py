@@ -95,6 +95,7 @@ def test_user_part_is_found_by_every_api_function(tmp_path):
         budget.run_mc(SCEN, "MY-ADIS", trials=4, options=POINTS)
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_sweep_of_the_whole_user_catalog_matches_the_cli(tmp_path):
     path = _user_csv(tmp_path)
     api = budget.sweep(None, SCEN, trials=4, seed=5, catalog=path, options=POINTS)

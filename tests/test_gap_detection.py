@@ -137,6 +137,7 @@ def test_obvious_effect_other_seeds(effect):
         check_case(effect, level, channel, params, tol, seed)
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_log_following_its_model_names_nothing():
     for seed in (0, 1):
         report = run_gap(make_log(None, None, None, 16_384, seed), BASE, seed=seed)

@@ -49,6 +49,7 @@ def sine_log(tmp_path_factory):
     return write_log(tmp_path_factory.mktemp("gap") / "log.csv", model, 16_384, 21)
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_cli_contract(sine_log, tmp_path):
     model = write_model(tmp_path / "model.json", MODEL_JSON)
     rep, upd = tmp_path / "report.json", tmp_path / "updated.json"

@@ -204,6 +204,7 @@ def test_the_scenario_page_says_where_bounds_stop_constraining_and_which_keys_ar
     assert not at.exception
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_an_uploaded_scenario_file_states_the_keys_it_left_out_on_the_check_page(tmp_path):
     base = get_preset("airborne_xband").model_dump(mode="json")
     for key in ("depression_deg", "lever_arm_m", "squint_deg"):

@@ -156,6 +156,7 @@ def test_every_trial_metric_has_a_label():
     assert set(TRIAL_METRICS) <= set(METRIC_LABELS)
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_a_scenario_warning_is_shown_beside_the_results():
     """A sonar flown at 150 m/s: the echo delay 2R/c exceeds Tc, so stop-and-go (the bounds' and
     the simulator's geometry) does not hold. The library warns; the warning reached only the

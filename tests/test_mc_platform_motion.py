@@ -159,6 +159,7 @@ def test_cli_platform_motion_options(tmp_path):
     assert "platform disturbance (custom): pitch 0.05 rad at 0.2 Hz" in r.stdout
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_report_states_the_platform_motion_it_was_judged_with(tmp_path):
     from budget.cli.main import main
     out = tmp_path / "r.html"

@@ -29,6 +29,7 @@ def test_the_perfect_imu_reference_does_not_move_and_the_options_say_which_ran()
     assert "second pass" not in two.summary()
 
 
+@pytest.mark.slow  # moved to CI's second step: ≥ 15 s on two busy cores (fast suite under 10 min)
 def test_the_cli_runs_one_pass_when_asked(tmp_path, capsys):
     from budget.cli.main import main
 
