@@ -52,9 +52,11 @@ def run(args) -> int:
                          "(it would alias to a slower one)", field="--sinusoid-cycles",
                          value=args.sinusoid_cycles, expected=f"|cycles| ≤ {nyquist:g}")
     scene = Scene.build(**Scene.default(geom).model_dump(exclude={"snr_db"}), snr_db=args.snr_db)
-    psi = smooth_phase_error(normalised_time(geom), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
-                             sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)
-    check_phase_sampled(psi, "--quadratic-rad, --cubic-rad, --sinusoid-rad")
+    def injected(g: SarGeometry) -> np.ndarray:  # the error on g's pulses
+        return smooth_phase_error(normalised_time(g), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
+                                  sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)
+
+    psi = check_phase_sampled(injected(geom), "--quadratic-rad, --cubic-rad, --sinusoid-rad")
     # the injected error moves a response by (dψ/du)/π azimuth cells (a phase slope of σ rad per
     # pulse shifts it σN/2π cells, u = −1 … 1 over the N pulses): the image gets that room, as the
     # Monte Carlo's defocus_room_cells, so a large error defocuses inside it instead of aliasing
@@ -67,8 +69,7 @@ def run(args) -> int:
                                   "(±1024 cells of defocus)")
     if room > IMAGE_MARGIN_CELLS:  # the image's own margin already holds a smaller defocus
         geom = SarGeometry.from_scenario(scenario, window=args.window, defocus_room_cells=room)
-        psi = smooth_phase_error(normalised_time(geom), quadratic_rad=args.quadratic_rad, cubic_rad=args.cubic_rad,
-                                 sinusoid_rad=args.sinusoid_rad, sinusoid_cycles=args.sinusoid_cycles)
+        psi = injected(geom)
     trial = run_injected_phase_trial(geom, scene, psi, np.random.default_rng(args.seed), method=args.method,
                                      kernel=args.kernel)
     if args.json:

@@ -18,7 +18,7 @@ from collections.abc import Sequence
 import pandas as pd
 
 from ..catalog.schema import GRADE_RANK
-from ..errors import InputError, refuse_repeats
+from ..errors import InputError, _equal, refuse_repeats
 from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
 from ..sar.residual import DEFAULT_PASS_SHARE
@@ -65,7 +65,7 @@ def _refuse_shared_names(given: Sequence[tuple[Scenario, object]]) -> None:
             continue
         where = [f"file {w}" if w is not None else ("preset" if x.name in PRESETS else "a Scenario object")
                  for x, w in (first, (sc, src))]
-        if _same(first[0], sc):
+        if _equal(first[0], sc):
             raise InputError(f"scenario {sc.name!r} given more than once ({where[0]} and {where[1]}, equal)",
                              field="scenarios", value=sc.name,
                              expected="each scenario once (a repeat adds identical rows and runs the same trials again)")
@@ -73,13 +73,6 @@ def _refuse_shared_names(given: Sequence[tuple[Scenario, object]]) -> None:
                          field="scenarios", value=sc.name,
                          expected="a distinct name for each scenario (its 'name' key): the sweep's "
                                   "rows, heat map and cheapest part are keyed by it")
-
-
-def _same(a: Scenario, b: Scenario) -> bool:
-    try:
-        return bool(a == b)
-    except Exception:  # noqa: BLE001 — incomparable contents: not the same scenario
-        return False
 
 
 def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int, *,
