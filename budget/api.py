@@ -122,25 +122,26 @@ def check_parts(parts=None, scenarios="airborne_xband", mode: str = "paper", ass
     return _check(plist, load_scenarios(scenarios), mode, assumptions, platform_motion=platform_motion)
 
 
-#: Keywords of the engines beside the options (:func:`budget.mc.runner.run_mc`, :func:`budget.mc.sweep.sweep`).
-_RUN_KEYWORDS = {"run_mc": ("options", "workers", "backend", "client", "progress", "cancel", "keep_detail"),
-                 "sweep": ("options", "workers", "backend", "client", "progress", "cancel")}
-
-
-def _mc_keywords(kwargs: dict, engine: str) -> dict:
+def _mc_keywords(kwargs: dict, engine) -> dict:
     """``kwargs`` with every :class:`~budget.mc.options.McOptions` field given by name
     (``scene="points"``, ``window="taylor"`` …) moved into ``options`` (a validated copy of the
-    given ``options``, or of the defaults); any other unknown keyword is refused by name."""
+    given ``options``, or of the defaults); any other keyword that is not one of ``engine``'s
+    own (its keyword-only parameters, read off its signature; ``sources`` is this module's) is
+    refused by name."""
+    import inspect
+
     from pydantic import ValidationError
 
     from .errors import from_validation_error
     from .mc.options import McOptions
 
+    own = tuple(n for n, p in inspect.signature(engine).parameters.items()
+                if p.kind is p.KEYWORD_ONLY and n != "sources")
     fields = {k: kwargs.pop(k) for k in list(kwargs) if k in McOptions.model_fields}
-    unknown = [k for k in kwargs if k not in _RUN_KEYWORDS[engine]]
+    unknown = [k for k in kwargs if k not in own]
     if unknown:
         raise InputError(f"unknown keyword(s) {', '.join(unknown)}", field=unknown[0],
-                         expected=", ".join(_RUN_KEYWORDS[engine]) + ", or a McOptions field: "
+                         expected=", ".join(own) + ", or a McOptions field: "
                          + ", ".join(McOptions.model_fields))
     if fields:
         base = kwargs.get("options")
@@ -168,7 +169,7 @@ def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEE
     from .mc.runner import run_mc as _run
     from .scenario import name_scenario_file
 
-    kwargs = _mc_keywords(kwargs, "run_mc")
+    kwargs = _mc_keywords(kwargs, _run)
     s = load_scenario(scenario)
     imu = load_part(part, catalog)
     try:
@@ -187,7 +188,7 @@ def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int 
     --catalog``)."""
     from .mc.sweep import sweep as _sweep
 
-    kwargs = _mc_keywords(kwargs, "sweep")
+    kwargs = _mc_keywords(kwargs, _sweep)
     given = _scenario_sources(scenarios)
     return _sweep(load_parts(parts, catalog), [load_scenario(s) for s in given], trials, seed,
                   sources=[s if _is_file(s) else None for s in given], **kwargs)
