@@ -381,6 +381,25 @@ def log_likelihood(y: np.ndarray, mean: np.ndarray | None, cov: np.ndarray) -> f
     return float(-0.5 * np.dot(z, z) - np.sum(np.log(np.diag(chol))))
 
 
+def located_log_likelihood(y: np.ndarray, mean: np.ndarray | None, cov: np.ndarray,
+                           units: np.ndarray) -> tuple[float, int, float]:
+    """(max ln L, i, a): the modes' Gaussian log-likelihood (:func:`log_likelihood`) of
+    y − mean − a·u_i maximised over the coefficient a (generalised least squares, closed form:
+    a = uᵀC⁻¹r / uᵀC⁻¹u, which lowers rᵀC⁻¹r by (uᵀC⁻¹r)²/uᵀC⁻¹u) and over the rows u_i of
+    ``units`` (M, K): the modes of a located pattern at unit coefficient for M values of its
+    shape parameter (a step's time, a transient's τ). A located pattern's mean is linear in its
+    coefficient, so the profile over the coefficient is exact."""
+    r = y if mean is None else y - mean
+    chol = linalg.cholesky(cov, lower=True)
+    zr = linalg.solve_triangular(chol, r, lower=True)
+    zu = linalg.solve_triangular(chol, np.atleast_2d(units).T, lower=True)  # (K, M)
+    num, den = zr @ zu, np.einsum("km,km->m", zu, zu)
+    gain = np.where(den > 0, num * num / np.where(den > 0, den, 1.0), 0.0)
+    i = int(np.argmax(gain))
+    a = float(num[i] / den[i]) if den[i] > 0 else 0.0
+    return float(-0.5 * (np.dot(zr, zr) - gain[i]) - np.sum(np.log(np.diag(chol)))), i, a
+
+
 # --- nested spreads: the modes' profile likelihood --------------------------------------------
 
 #: (simpler, richer) spreads whose richer family holds the simpler as a limit in the modes: a
