@@ -67,3 +67,22 @@ def test_stops_on_effect_size_not_max_steps():
     assert s.params["amplitude"] == pytest.approx(4e-3, rel=0.1)
     assert s.sizes_after.peak_db < 0.5 < s.sizes_before.peak_db
     assert "close enough" in rep.stop_reason and rep.close_enough
+
+
+def test_band_below_the_model_is_the_log_chi2_lower_tail():
+    """The spread below the model of a term with ν degrees of freedom is the lower quantile of
+    10·log10 χ²_ν about its mean, checked against NumPy's χ² draws (2·10⁶, quantile to ≈ 1 %):
+    ν = 5 lies 1.35× beyond the normal band of the same variance; ν = 5000 is normal."""
+    from scipy import stats as st
+
+    from budget.gap.effect_size import DB_PER_NEPER, _log_chi2_low
+
+    rng = np.random.default_rng(0)
+    p = 0.0014
+    for nu, wider in ((5, 1.3), (5000, 1.0)):
+        x = np.log(rng.chisquare(nu, 2_000_000))
+        d = (x - x.mean()) * DB_PER_NEPER
+        ms = float(np.mean(d * d))
+        got = float(_log_chi2_low(np.array([ms]), p)[0])
+        assert got == pytest.approx(-np.quantile(d, p), rel=0.02)
+        assert got >= wider * np.sqrt(ms) * st.norm.isf(p) * 0.99

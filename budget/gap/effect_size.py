@@ -37,7 +37,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
+from scipy import optimize, special, stats
 
 from .metric import ModelSummary
 from .signatures import Signature, SignatureGrid, band_means
@@ -95,6 +95,28 @@ def _chi2_quantile(values: np.ndarray) -> float:
     return float(math.sqrt(a * stats.chi2.ppf(BAND_LEVEL, nu)))
 
 
+def _log_chi2_low(ms_db2: np.ndarray, p: float) -> np.ndarray:
+    """Magnitude (dB) of the lower ``p`` quantile of d = 10·log10(χ²_ν/ν) − its mean, the
+    misfit of an estimate with ν degrees of freedom against its geometric mean, for ν matched to
+    the term's mean square ``ms_db2`` (dB²): Var ln χ²_ν = ψ′(ν/2). An Allan variance at the
+    last octaves has a few degrees of freedom; its log is skewed with a long lower tail (ν = 5:
+    the lower 0.14 % point lies 1.35× further from the centre than a normal one of the same
+    variance), so a symmetric normal band calls model-following channels "measured below the
+    model" (4 of 66 channels on eleven model-following one-hour logs, all below, at τ = 41–328 s).
+    The upper side keeps the normal band: it is the narrower one, and the one effects are named on."""
+    v = np.asarray(ms_db2, float) / DB_PER_NEPER ** 2
+    out = np.zeros_like(v)
+    for i, vi in enumerate(v):
+        if not vi > 1e-8:  # ν beyond 10⁸: normal
+            out[i] = math.sqrt(max(vi, 0.0)) * stats.norm.isf(p) * DB_PER_NEPER
+            continue
+        # ψ′(ν/2) = vi: ψ′ falls from ∞ (ν → 0) to 0 (ν → ∞)
+        nu = optimize.brentq(lambda n: float(special.polygamma(1, 0.5 * n)) - vi, 1e-3, 1e9)
+        centre = float(special.digamma(0.5 * nu)) + math.log(2.0)
+        out[i] = (centre - math.log(stats.chi2.ppf(p, nu))) * DB_PER_NEPER
+    return out
+
+
 @dataclass(frozen=True)
 class Sizes:
     """Effect sizes of one channel: rms E (dB), peak P (dB), kurtosis difference D."""
@@ -115,6 +137,9 @@ class EffectSizeBand:
     band_kurtosis: dict[str, float]
     tolerance_db: float = DEFAULT_TOLERANCE_DB
     tolerance_kurtosis: float = DEFAULT_TOLERANCE_KURTOSIS
+    #: the spread below the model (measured < model), ≥ ``term_q``: a log-χ² term's lower tail
+    #: (:func:`_log_chi2_low`); ``None``: ``term_q`` on both sides
+    term_q_low: dict[str, np.ndarray] | None = None
 
     @classmethod
     def fit(cls, loo: dict[str, tuple[LooSizes, tuple]], tolerance_db: float = DEFAULT_TOLERANCE_DB,
@@ -123,7 +148,7 @@ class EffectSizeBand:
         groups: dict[tuple, list[str]] = {}
         for ch, (_, key) in loo.items():
             groups.setdefault(key, []).append(ch)
-        q, ms, kb = {}, {}, {}
+        q, ql, ms, kb = {}, {}, {}, {}
         for chans in groups.values():
             d = np.concatenate([loo[ch][0].d for ch in chans])
             k = np.concatenate([loo[ch][0].kurt for ch in chans])
@@ -132,16 +157,19 @@ class EffectSizeBand:
             # (each term ≈ N(0, s²) over the realizations; K of them, Šidák-corrected)
             level = 1.0 - (1.0 - BAND_LEVEL) / d.shape[1]
             tq = np.sqrt(tm) * stats.norm.isf(0.5 * (1.0 - level))
+            tql = np.maximum(tq, _log_chi2_low(tm, 0.5 * (1.0 - level)))
             kq = _chi2_quantile(k)
             for ch in chans:
-                q[ch], ms[ch], kb[ch] = tq, tm, kq
-        return cls(q, ms, kb, float(tolerance_db), float(tolerance_kurtosis))
+                q[ch], ql[ch], ms[ch], kb[ch] = tq, tql, tm, kq
+        return cls(q, ms, kb, float(tolerance_db), float(tolerance_kurtosis), ql)
 
     def sizes(self, channel: str, d: np.ndarray, kurt: float, n_rms: int,
               labels: list[str] | None = None) -> Sizes:
         """(E, P, D) of one channel from its dB misfits ``d`` (the first ``n_rms`` are the ADEV
         and PSD-band terms, then the line) and kurtosis difference."""
         q, ms = self.term_q[channel], self.term_ms[channel]
+        if self.term_q_low is not None:
+            q = np.where(d < 0, self.term_q_low[channel], q)
         rms = math.sqrt(max(float(np.mean(d[:n_rms] ** 2) - np.mean(ms[:n_rms])), 0.0))
         excess = np.sqrt(np.clip(d ** 2 - q ** 2, 0.0, None))
         i = int(np.argmax(excess))

@@ -50,8 +50,8 @@ GAP_DEFINITION = (
     "with decorrelate the spectral terms (ADEV, PSD bands, low-frequency bands) are summed as "
     "innovations under the model's own leave-one-out covariance, shrunk toward its diagonal; overall gap "
     "= mean of the channel gaps. Null: leave-one-out gaps of the realizations fitted by a·chi2_nu; "
-    "within noise = below the 1 - alpha/n_channels quantile (channel) or the 1 - alpha quantile "
-    "of the mean (overall).")
+    "within noise = every channel below its 1 - alpha/n_channels quantile and the overall gap below "
+    "the 1 - alpha quantile of the mean.")
 
 
 class _EffectSizes:
@@ -195,8 +195,22 @@ class GapReport:
         return self.null_after.overall_threshold
 
     @property
-    def within_noise(self) -> bool:
+    def channels_within_noise(self) -> bool:
+        """Every channel's gap within its own threshold (1 − α/n_channels quantile)."""
         return all(c.gap_after <= self.null_after.channel_threshold(ch) for ch, c in self.channels.items())
+
+    @property
+    def overall_within_noise(self) -> bool:
+        """The overall gap (mean of the channels') within its threshold (1 − α quantile)."""
+        return self.gap_after <= self.null_after.overall_threshold
+
+    @property
+    def within_noise(self) -> bool:
+        """Both tests of :data:`GAP_DEFINITION` pass: every channel and the overall gap. A log
+        whose channels each sit just under their thresholds can still carry more excess than
+        the model allows in their mean (1.54 over an overall threshold of 1.47, every channel
+        within its own)."""
+        return self.channels_within_noise and self.overall_within_noise
 
     @property
     def effect_size_before_db(self) -> float:
@@ -318,8 +332,10 @@ class GapReport:
                  f"vs {self.model_label}; {self.realizations} realizations/channel, seed {self.seed}",
                  f"overall gap {self.gap_before:.3g} → {self.gap_after:.3g} "
                  f"({'within' if self.within_noise else 'NOT within'} noise: overall threshold "
-                 f"{self.null_after.overall_threshold:.3g}, channel thresholds "
-                 f"{min(thr.values()):.3g}–{max(thr.values()):.3g})"]
+                 f"{self.null_after.overall_threshold:.3g}"
+                 f"{'' if self.overall_within_noise else ' exceeded'}, channel thresholds "
+                 f"{min(thr.values()):.3g}–{max(thr.values()):.3g}"
+                 f"{'' if self.channels_within_noise else ' exceeded on ' + ', '.join(ch for ch in self.channels if self.channel_state(ch) == 'GAP')})"]
         on = self.options_text()
         if on:
             lines.append(f"options: {on} (not the default)")
