@@ -26,7 +26,9 @@
   naming the part, the field and what was expected, and the file is left as it was.
 * Part ids are compared case-insensitively where a mix-up is likely: :func:`append_part` refuses
   an id differing only in case from one already in the file (unless ``replace``) or from a
-  shipped id, and :func:`load_catalog` warns about user ids differing only in case from a shipped id.
+  shipped id, the reader refuses two ids of one file differing only in case (in the same words,
+  naming both rows), and :func:`load_catalog` warns about user ids differing only in case from a
+  shipped id.
 """
 
 from __future__ import annotations
@@ -45,7 +47,8 @@ from ..fileio import atomic_write_text
 from ..safe_text import csv_text
 from .schema import PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED, GradeSpec, PartSpec
 from .validate import (ALT_UNIT_COLUMNS, MAX_BYTES, MAX_CELL_CHARS, _expected_text,  # noqa: F401
-                       _map_header, _read_rows, _read_text, count_valid_parts, validate_parts_table)
+                       _map_header, _read_rows, _read_text, case_twin_reason, count_valid_parts,
+                       validate_parts_table)
 
 ENV_VAR = "SAR_BUDGET_CATALOG"
 
@@ -379,8 +382,7 @@ def append_part(path: str | Path, part: PartSpec | Mapping[str, object], *,
     twin = next((other for _, other in _case_twins([part.part_id], parts)), None)
     if part.part_id in parts or twin is not None:
         if not replace:
-            same = "part_id already in the catalog" if twin is None else (
-                f"part_id differs only in case from {twin!r}, already in the catalog")
+            same = "part_id already in the catalog" if twin is None else case_twin_reason(twin)
             raise InputError(same, file=given, field="part_id", value=part.part_id,
                              expected="a new id (or replace=True, --replace, to replace that row)")
     elif shipped is not None:

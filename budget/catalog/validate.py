@@ -4,16 +4,22 @@
 file pandas' C reader parses the text and every column is checked as a whole (numbers finite,
 ≥ 0 and ≤ the plausible maximum of :data:`~budget.catalog.schema.PART_NUMERIC_COLUMNS`; ids,
 grades, conventions; formula-looking text, OWASP's leading ``= + - @`` tab CR; control
-characters; duplicate ids; the bias-convention rule); smaller or irregular files go through the
-exact record-by-record path, which gives the same result (tests/test_fuzz_readers.py checks
-both agree cell for cell). The first bad cell raises :class:`~budget.errors.InputError` naming
-file, row, column, value and what was expected.
+characters; duplicate ids, also ids differing only in letter case; the bias-convention rule);
+smaller or irregular files go through the exact record-by-record path, which gives the same
+result (tests/test_fuzz_readers.py checks both agree cell for cell). The first bad cell raises :class:`~budget.errors.InputError` naming
+file, row, column, value and what was expected; :func:`collect_errors` lists every bad cell and
+every problem across rows of a file in one pass. An unknown header column is answered with the
+column it most likely meant only when that column has the same unit
+(:mod:`budget.catalog.header_units`); a row with more cells than the header is checked for an
+unquoted decimal comma (``…,0,42,…``).
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import itertools
+import math
 import re
 from collections.abc import Mapping
 from pathlib import Path
@@ -24,6 +30,7 @@ from .. import units as u
 from ..errors import InputError
 from ..fileio import read_text
 from ..safe_text import FORMULA_START, looks_like_formula
+from .header_units import quantity_table, respell, suggest, unit_words
 from .schema import (BIAS_CONVENTIONS, CONSTANT_BIAS_CONVENTIONS, GRADES, PART_COLUMNS,
                      PART_NUMERIC_COLUMNS, PART_REQUIRED, VERIFIED_STATES)
 
@@ -138,6 +145,13 @@ def _check_not_comment(r: list[str], path: Path, i: int) -> None:
 def _check_length(r: list[str], header: list[str], path: Path, i: int) -> None:
     _check_not_comment(r, path, i)
     if len(r) != len(header):
+        hint = _decimal_comma_split(r, header) if len(r) > len(header) else None
+        if hint is not None:
+            reason, field, value, write = hint
+            raise InputError(f"has {len(r)} cells but the header has {len(header)}; {reason}", file=path,
+                             row=i, field=field, value=value,
+                             expected=f"one cell per header column: {write} with a decimal point "
+                                      "(or quote cells that contain commas)")
         raise InputError(f"has {len(r)} cells but the header has {len(header)}", file=path, row=i,
                          expected="one cell per header column (quote cells that contain commas)")
     if max(map(len, r), default=0) > MAX_CELL_CHARS:
@@ -146,26 +160,114 @@ def _check_length(r: list[str], header: list[str], path: Path, i: int) -> None:
                          value=r[j], expected=f"at most {MAX_CELL_CHARS:,} characters")
 
 
-#: How datasheet-minded headers differ from the column names: the micro sign, "sqrt"/"√" and
-#: "hr" for the ASCII "rt" and "h" of the names (``accel_bias_instability_µg``, ``gyro_arw_deg_sqrt_hr``).
-_HEADER_SPELLINGS = (("µ", "u"), ("μ", "u"), ("√", "rt_"), ("sqrt", "rt"), ("_hr", "_h"), ("/", "_"),
-                     (" ", "_"), ("-", "_"))
+_INT_CELL = re.compile(r"[+-]?\d+")
+_DIGITS_CELL = re.compile(r"\d+")
+
+
+def _decimal_comma_split(r: list[str], header: list[str]):
+    """For a row with more cells than the header: the adjacent whole-number cells that, joined as
+    one decimal (``0`` and ``42`` → 0.42: an unquoted decimal comma), make it fit — every numeric
+    cell then a number within its column's range and every choice column valid. Returns (reason,
+    field, value, what to write) naming the two cells and the column, or None. Several fits are
+    ranked (an integer part of 0 is a decimal comma rather than a thousands separator) and up to
+    three of the best are named."""
+    extra = len(r) - len(header)
+    pairs = [j for j in range(len(r) - 1) if _INT_CELL.fullmatch(r[j]) and _DIGITS_CELL.fullmatch(r[j + 1])]
+    if not 1 <= extra <= 3 or len(pairs) > 40:
+        return None
+    fits = []
+    for combo in itertools.combinations(pairs, extra):
+        if any(b - a < 2 for a, b in zip(combo, combo[1:])):
+            continue  # overlapping pairs
+        merged, k = [], 0
+        while k < len(r):
+            if k in combo:
+                merged.append(f"{r[k]}.{r[k + 1]}")
+                k += 2
+            else:
+                merged.append(r[k])
+                k += 1
+        if all(_cell_fits(c, col) for c, col in zip(merged, header)):
+            # where each joined cell lands in the merged row: its index minus the pairs before it
+            at = [j - n for n, j in enumerate(combo)]
+            rank = (sum(_INT_CELL.fullmatch(r[j]) and int(r[j]) == 0 for j in combo) * -1,
+                    sum(len(r[j + 1]) == 3 for j in combo))
+            fits.append((rank, combo, at))
+    if not fits:
+        return None
+    fits.sort(key=lambda f: f[0])
+    best = [f for f in fits if f[0] == fits[0][0]][:3]
+
+    def said(combo, at) -> str:
+        return " and ".join(f"cells {j + 1} and {j + 2} ('{r[j]}' and '{r[j + 1]}') as {r[j]}.{r[j + 1]} "
+                            f"in {header[a]}" for j, a in zip(combo, at))
+
+    what = "an unquoted decimal comma" if extra == 1 else "unquoted decimal commas"
+    joined = "joining " + ", or ".join(said(c, a) for _, c, a in best) + f" makes it fit: {what}?"
+    if len(best) > 1:
+        return joined, None, None, "write a decimal"
+    _, combo, at = best[0]
+    return (joined, header[at[0]] if extra == 1 else None, ", ".join(f"{r[j]},{r[j + 1]}" for j in combo),
+            "write " + " and ".join(f"{r[j]}.{r[j + 1]}" for j in combo))
+
+
+def _cell_fits(cell: str, col: str) -> bool:
+    """Whether ``cell`` would pass the checks of header column ``col`` (numbers and choices)."""
+    canon = ALT_UNIT_COLUMNS[col][0] if col in ALT_UNIT_COLUMNS else col
+    if canon in PART_NUMERIC_COLUMNS:
+        if cell == "":
+            return True
+        try:
+            v = float(cell)
+        except ValueError:
+            return False
+        if col != canon:
+            v = float(ALT_UNIT_COLUMNS[col][1](v))
+        return math.isfinite(v) and 0 <= v <= PART_NUMERIC_COLUMNS[canon][1] and (v > 0 or canon != "rate_hz")
+    if canon in _CHOICES:
+        return cell == "" and canon not in PART_REQUIRED or _CHOICES[canon](cell)
+    return True
 
 
 def _column_guess(col: str, names) -> str | None:
-    """The column ``col`` was most likely meant to be: the one it equals once lower-cased and
-    respelt (:data:`_HEADER_SPELLINGS`), else the closest name (difflib, cutoff 0.85), else None."""
+    """The column ``col`` was most likely meant to be, never one in another unit: the one it
+    equals once lower-cased and respelt (:func:`~budget.catalog.header_units.respell`), else the
+    closest name that is no numeric column of the parts table (difflib, cutoff 0.85) and has the
+    same unit words, else None. A numeric column of the parts table is guessed by unit
+    (:func:`_unknown_column`)."""
     import difflib
 
-    key = col.strip().lower()
-    for a, b in _HEADER_SPELLINGS:
-        key = key.replace(a, b)
-    key = re.sub("_+", "_", key).strip("_")
+    key = respell(col)
     names = list(names)
     if key in names:
         return key
-    close = difflib.get_close_matches(key, names, n=1, cutoff=0.85)
-    return close[0] if close else None
+    text = [n for n in names if n not in PART_NUMERIC_COLUMNS and n not in ALT_UNIT_COLUMNS]
+    close = difflib.get_close_matches(key, text, n=1, cutoff=0.85)
+    # a name of another table (grades.csv: gyro_bias_deg_h_min) is offered only in the same unit
+    return close[0] if close and unit_words(close[0]) == unit_words(key) else None
+
+
+#: Quantity → its accepted columns (unit, factor to the canonical unit), from the column table.
+QUANTITY_COLUMNS = quantity_table(PART_NUMERIC_COLUMNS, ALT_UNIT_COLUMNS, ALT_UNIT_LABELS)
+
+
+def _unknown_column(col: str, path: Path, allowed: tuple[str, ...],
+                    alt: Mapping[str, tuple[str, callable]]) -> InputError:
+    """The error for a header column the table does not accept, with what it most likely meant:
+    a respelling of an accepted column, else (parts table) the column of the same quantity *in
+    the same unit* — a unit the catalog has no column for is named with the factor to each
+    accepted one (:func:`~budget.catalog.header_units.suggest`) — else the closest text column."""
+    every = f"one of {', '.join(allowed)}" + (f" or an alternative-unit column ({', '.join(alt)})"
+                                              if alt else "")
+    guess = _column_guess(col, (*allowed, *alt))
+    hint = suggest(col, QUANTITY_COLUMNS) if alt and respell(col) != guess else None
+    if hint is None:
+        return InputError("unknown column" + (f" (did you mean {guess!r}?)" if guess else ""), file=path,
+                          row=1, field=col, expected=every)
+    if hint.column:
+        return InputError(f"unknown column (did you mean {hint.column!r}?): {hint.note}", file=path,
+                          row=1, field=col, expected=hint.expected)
+    return InputError(f"unknown column: {hint.note}", file=path, row=1, field=col, expected=hint.expected)
 
 
 def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], required: tuple[str, ...],
@@ -189,10 +291,7 @@ def _map_header(header: list[str], path: Path, allowed: tuple[str, ...], require
                                  f"use {sep!r} as its delimiter", file=path, row=1, field=col,
                                  expected="comma-separated columns and decimal points (save the sheet as CSV with "
                                  "commas; a spreadsheet set to a decimal-comma locale writes ';' and 0,4)")
-            guess = _column_guess(col, (*allowed, *alt))
-            raise InputError("unknown column" + (f" (did you mean {guess!r}?)" if guess else ""), file=path,
-                             row=1, field=col, expected=f"one of {', '.join(allowed)}"
-                             + (f" or an alternative-unit column ({', '.join(alt)})" if alt else ""))
+            raise _unknown_column(col, path, allowed, alt)
         if col in mapping:
             raise InputError("duplicate column", file=path, row=1, field=col)
         if canon in seen:
@@ -479,29 +578,67 @@ def _table_row_by_row(path: Path, text: str) -> tuple[dict[str, object], list[in
 
 
 def _check_rows(table: dict, rows: list[int], path: Path, header_of: dict[str, str]) -> None:
-    """Checks across columns: unique part_id; no repeatability with a constant-bias convention."""
+    """Checks across columns and rows (:func:`row_problems`): the first problem raises."""
+    problems = row_problems(table, rows, path, header_of, first_only=True)
+    if problems:
+        raise problems[0]
+
+
+def case_twin_reason(other: str, row: int | None = None) -> str:
+    """Why a part_id differing only in letter case from ``other`` (at ``row`` of the same file,
+    if given) is refused — the words of :func:`budget.catalog.io.append_part` and of the reader."""
+    return f"part_id differs only in case from {other!r}" + (f" (row {row})" if row is not None else "") \
+        + ", already in the catalog"
+
+
+def row_problems(table: dict, rows: list[int], path: Path, header_of: dict[str, str],
+                 first_only: bool = False) -> list[InputError]:
+    """Problems across columns and rows, in row order: a repeated part_id (naming the row that
+    has it first), a part_id differing only in letter case from an earlier one (refused as
+    :func:`~budget.catalog.io.append_part` refuses it: ids are case-sensitive, so it would be a
+    separate part, which is never what two spellings of one id mean), a repeatability column
+    given with a constant-bias convention. An empty part_id is skipped (a cell error of its own).
+    ``first_only``: stop at the first row with a problem."""
     import pandas as pd
 
+    found: list[tuple[int, InputError]] = []
     ids = pd.Series(table["part_id"], dtype=object)
-    dup = ids.duplicated().to_numpy()
-    if dup.any():
-        k = int(np.argmax(dup))
-        raise InputError("duplicate part_id", file=path, row=rows[k], field="part_id", value=ids[k],
-                         expected="each part_id once per file")
+    given = (ids != "").to_numpy()
+    lower = ids.str.lower()
+    dup = ids.duplicated().to_numpy() & given
+    twin = lower.duplicated().to_numpy() & given & ~dup
+    bad = np.flatnonzero(dup | twin)
+    # the row where each id comes first, as written and in any case
+    first_exact = {v: j for j, v in reversed(list(enumerate(ids))) if given[j]} if bad.size else {}
+    first_any = {v: j for j, v in reversed(list(enumerate(lower))) if given[j]} if bad.size else {}
+    for k in bad[:1] if first_only else bad:
+        j = first_exact[ids.iat[k]] if dup[k] else first_any[lower.iat[k]]
+        if dup[k]:
+            err = InputError(f"duplicate part_id (also at row {rows[j]})", file=path, row=rows[k],
+                             field=header_of.get("part_id", "part_id"), value=ids.iat[k],
+                             expected="each part_id once per file")
+        else:
+            err = InputError(case_twin_reason(ids.iat[j], rows[j]), file=path, row=rows[k],
+                             field=header_of.get("part_id", "part_id"), value=ids.iat[k],
+                             expected=f"each part_id once per file, letter case ignored (rename or "
+                                      f"delete one of rows {rows[j]} and {rows[k]})")
+        found.append((k, err))
     conv = table.get("bias_instability_convention")
-    if conv is None:
-        return
-    const = pd.Series(conv, dtype=object).isin(CONSTANT_BIAS_CONVENTIONS).to_numpy()
-    for rep in ("gyro_bias_repeatability_deg_h", "accel_bias_repeatability_ug"):
-        if rep in table:
-            bad = const & np.isfinite(table[rep])
-            if bad.any():
-                k = int(np.argmax(bad))
-                raise InputError(f"{conv[k]} says the bias columns already hold the turn-on bias, "
-                                 f"but {rep} is also given; leave it empty or use adev_min / ieee_b "
-                                 "for an in-run figure", file=path, row=rows[k],
-                                 field=header_of.get("bias_instability_convention"), value=conv[k],
-                                 expected=_expected_text("bias_instability_convention", ""))
+    if conv is not None:
+        const = pd.Series(conv, dtype=object).isin(CONSTANT_BIAS_CONVENTIONS).to_numpy()
+        for rep in ("gyro_bias_repeatability_deg_h", "accel_bias_repeatability_ug"):
+            if rep not in table:
+                continue
+            for k in np.flatnonzero(const & np.isfinite(table[rep])):
+                found.append((k, InputError(
+                    f"{conv[k]} says the bias columns already hold the turn-on bias, but {rep} is "
+                    "also given; leave it empty or use adev_min / ieee_b for an in-run figure",
+                    file=path, row=rows[k], field=header_of.get("bias_instability_convention"),
+                    value=conv[k], expected=_expected_text("bias_instability_convention", ""))))
+                if first_only:
+                    break
+    found.sort(key=lambda ke: ke[0])
+    return [e for _, e in (found[:1] if first_only else found)]
 
 
 def count_valid_parts(path: str | Path) -> int:
@@ -532,8 +669,10 @@ def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
     :class:`InputError` naming file, row, field, value and what was expected.
 
     The same checks as :func:`validate_parts_table`, cell by cell (slow, so only used to report
-    a file that failed); checks across rows (duplicate ``part_id`` …) run once the cells are
-    clean. An unreadable file or a bad header is one error.
+    a file that failed), and in the same pass the checks across rows (:func:`row_problems`:
+    repeated ids, ids differing only in case, the bias-convention rule) over the rows of the
+    right length, each on the cells that are themselves valid. An unreadable file or a bad
+    header is one error.
     """
     path = Path(path)
     text = _read_text(path)
@@ -547,6 +686,10 @@ def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
         mapping = _map_header(header, path, PART_COLUMNS, PART_REQUIRED, ALT_UNIT_COLUMNS)
     except InputError as err:
         return [err]
+    # what the checks across rows need, a bad cell replaced by a neutral value ('' or NaN)
+    across = [c for c in header if mapping[c] in _ACROSS_ROWS]
+    kept: dict[str, list] = {mapping[c]: [] for c in across}
+    kept_rows: list[int] = []
     errors: list[InputError] = []
     for i, r in records:
         try:
@@ -556,9 +699,10 @@ def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
             continue
         for j, col in enumerate(header):
             canon, cell, rows = mapping[col], (r[j],), [i]
+            value = r[j]
             try:
                 if canon in PART_NUMERIC_COLUMNS:
-                    _numbers(cell, rows, path, col, canon)
+                    value = float(_numbers(cell, rows, path, col, canon)[0])
                 else:
                     _check_text(cell, rows, path, col)
                     if canon in _CHOICES:
@@ -566,11 +710,24 @@ def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
                                       canon in PART_REQUIRED)
             except InputError as err:
                 errors.append(err)
+                value = float("nan") if canon in PART_NUMERIC_COLUMNS else ""
+            if canon in kept:
+                kept[canon].append(value)
+        kept_rows.append(i)
         if len(errors) >= limit:
             return errors[:limit]
+    if kept_rows and "part_id" in kept:
+        table = {c: (np.array(v, float) if c in PART_NUMERIC_COLUMNS else tuple(v)) for c, v in kept.items()}
+        errors += row_problems(table, kept_rows, path, {mapping[c]: c for c in header})
+        errors.sort(key=lambda e: e.row or 0)  # stable: a row's cells stay in column order
     if not errors:
         try:
             validate_parts_table(path)
         except InputError as err:
             errors.append(err)
-    return errors
+    return errors[:limit]
+
+
+#: The columns :func:`row_problems` looks at.
+_ACROSS_ROWS = ("part_id", "bias_instability_convention", "gyro_bias_repeatability_deg_h",
+                "accel_bias_repeatability_ug")
