@@ -238,11 +238,14 @@ def test_catalog_row_says_which_values_the_record_did_not_resolve(tmp_path):
     p.write_text(header + "".join(f"{i / 100:.4f}," + ",".join(f"{v:.6g}" for v in row) + "\n"
                                   for i, row in enumerate(x)))
     res = characterize(read_log(p))
-    assert res.part.gyro_bias_instability_deg_h is not None  # a fitted value is still given …
+    # an unresolved figure is left empty in the row (the catalog's "unspecified"), not written
+    # as if it were a datasheet figure, and the row and the summary say why
+    assert res.part.gyro_bias_instability_deg_h is None
+    assert "gyro_bias_instability_deg_h" in res.left_empty
     assert "gyro_bias_instability_deg_h" in res.part.notes and "not resolved" in res.part.notes
-    assert "gyro_arw_deg_rt_h" not in res.part.notes.split("adev_min)")[-1]  # … ARW is resolved
-    assert "bias instability " + f"{res.part.gyro_bias_instability_deg_h:.4g} deg/h (not resolved)" \
-        in res.summary()
+    assert res.part.gyro_arw_deg_rt_h is not None  # … ARW is resolved
+    assert "gyro_arw_deg_rt_h" not in res.left_empty
+    assert "left empty" in res.summary()
 
 
 @pytest.mark.parametrize("medium, speed, hint", [("radar", 1500.0, "sonar"),
@@ -326,14 +329,17 @@ def test_a_time_column_in_ms_named_time_s_is_refused_unless_the_rate_is_confirme
     """100 Hz time stamps written in ms under ``time_s`` read as 0.1 Hz, and every noise figure
     scales with the rate (a warning let ARW 31.6× too large into an appended catalog row): the
     reading is refused, naming the column to use and how to confirm the rate; a given rate
-    that confirms 0.1 Hz reads it, and 100 Hz reads it as a unit slip."""
+    that confirms 0.1 Hz reads it, and 100 Hz is refused too: the column declares s, and the
+    tool cannot tell whether the column or the rate is wrong."""
     from budget.noise.logs import read_log
     p = tmp_path / "ms.csv"
     rng = np.random.default_rng(2)
     p.write_text("time_s,gyro_x_rps\n" + "".join(f"{10 * i},{rng.normal(0, 1e-3):.6g}\n" for i in range(64)))
     with pytest.raises(InputError) as e:
         read_log(p)
-    assert e.value.field == "time" and "ms.csv" in str(e.value)
+    assert e.value.field == "time_s" and "ms.csv" in str(e.value)
     assert "0.1 Hz" in str(e.value) and "time_ms" in str(e.value) and "--rate-hz" in str(e.value)
     assert read_log(p, rate_hz=0.1).rate_hz == pytest.approx(0.1)
-    assert read_log(p, rate_hz=100.0).rate_hz == 100.0
+    with pytest.raises(InputError, match="time_ms") as e:
+        read_log(p, rate_hz=100.0)
+    assert e.value.field == "time_s"

@@ -44,12 +44,15 @@ def test_characterize_log_json(log_csv, capsys):
 
 def test_characterize_table_and_append(tmp_path, capsys):
     table = tmp_path / "adev.csv"
-    tau = 2.0 ** np.arange(0, 12) / 100.0
+    # out to τ = 328 s of a 10⁴ s record: the floor 0.664·B = 0.002 deg/s crosses the white level
+    # at τ = 100 s (a term the table does not resolve is left empty in the row: with τ ≤ 20 s, or
+    # a 1000 s record, B is fitted but not resolved)
+    tau = 2.0 ** np.arange(0, 16) / 100.0
     adev = np.sqrt(0.02 ** 2 / tau + (0.664 * 0.003) ** 2)
     lines = ["channel,tau_s,adev"] + [f"gyro_z_dps,{float(t)!r},{float(a)!r}" for t, a in zip(tau, adev)]
     table.write_text("\n".join(lines) + "\n")
     cat = tmp_path / "my_catalog.csv"
-    args = ["noise", "characterize", str(table), "--rate-hz", "100", "--samples", "100000",
+    args = ["noise", "characterize", str(table), "--rate-hz", "100", "--samples", "1000000",
             "--grade", "tactical", "--as-part", "MY-GYRO", "--append", str(cat), "--json", "-"]
     assert main(args) == 0
     out = _json(capsys)

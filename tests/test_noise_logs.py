@@ -242,10 +242,13 @@ def test_given_rate_that_contradicts_the_time_stamps_is_refused(tmp_path):
         read_log(p, rate_hz=200.0)
     assert "log.csv" in str(err.value)
     assert read_log(p, rate_hz=100.5).rate_hz == 100.5  # within 1 %: the given rate, no issue
-    # time in ms read as s (×10³): the given rate is the documented remedy, with a warning
+    # time in ms under a column that declares s (×10³): the tool cannot tell whether the column
+    # or the given rate is wrong (a 0.1 Hz slip on 100 Hz stamps once wrote ARW ×√1000 into a
+    # catalog row), so it refuses and names both remedies
     ms = _write(tmp_path / "ms.csv", t * 1e3, d)
-    log = read_log(ms, rate_hz=100.0)
-    assert log.rate_hz == 100.0 and [i.kind for i in log.issues.issues] == ["rate_mismatch"]
+    with pytest.raises(InputError, match=r"×1000") as err:
+        read_log(ms, rate_hz=100.0)
+    assert "time_ms" in str(err.value) and "no rate given" in str(err.value)
 
 
 def test_columns_not_read_are_named(tmp_path):

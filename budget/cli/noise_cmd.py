@@ -31,7 +31,9 @@ def add_parser(sub) -> None:
     c.add_argument("input", help="static IMU log CSV (.csv/.csv.gz) or Allan table "
                                  "(channel, tau_s, adev[, lci, uci])")
     c.add_argument("--rate-hz", type=float, help="sampling rate of the record behind an Allan table (with "
-                                                 "--samples; leave both out for a digitised datasheet curve)")
+                                                 "--samples; leave both out for a digitised datasheet curve), "
+                                                 "or of a log without a time column (with one, it must agree "
+                                                 "with the stamps within 1 %%)")
     c.add_argument("--samples", type=int, help="record length behind an Allan table (with --rate-hz; "
                                                "neither for a digitised datasheet curve)")
     c.add_argument("--ci-level", type=float, default=0.95, help="confidence level of an Allan table's lci/uci")
@@ -68,7 +70,8 @@ def add_parser(sub) -> None:
     a.add_argument("--detrend", type=int, choices=DETREND_ORDERS, default=1, help="polynomial order")
     a.add_argument("--process-noise", choices=("paper", "model"), default="paper",
                    help="Q = δ1·I (paper) or δ1·G·Gᵀ (model)")
-    a.add_argument("--rate-hz", type=float, help="sampling rate (if the log has no time column)")
+    a.add_argument("--rate-hz", type=float, help="sampling rate (if the log has no time column; with one, "
+                                                 "it must agree with the stamps within 1 %%)")
     _log_options(a)
     add_json_option(a)
     add_quiet_option(a)
@@ -117,6 +120,8 @@ def run_characterize(args) -> int:
         print(result.summary())
     if args.append:
         print(f"appended {result.part.part_id} to {args.append}", file=sys.stderr)
+        if (empty := result.empty_fields_text()) is not None:  # what the row does not state, and why
+            warn(args, empty)
     return 0
 
 

@@ -245,23 +245,38 @@ def value_unit(columns, path: Path, header_row: int) -> tuple[str | None, str | 
     return next(iter(found.values()), None), next(iter(found), None)
 
 
+def value_column(columns) -> str | None:
+    """The header name of a table's Allan-deviation or Allan-variance column (``avar``,
+    ``sigma (deg/h)``, ``allanvar``), as the file writes it; None in the wide layout."""
+    return next((c for c in columns if canonical(c) in ("adev", "avar")), None)
+
+
 def channel_unit(name, written: str | None, column: str | None, path: Path, row: int,
-                  header_row: int, named: bool = False) -> tuple[str, str]:
+                  header_row: int, named: bool = False, value_col: str | None = None) -> tuple[str, str]:
     """(channel, unit tag) of a table's channel ``name`` — a cell of the channel column (file row
     ``row``), or the channel the caller ``named`` for a table without one — its unit from the name
     (``gyro_x_dps``) or the one ``written`` in the ``column`` header (``adev [deg/h]``, row
-    ``header_row``); two that disagree are refused."""
+    ``header_row``); two that disagree are refused. ``value_col``: the table's ADEV or AVAR column
+    as the file names it (:func:`value_column`), named when no unit is written anywhere — an
+    ``avar`` column is asked for its unit as a square, ``avar [(deg/h)^2]``."""
     text = str(name).strip()
     bare = u.CHANNEL_NAME_ALIASES.get(text.lower(), text.lower())
-    at, field = (header_row, column or "adev") if named else (row, "channel")
+    value_col = column or value_col or "adev"
+    variance = canonical(value_col) == "avar"
+    at, field = (header_row, value_col) if named else (row, "channel")
     if written is None:
         if bare in u.CHANNELS:
             kind = "gyro" if bare.startswith("gyro") else "accel"
             tags = "|".join(u.CHANNEL_UNIT_TAGS[kind])
+            what = "Allan variance" if variance else "ADEV"
+            base = _split(value_col)[0].strip() or value_col
+            form = f"{base} [(unit)^2] (the square of a rate unit)" if variance else f"{base} [unit]"
             raise InputError(f"no unit for {bare}: the table writes it neither in the channel name "
-                             f"({bare}_{tags}) nor in brackets after the ADEV column's name", file=path,
+                             f"({bare}_{tags}) nor in brackets after the {what} column's name "
+                             f"({value_col!r})", file=path,
                              row=at, field=field, value=None if named else name,
-                             expected="adev [unit] with unit one of " + ", ".join(u.HEADER_CHANNEL_UNITS[kind]))
+                             expected=f"{form} with unit one of " + ", ".join(u.HEADER_CHANNEL_UNITS[kind])
+                                      + (f", e.g. {base} [(deg/h)^2]" if variance and kind == "gyro" else ""))
         try:
             return u.split_channel_column(text)
         except ValueError as err:

@@ -62,7 +62,7 @@ from ..errors import DIGITISED_WAY, TABLE_RATE_WAY, InputError
 from ..fileio import read_text, require_file
 from .allan import AllanResult, confidence_interval, edf_simple, noise_type_from_slope
 from .adev_columns import (canonical, channel_unit, is_row_index, long_layout, table_header, tau_to_seconds,
-                           value_unit)
+                           value_column, value_unit)
 from .logs import decimal_comma
 
 REQUIRED = ("channel", "tau_s", "adev")
@@ -157,6 +157,7 @@ def read_adev_table(path: str | Path, rate_hz: float | None = None, samples: int
         df = df.drop(columns=[df.columns[0]])
     tau_factor = tau_to_seconds(df.columns, path, 1 + pre)
     written, written_col = value_unit(df.columns, path, 1 + pre)
+    value_col = value_column(df.columns)  # as the file names it, for a refusal
     wanted = None if channels is None else [str(c).strip() for c in channels]
     has_channel_column = any(canonical(c) == "channel" for c in df.columns)
     df, file_rows, wide = long_layout(df, path, header_row=1 + pre, channels=wanted)
@@ -184,7 +185,7 @@ def read_adev_table(path: str | Path, rate_hz: float | None = None, samples: int
         pos = np.flatnonzero((df["channel"] == name).to_numpy())
         rows = file_rows[pos]
         ch, unit = channel_unit(name, None if wide else written, written_col, path, int(rows[0]) + 2,
-                                 1 + pre, named=not has_channel_column)
+                                 1 + pre, named=not has_channel_column, value_col=value_col)
         if ch in out:
             raise InputError(f"channel {ch} appears under two unit tags", file=path,
                              row=int(rows[0]) + 2, field="channel", value=name)

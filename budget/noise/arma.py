@@ -61,6 +61,8 @@ MIN_CORRELATION_TIMES = 50.0
 #: the scatter of a periodogram averaged over 100 segments (4.34/√K dB): a spectrum no record of
 #: ordinary length can tell apart from the lower order's.
 REDUNDANT_PAIR_DB = 0.5
+#: Level of the ADF test below which a unit root is rejected (the checks' α).
+UNIT_ROOT_ALPHA = 0.05
 
 
 def order_name(p: int, q: int) -> str:
@@ -310,8 +312,13 @@ def _fit_mle(x: np.ndarray, p: int, q: int, ls, var: float) -> ArmaFit:
                    bse, converged, notes + (() if converged else ("maximum likelihood did not converge",)))
 
 
-def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = True) -> ArmaSelection:
-    """Fit every candidate order and select by AIC (stationary and invertible models first)."""
+def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = True,
+                unit_root_p: float | None = None) -> ArmaSelection:
+    """Fit every candidate order and select by AIC (stationary and invertible models first).
+
+    ``unit_root_p``: the p-value of the series' ADF test (:func:`budget.noise.checks.adf_test`,
+    as the pipeline's checks made it); None: made here when the record is short for the selected
+    model's correlation time, which is when it decides what the note on it says."""
     x = _check_series(x)
     orders = check_orders(orders)
     mean = float(x.mean()) if demean else 0.0
@@ -345,11 +352,21 @@ def select_arma(x, orders=DEFAULT_ORDERS, method: str = "ls", *, demean: bool = 
                      "gain (real motion too), and its variance reduction is that scaling, not noise removed")
     times = x.size * (1.0 - best.ar_root_max)
     if best.stationary and times < MIN_CORRELATION_TIMES:
-        notes.append(f"record short for the model's correlation time: largest AR root ρ = "
-                     f"{best.ar_root_max:.4f}, n(1 − ρ) = {times:.0f} correlation times (expected ≥ "
-                     f"{MIN_CORRELATION_TIMES:g}); the series' variance (R of the filter) is uncertain "
-                     f"by about {100 * math.sqrt(2.0 / max(times, 1e-9)):.0f} % and ρ is biased low — a "
-                     "longer record is needed"
+        if unit_root_p is None:  # a random walk's record is "short" at any length: tell which
+            from .checks import ADF_MAX_LAG, adf_test, decorrelation_lag
+            unit_root_p = adf_test(xc, min(decorrelation_lag(xc), ADF_MAX_LAG), "c")[1]
+        text = (f"record short for the model's correlation time: largest AR root ρ = "
+                f"{best.ar_root_max:.4f}, n(1 − ρ) = {times:.0f} correlation times (expected ≥ "
+                f"{MIN_CORRELATION_TIMES:g}); the series' variance (R of the filter) is uncertain "
+                f"by about {100 * math.sqrt(2.0 / max(times, 1e-9)):.0f} % and ρ is biased low")
+        if unit_root_p >= UNIT_ROOT_ALPHA:
+            # n(1 − ρ̂) of a random walk does not grow with n (ρ̂ → 1 as fast): no record is long enough
+            text += (f" — but ADF cannot reject a unit root (p = {unit_root_p:.3g}): the series may be a "
+                     "random walk, for which a longer record does not help; characterise it with the "
+                     "Allan variance as rate random walk instead (sar-budget noise characterize)")
+        else:
+            text += (" — a longer record is needed"
                      + (" (ρ near 1: a random walk, rate random walk, may describe it better)"
                         if best.ar_root_max > 0.99 else ""))
+        notes.append(text)
     return ArmaSelection(fits, best, best_fpe, mean, tuple(notes))

@@ -9,14 +9,19 @@ Per channel: overlapping Allan deviation (or the measured table) → IEEE-952 fi
 * ``accel_vrw_m_s_rt_h`` = N·60 in m/s/√h; ``accel_bias_instability_ug`` = √(2 ln2/π)·B in µg.
 
 Axes are combined by the **worst axis** rule: each column takes the largest value over the
-axes where the term was found (absent everywhere → empty). A term the fit does not resolve gets
-its upper limit from the curve (:func:`~budget.noise.terms.upper_limits`), in the column's unit,
-in the summary, the JSON (``row_limits``, per channel ``limits``) and the row's notes ("RRW not
-resolved: ≤ X deg/h/√h at 95 %"); never as the column's value (an absent term stays empty, a
-fitted but unresolved one keeps its fitted value, said to be unresolved). Q and R have no catalog column; they
-are kept per channel. Grade, unless given: the best grade of the catalog's grades table whose
-upper gyro bias and gyro ARW limits both hold the measured values (gyros decide when present,
-otherwise the accelerometer bias and noise limits).
+axes where the term was *resolved* (:func:`~budget.noise.terms.fit_noise_terms`). A term no axis
+resolves leaves its column **empty** — the catalog's "not specified", which a Monte Carlo fills
+from the grade or takes as 0 and says so (:mod:`budget.catalog.fill`) — whether the fit found
+nothing or a value it cannot pin down: an unresolved RRW written as a figure (fitted 60.7
+deg/h/√h, ± 29 %, on a record whose truth was 20) was simulated as if a datasheet gave it. What
+was left empty, the value fitted and why are in :attr:`Characterization.left_empty`, the summary,
+the JSON (``left_empty``) and the row's notes. A term not resolved gets its upper limit from the
+curve (:func:`~budget.noise.terms.upper_limits`), in the column's unit, in the summary, the JSON
+(``row_limits``, per channel ``limits``) and the row's notes ("RRW not resolved: ≤ X deg/h/√h at
+95 %"); never as the column's value. Q and R have no catalog column; they are kept per channel.
+Grade, unless given: the best grade of the catalog's grades table whose upper gyro bias and gyro
+ARW limits both hold the row's values (gyros decide when present, otherwise the accelerometer
+bias and noise limits).
 """
 
 from __future__ import annotations
@@ -38,10 +43,16 @@ from .allan import AllanResult, allan_deviation
 from .logs import ImuLog
 from .spikes import find_spikes
 from .stationarity import check_stationarity, record_rows
-from .terms import FLICKER, TERMS, NoiseTerms, fit_noise_terms
+from .terms import FLICKER, FLOOR_NAME, TERMS, NoiseTerms, fit_noise_terms
 
 COMBINE_RULE = ("worst axis: each catalog column is the largest value over the axes where the "
-                "term was found; bias instability as the Allan floor 0.664·B (adev_min)")
+                "term was resolved (none: left empty); bias instability as the Allan floor 0.664·B "
+                "(adev_min)")
+#: What an empty column of the row means downstream (:mod:`budget.catalog.fill`), said with the
+#: columns :func:`characterize` leaves empty.
+EMPTY_MEANING = ("an empty cell is the catalog's 'not specified': a Monte Carlo fills an empty ARW "
+                 "or VRW from the grade's typical value and takes an empty in-run bias instability or "
+                 "RRW as 0, and lists each")
 
 
 @dataclass
@@ -62,6 +73,9 @@ class Characterization:
     #: implausible mean, rows dropped or values interpolated on request), one line each; empty
     #: for Allan tables
     log_findings: list[str] = field(default_factory=list)
+    #: {catalog column: why it is empty} for each column some axis fitted a value for but no axis
+    #: resolved: the value fitted (column unit), the axis, the limit (module doc)
+    left_empty: dict[str, str] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """``{"part": row fields, "channels": {ch: {Q, N, B, K, R}}, ..., "options": {...}}`` (SI
@@ -75,6 +89,7 @@ class Characterization:
                 "limit_level": {ch: t.limit_level for ch, t in self.channels.items()},
                 "uncertainty_known": {ch: t.uncertainty_known for ch, t in self.channels.items()},
                 "row_limits": {col: lim for col, (lim, _) in _column_limits(self.part, self.channels).items()},
+                "left_empty": dict(self.left_empty),
                 "notes": list(self.notes), "warnings": list(self.warnings),
                 "log_findings": list(self.log_findings), "options": dict(self.options)}
 
@@ -86,24 +101,35 @@ class Characterization:
             rows.append(f)
         return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame()
 
+    def empty_fields_text(self) -> str | None:
+        """One line naming the row's columns left empty because no axis resolved their term, the
+        value fitted and what an empty cell means downstream; None when none was left empty."""
+        if not self.left_empty:
+            return None
+        return ("left empty in the catalog row (not resolved): "
+                + "; ".join(f"{col} — {why}" for col, why in self.left_empty.items())
+                + f" — {EMPTY_MEANING}")
+
     def summary(self) -> str:
         p = self.part
-        weak = set(_unresolved_columns(self.channels))
         limits = _column_limits(p, self.channels)
+        fitted = _fitted_unresolved(self.channels)
 
         def v(col, unit):  # 4 significant digits; a term not found or not resolved is said so,
             x = getattr(p, col)  # with the largest value the curve allows
             lim = f"≤ {limits[col][0]:.3g} {unit} {limits[col][1]}" if col in limits else ""
+            if x is None and col in fitted:
+                return (f"left empty (fitted {fitted[col][0]:.3g} {unit} on {fitted[col][1]}, not resolved"
+                        + (f"; {lim}" if lim else "") + ")")
             if x is None:
                 return f"not resolved ({lim})" if lim else "not found"
-            return (f"{x:.4g} {unit}" + (" (not resolved)" if col in weak else "")
-                    + (f", {lim}" if lim else ""))
+            return f"{x:.4g} {unit}" + (f", {lim}" if lim else "")
 
         rate = "rate not known" if p.rate_hz is None else f"rate {p.rate_hz:g} Hz"
         lines = [f"part {p.part_id} ({p.grade}), {rate}",
-                 f"  gyro  ARW {v('gyro_arw_deg_rt_h', 'deg/√h')}, bias instability "
+                 f"  gyro  ARW {v('gyro_arw_deg_rt_h', 'deg/√h')}, {FLOOR_NAME} "
                  f"{v('gyro_bias_instability_deg_h', 'deg/h')}, RRW {v('gyro_rrw_deg_h_rt_h', 'deg/h/√h')}",
-                 f"  accel VRW {v('accel_vrw_m_s_rt_h', 'm/s/√h')}, bias instability "
+                 f"  accel VRW {v('accel_vrw_m_s_rt_h', 'm/s/√h')}, {FLOOR_NAME} "
                  f"{v('accel_bias_instability_ug', 'µg')}",
                  f"  axes combined: {self.combine_rule}"]
         lines += [t.summary() for t in self.channels.values()]
@@ -151,34 +177,56 @@ _COLUMN_TERMS = {"gyro_arw_deg_rt_h": ("gyro", "N"), "gyro_bias_instability_deg_
                  "accel_bias_instability_ug": ("accel", "B")}
 
 
-def _unresolved_columns(fits: Mapping[str, NoiseTerms]) -> list[str]:
-    """Catalog columns whose value (the worst axis's term) comes from a fit that did not resolve
-    the term (< 2σ): a number the record cannot pin down, to be said wherever the row goes."""
+def _fitted_unresolved(fits: Mapping[str, NoiseTerms]) -> dict[str, tuple[float, str]]:
+    """{catalog column: (largest value fitted, in the column's unit; its axis)} for each column
+    whose term some axis fitted but no axis resolved: a number the record cannot pin down, left
+    out of the row (module doc)."""
+    out = {}
+    for col, (sensor, term) in _COLUMN_TERMS.items():
+        axes = {c: t for c, t in fits.items() if c.startswith(sensor) and t.values[term] is not None}
+        if axes and not any(t.resolved[term] for t in axes.values()):
+            ch = max(axes, key=lambda c: axes[c].values[term])
+            out[col] = (float(_COLUMN_LIMITS[col][2](axes[ch].values[term])), ch)
+    return out
+
+
+def _unresolved_axes(fits: Mapping[str, NoiseTerms], row: Mapping[str, float | None]) -> list[str]:
+    """Notes for the columns whose value comes from the axes that resolve the term while another
+    axis fitted a larger value it does not resolve: that larger value is not the row's (the worst
+    axis is taken over resolved terms); how large it may be is the limit of :func:`_limit_notes`."""
     out = []
     for col, (sensor, term) in _COLUMN_TERMS.items():
-        found = [t for c, t in fits.items() if c.startswith(sensor) and t.values[term] is not None]
-        if found and not max(found, key=lambda t: t.values[term]).resolved[term]:
-            out.append(col)
+        value = row.get(col)
+        if value is None:
+            continue
+        conv = _COLUMN_LIMITS[col][2]
+        larger = [f"{c} ({float(conv(t.values[term])):.3g} {_COLUMN_LIMITS[col][1]})" for c, t in fits.items()
+                  if c.startswith(sensor) and t.values[term] is not None and not t.resolved[term]
+                  and float(conv(t.values[term])) > value]
+        if larger:
+            out.append(f"{col}: the worst axis that resolves it; a larger value fitted but not resolved on "
+                       + ", ".join(larger) + " is not the row's")
     return out
 
 
 #: catalog column → (its words in a note, the conversion of the term's SI limit to the column's unit)
 _COLUMN_LIMITS = {
     "gyro_arw_deg_rt_h": ("ARW", "deg/√h", u.rad_s_rt_hz_to_deg_rt_h),
-    "gyro_bias_instability_deg_h": ("gyro bias instability (floor 0.664·B)", "deg/h",
+    "gyro_bias_instability_deg_h": (f"gyro {FLOOR_NAME}", "deg/h",
                                     lambda b: u.rad_s_to_deg_h(math.sqrt(FLICKER) * b)),
     "gyro_rrw_deg_h_rt_h": ("RRW", "deg/h/√h", u.rad_s_rt_s_to_deg_h_rt_h),
     "accel_vrw_m_s_rt_h": ("VRW", "m/s/√h", u.m_s2_rt_hz_to_m_s_rt_h),
-    "accel_bias_instability_ug": ("accel bias instability (floor 0.664·B)", "µg",
+    "accel_bias_instability_ug": (f"accel {FLOOR_NAME}", "µg",
                                   lambda b: u.m_s2_to_ug(math.sqrt(FLICKER) * b)),
 }
 
 
 def _column_limits(part: PartSpec, fits: Mapping[str, NoiseTerms]) -> dict[str, tuple[float, str]]:
     """{catalog column: (upper limit in the column's unit, its level in words)} for each column
-    whose term some axis does not resolve and whose row value does not already exceed that
-    axis's limit: the largest limit over those axes (the worst axis can be no larger). Levels
-    differ only when a digitised curve is mixed with others (the loosest wording is kept)."""
+    whose term some axis does not resolve and whose row value (resolved terms only) does not
+    already exceed that axis's limit: the largest limit over those axes (the worst axis can be no
+    larger). Levels differ only when a digitised curve is mixed with others (the loosest wording
+    is kept)."""
     out = {}
     for col, (sensor, term) in _COLUMN_TERMS.items():
         axes = [t for c, t in fits.items() if c.startswith(sensor) and (t.limits or {}).get(term) is not None]
@@ -187,8 +235,7 @@ def _column_limits(part: PartSpec, fits: Mapping[str, NoiseTerms]) -> dict[str, 
         conv = _COLUMN_LIMITS[col][2]
         lim = max(float(conv(t.limits[term])) for t in axes)
         value = getattr(part, col)
-        resolved_value = value is not None and col not in _unresolved_columns(fits)
-        if resolved_value and value >= lim:
+        if value is not None and value >= lim:
             continue
         levels = {t.limit_level for t in axes}
         level = ("from the digitised curve's values, no confidence level" if None in levels
@@ -204,21 +251,15 @@ def _limit_notes(part: PartSpec, fits: Mapping[str, NoiseTerms]) -> list[str]:
 
 
 def _row_values(fits: Mapping[str, NoiseTerms]) -> dict[str, float | None]:
-    g = [t for c, t in fits.items() if c.startswith("gyro")]
-    a = [t for c, t in fits.items() if c.startswith("accel")]
-    arw = _worst([t.N for t in g])
-    bi = _worst([t.bias_instability_floor for t in g])
-    rrw = _worst([t.K for t in g])
-    vrw = _worst([t.N for t in a])
-    abi = _worst([t.bias_instability_floor for t in a])
-    conv = lambda f, v: None if v is None else float(f(v))
-    return {
-        "gyro_arw_deg_rt_h": conv(u.rad_s_rt_hz_to_deg_rt_h, arw),
-        "gyro_bias_instability_deg_h": conv(u.rad_s_to_deg_h, bi),
-        "gyro_rrw_deg_h_rt_h": conv(u.rad_s_rt_s_to_deg_h_rt_h, rrw),
-        "accel_vrw_m_s_rt_h": conv(u.m_s2_rt_hz_to_m_s_rt_h, vrw),
-        "accel_bias_instability_ug": conv(u.m_s2_to_ug, abi),
-    }
+    """{catalog column: the worst axis's value in the column's unit} over the axes that resolve
+    the term (ARW/VRW = N, bias instability = its Allan floor 0.664·B, RRW = K); None when none
+    does (module doc)."""
+    out = {}
+    for col, (sensor, term) in _COLUMN_TERMS.items():
+        worst = _worst([t.values[term] for c, t in fits.items()
+                        if c.startswith(sensor) and t.resolved[term]])
+        out[col] = None if worst is None else float(_COLUMN_LIMITS[col][2](worst))
+    return out
 
 
 def infer_grade(row: Mapping[str, float | None]) -> str:
@@ -272,8 +313,11 @@ def _drift_warning(ch: str, t: NoiseTerms, x: np.ndarray | None, rate_hz: float 
     """
     gyro = ch.startswith("gyro")
     conv, unit = (u.rad_s_to_deg_h, "deg/h") if gyro else (u.m_s2_to_ug, "µg")
+    sigma = t.sigmas.get("R")  # None for a digitised curve: no record, no uncertainty to quote
     text = (f"rate ramp resolved: R = {conv(t.values['R'] * u.HOUR):.3g} {unit} per hour "
-            f"(± {conv(t.sigmas['R'] * u.HOUR):.2g})")
+            + (f"(± {conv(sigma * u.HOUR):.2g})" if sigma is not None and math.isfinite(sigma)
+               else "(uncertainty unknown: digitised curve)" if not t.uncertainty_known
+               else "(uncertainty not computed)"))
     if x is not None and rate_hz and x.size >= 2 * DRIFT_BLOCKS:
         m = x[: x.size // DRIFT_BLOCKS * DRIFT_BLOCKS].reshape(DRIFT_BLOCKS, -1).mean(axis=1)
         text += (f"; the {x.size / rate_hz / DRIFT_BLOCKS:.3g}-s block means span "
@@ -405,13 +449,16 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
     misfit_warnings += [short] if short else []
     text = source or f"measured: {origin}, IEEE-952 Allan-variance fit"
     row_notes = f"axes combined by {COMBINE_RULE}"
-    weak_cols = _unresolved_columns(fits)
-    if weak_cols:
-        weak_text = (f"{', '.join(weak_cols)}: fitted but not resolved (variance coefficient within "
-                     "2σ of 0, or above the curve's uncertainty over less than an octave of τ) on "
-                     "the worst axis — the record cannot pin this value down")
-        notes.append(weak_text)
-        row_notes += f"; {weak_text}"
+    left_empty = {col: (f"fitted {v:.3g} {_COLUMN_LIMITS[col][1]} on {ch} but not resolved (variance "
+                        "coefficient within 2σ of 0, or above the curve's uncertainty over less than an "
+                        "octave of τ): the record cannot pin it down")
+                  for col, (v, ch) in _fitted_unresolved(fits).items()}
+    for col, why in left_empty.items():
+        notes.append(f"{col} left empty: {why}")
+        row_notes += f"; {col} left empty: {why}"
+    for partial in _unresolved_axes(fits, values):
+        notes.append(partial)
+        row_notes += f"; {partial}"
     probe = PartSpec.model_construct(**values)  # the row's values, for the limits to compare with
     limit_notes = _limit_notes(probe, fits)
     notes += limit_notes
@@ -444,7 +491,7 @@ def characterize(data: ImuLog | Mapping[str, AllanResult], *, part_id: str = "me
                "keep_spikes": bool(keep_spikes)}
     return Characterization(part, fits, allan, COMBINE_RULE, notes, options,
                             spike_warnings + [f"{i.column}: {i.message}" for i in regimes]
-                            + drift_warnings + misfit_warnings, log_findings)
+                            + drift_warnings + misfit_warnings, log_findings, left_empty)
 
 
 def log_findings_of(log: ImuLog) -> list[str]:

@@ -157,13 +157,23 @@ def stamp_resolution(dt: np.ndarray, period: float) -> float | None:
 COARSE_ZERO_SHARE = 0.05
 
 
+#: A positive step of stamps rounded coarser than the period is a whole multiple of their
+#: quantum within this fraction of it. Stamps rounded twice — float32 values (quantum 2⁻⁷ s =
+#: 7.8125 ms at 86 400 s) printed to 0.1 ms — step by 0.0078 and 0.0079 s, 1.3 % apart; steps of
+#: no common quantum would each pass by chance with probability 0.1, so all of a log's hundreds
+#: of steps do not.
+COARSE_MULTIPLE_TOL = 0.05
+
+
 def coarse_resolution(t: np.ndarray, same: np.ndarray | None = None) -> float | None:
     """The resolution (s) of time stamps rounded coarser than the sampling period — integer
     milliseconds at 2 kHz step by 0 or 1 ms, seconds since the epoch printed to 9 digits by 0 or
-    1 s — or None. Such stamps never step back, at least :data:`COARSE_ZERO_SHARE` of their
-    steps are zero (``same``: steps whose row repeats the one before entirely, duplicate rows,
-    left out) and each positive step is a whole multiple of the smallest. Read as
-    "non-increasing time" they would send a user to a repair that drops half the samples."""
+    1 s, float32 stamps at 1 kHz from 86 400 s by 0 or 7.8 ms — or None. Such stamps never step
+    back, at least :data:`COARSE_ZERO_SHARE` of their steps are zero (``same``: steps whose row
+    repeats the one before entirely, duplicate rows, left out) and each positive step is a whole
+    multiple of a quantum (within :data:`COARSE_MULTIPLE_TOL`: the median positive step, then
+    the least-squares quantum of them all, Σ steps / Σ multiples). Read as "non-increasing
+    time" they would send a user to a repair that drops half the samples."""
     dt = np.diff(t)
     if same is not None:
         dt = dt[~same]
@@ -173,9 +183,22 @@ def coarse_resolution(t: np.ndarray, same: np.ndarray | None = None) -> float | 
     pos = dt[dt > 0]
     if not pos.size or dt.size - pos.size < COARSE_ZERO_SHARE * dt.size:
         return None
-    q = float(pos.min())
-    k = pos / q
-    return q if np.all(np.abs(k - np.rint(k)) <= 0.01) else None
+    k = pos / float(np.median(pos))
+    whole = np.rint(k)
+    if np.any(whole < 1) or np.any(np.abs(k - whole) > COARSE_MULTIPLE_TOL):
+        return None
+    return float(pos.sum() / whole.sum())
+
+
+def float32_stamps(t: np.ndarray, q: float) -> bool:
+    """True when stamps ``t`` (s) quantised to ``q`` (s) look like float32 values: ``q`` is the
+    spacing of float32 numbers (2^(⌊log₂|t|⌋ − 23), a 24-bit significand) at the stamps' largest
+    magnitude, within 2 % (or at the smallest, for stamps that cross a power of two)."""
+    fin = np.abs(t[np.isfinite(t) & (t != 0)])
+    if not fin.size or not q > 0:
+        return False
+    return any(abs(q / 2.0 ** (math.floor(math.log2(m)) - 23) - 1) <= 0.02
+               for m in (float(fin.max()), float(fin.min())))
 
 
 def coarse_time_span_check(t: np.ndarray, q: float, rate_hz: float, column: str) -> LogIssue:
@@ -387,9 +410,11 @@ def _time_issues(data: np.ndarray, ti: int) -> list[LogIssue]:
         fin = t[np.isfinite(t)]
         span = float(fin[-1] - fin[0])
         said = f" (≈ {(fin.size - 1) / span:.6g} Hz from their span)" if span > 0 else ""
+        why = (f" — float32 stamps: a 24-bit significand resolves {q * 1e3:.3g} ms at "
+               f"{float(np.max(np.abs(fin))):.6g} s" if float32_stamps(fin, q) else "")
         issues.append(LogIssue("coarse_time", "error",
                                f"time stamps are rounded to {q:.3g} s, coarser than the sampling "
-                               f"period{said}: {zero.size} of {dt.size} steps are zero, so the "
+                               f"period{said}{why}: {zero.size} of {dt.size} steps are zero, so the "
                                "samples' rate, order and gaps cannot be read from them",
                                int(zero.size), listed_rows(zero), "time"))
         return issues

@@ -296,8 +296,8 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
     the file's name; UTF-8 with or without a byte-order mark, or UTF-16/32 with one) into an :class:`ImuLog` (SI units).
 
     ``mapping`` renames non-canonical columns; ``rate_hz`` (or ``mapping.rate_hz``) is needed
-    when there is no time column and overrides the rate derived from time stamps (with a
-    warning if they disagree by more than 1 %). ``channels`` restricts which sensor channels are
+    when there is no time column; with one, it may only confirm the rate of the time stamps
+    (a rate that differs by more than 1 % is refused, naming the column: :func:`_rate`). ``channels`` restricts which sensor channels are
     kept (e.g. ``["gyro_z"]``); ``max_rows`` reads only the first rows. Error-level issues raise
     :class:`LogError` unless ``repair`` — then they are repaired and listed in ``issues.repairs``.
     A transient event below full scale (a knock) that decides a channel's Allan fit is refused,
@@ -387,7 +387,10 @@ def read_log(path: str | Path, mapping: LogMapping | None = None, repair: bool =
         raise InputError(f"only {n} sample(s)", file=path,
                          expected=f"at least {min_samples} samples for the requested analysis")
     time_s = data[:, plan.time_index] if plan.time_index is not None else None
-    rate = float(rate_given) if coarse is not None else _rate(time_s, rate_given, report, path)
+    rate = (float(rate_given) if coarse is not None else
+            _rate(time_s, rate_given, path,
+                  *((plan.sources[plan.time_index], plan.factors[plan.time_index], clock is not None)
+                    if plan.time_index is not None else ())))
     chans = {ch: data[:, plan.channel_index[ch]] for ch in CHANNELS if ch in plan.channel_index}
     temp = data[:, plan.temp_index] + plan.temp_offset_c if plan.temp_index is not None else None
     if temp is not None:
@@ -466,20 +469,40 @@ def _restrict(plan: ColumnPlan, wanted: list[str], path: Path) -> ColumnPlan:
 
 #: Below this rate (Hz) derived from the time stamps, the log says it may be a time unit slip.
 LOW_RATE_HZ = 1.0
+#: A given rate (``--rate-hz``, ``rate_hz=``, a mapping's ``rate_hz``) may differ from the rate of
+#: the log's own time stamps by this fraction of itself: a clock's ppm drift and the jitter the
+#: checks warn about (:data:`~budget.noise.log_checks.JITTER_WARN`, 1 %) stay inside it.
+RATE_TOLERANCE = 0.01
 
 
-def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, path: Path) -> float:
+def _rate(time_s: np.ndarray | None, given: float | None, path: Path,
+          column: str | None = None, factor: float = 1.0, clock: bool = False) -> float:
+    """The sampling rate (Hz) of a log: the one ``given`` when the log has no time column, else
+    the rate of its time stamps ``time_s`` (s), which a given rate may only confirm.
+
+    Every time column the reader takes declares its unit — in its name (``time_ms``), in
+    brackets (``t [ms]``), through a mapping (``"t": "time_us"``) — or holds clock text, read in
+    seconds: there is no time column of unknown unit. So a given rate that differs from the
+    stamps' by more than :data:`RATE_TOLERANCE` contradicts the file, whatever the factor: a
+    factor of 10³ or 10⁶ is a column in ms or µs under a name that says seconds (or the reverse),
+    and the remedy is that column's unit, not a rate that overrides it (accepted with a warning,
+    0.1 Hz given for 100 Hz stamps wrote a catalog row with ARW ×√1000). Refused (:class:`InputError`
+    naming the file, the column and both rates), as stamps below :data:`LOW_RATE_HZ` with no rate
+    given are: the two ways to a rate then agree — the stamps decide it, a given rate confirms it.
+    ``column``: the time column's name in the file; ``factor``: its declared unit in seconds
+    (1e-3 for ms); ``clock``: it holds clock text — for the messages."""
     if time_s is None:
         return float(given)
+    col = column or "time"
     period = lc.nominal_period(time_s)
     if period is None:
         if given is None:
             raise InputError("cannot derive the sampling rate: time stamps never increase",
-                             file=path, expected="increasing time_s, or rate_hz")
+                             file=path, field=col, expected="increasing time_s, or rate_hz")
         return float(given)
     rate = 1.0 / period
     if lc.check_rate(rate) and given is None:
-        raise InputError(lc.check_rate(rate), file=path, field="time")
+        raise InputError(lc.check_rate(rate), file=path, field=col)
     # time stamps printed with finite decimals: a whole rate within what they resolve over the
     # record's span (rounded stamps, lc.stamp_resolution) is that rate
     res = lc.stamp_resolution(np.diff(time_s), period) or 0.0
@@ -487,26 +510,47 @@ def _rate(time_s: np.ndarray | None, given: float | None, report: lc.LogReport, 
     if abs(rate - round(rate)) <= max(1e-6, res / span if span > 0 else 0.0) * rate:
         rate = float(round(rate))
     if given is not None:
-        if abs(given - rate) > 0.01 * given:
-            # a factor of 10³ or 10⁶ is a time column in ms or µs read as s: the given rate is
-            # the remedy the low-rate warning suggests; any other factor contradicts the file
-            slip = any(abs(given / rate / f - 1) <= 0.02 for f in (1e3, 1e6, 1e-3, 1e-6))
-            if not slip:
-                raise InputError(f"the time stamps give {rate:.6g} Hz, the given rate is {given:.6g} Hz "
-                                 f"(×{given / rate:.4g}); every noise figure scales with the rate", file=path,
-                                 field="rate_hz", value=given,
-                                 expected="no --rate-hz for a log with a time column, or a time column "
-                                          "that agrees with it (within 1 %)")
-            report.issues.append(lc.LogIssue(
-                "rate_mismatch", "warning", f"time stamps give {rate:.6g} Hz but {given:.6g} Hz "
-                "was given (a time unit slip, ×10³ or ×10⁶?); using the given rate", 0, (), "time"))
+        if abs(given - rate) > RATE_TOLERANCE * given:
+            raise _rate_contradiction(path, col, rate, float(given), factor, clock)
         return float(given)
     if rate < LOW_RATE_HZ:
         # possible for an averaged log, but it is what 100 Hz stamps written in ms under time_s
         # give, and a warning let ARW 31.6× too large into a catalog row: the user confirms it
         raise InputError(f"the time stamps give {rate:.6g} Hz, below {LOW_RATE_HZ:g} Hz: an IMU log that slow "
                          "is rare, and it is what stamps in ms (µs) under a time_s header give; every noise "
-                         "figure scales with the rate", file=path, field="time",
+                         "figure scales with the rate", file=path, field=col,
                          expected=f"a time column named after its unit (time_ms, time_us) "
                                   f"{LOG_TIME_UNIT_WAY.cli} to confirm {rate:.6g} Hz")
     return rate
+
+
+#: Time units a column may declare (seconds per unit → its name), for :func:`_rate_contradiction`.
+_TIME_UNITS = {1.0: "time_s", 1e-3: "time_ms", 1e-6: "time_us", 1e-9: "time_ns"}
+
+
+def _rate_contradiction(path: Path, column: str, rate: float, given: float, factor: float,
+                        clock: bool) -> InputError:
+    """The refusal of a given rate ``given`` (Hz) that contradicts the ``rate`` (Hz) of the time
+    stamps of ``column`` (declared unit ``factor`` s; ``clock``: clock text). When another time
+    unit would make the stamps give the rate given — the column in ms under a name that says s:
+    a factor of 10³ — that unit is named as the other remedy (a mapping to it); otherwise the
+    given rate is what is wrong, and leaving it out is the remedy."""
+    ratio = given / rate
+    unit = None if clock else next((name for f, name in _TIME_UNITS.items()
+                                    if f != factor and abs(factor * rate / given / f - 1) <= 0.02), None)
+    head = (f"the time stamps give {rate:.6g} Hz, the given rate is {given:.6g} Hz (×{ratio:.4g}, beyond "
+            f"the {RATE_TOLERANCE:.0%} a clock's drift or jitter explains): the time column {column!r} "
+            "declares its unit, and every noise figure scales with the rate")
+    # the remedy names the rate as LOG_RATE_WAY does, which each interface says in its own words
+    confirm = f"no rate given{LOG_RATE_WAY.cli} that agrees with them within {RATE_TOLERANCE:.0%}"
+    if unit is not None:
+        return InputError(head + f": if the column holds {unit.removeprefix('time_')} (its stamps then give "
+                          f"{given:.6g} Hz), its name or mapping must say so", file=path, field=column,
+                          value=given,
+                          expected=f"the column's true unit: a mapping {{\"columns\": {{\"{column}\": "
+                                   f"\"{unit}\"}}}} (or rename it {unit}); or, if the stamps are right "
+                                   f"({rate:.6g} Hz), {confirm}")
+    return InputError(head, file=path, field=column, value=given,
+                      expected=f"the stamps' {rate:.6g} Hz: {confirm}; if the stamps are wrong, the time "
+                               "column's true unit in its name (time_s, time_ms, time_us, time_ns) or "
+                               "header (time [ms])")

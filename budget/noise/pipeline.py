@@ -173,7 +173,8 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
                          expected="a series in SI (corrupt sample or wrong unit?)")
     if np.ptp(raw) > 0:
         check_magnitude(raw, channel)  # e.g. rms 1e-300: Pauta's σ underflowed to 0
-    pre = preprocess(raw, pauta_k=opt.pauta_k, replace=opt.replace, detrend_order=opt.detrend_order)
+    pre = preprocess(raw, pauta_k=opt.pauta_k, replace=opt.replace, detrend_order=opt.detrend_order,
+                     unit=channel_si_unit(channel))
     if np.ptp(pre.x) <= 1e-9 * np.max(np.abs(raw)):  # what is left is round-off, not noise
         if pre.outliers.size and np.ptp(raw) > 0:
             # the variation was a few isolated samples, all replaced by the outlier step
@@ -185,9 +186,9 @@ def analyse_arma(x, rate_hz: float, *, channel: str, options: ArmaOptions | None
         raise InputError("the channel holds no noise to model: it is constant (stuck or unused "
                          f"sensor) or an exact degree-{opt.detrend_order} trend", field=channel,
                          expected="a channel of a static IMU log with noise")
-    checks = check_series(pre.x)
+    checks = check_series(pre.x, detrend_order=opt.detrend_order)  # ADF with the trend removed
     try:
-        sel = select_arma(pre.x, opt.orders, opt.method, demean=False)
+        sel = select_arma(pre.x, opt.orders, opt.method, demean=False, unit_root_p=checks.adf_p)
     except InputError as err:  # about the preprocessed channel: name it
         raise InputError(err.reason, field=channel, value=err.value, expected=err.expected) from None
     kf = ArmaKalman(sel.selected, process_noise=opt.process_noise)

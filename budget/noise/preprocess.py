@@ -12,7 +12,11 @@
    samples (``replace="mean"``) or by the nearest earlier non-outlier sample
    (``replace="neighbour"``) — the two rules the paper allows. One pass, as in the paper.
 2. Polynomial detrend (order 1 or 2; 0 = none) by least-squares regression on time.
-3. Zero mean (the mean left after detrending is removed and reported).
+3. Zero mean (the mean left after detrending — round-off, the fit has a constant term — is removed).
+The offset reported is the constant actually taken out of the series by steps 2–3, in its unit:
+the series' mean (a least-squares polynomial with a constant leaves residuals of zero mean), not
+the round-off mean step 3 finds after a detrend (reported as "removed the mean -2.57e-20" for a
+gyro whose offset was 0.05 deg/s).
 Nothing is changed silently: the result lists every step and the outlier indices.
 """
 
@@ -38,8 +42,13 @@ class Preprocessed:
     x: np.ndarray
     outliers: np.ndarray          # indices replaced
     trend: np.ndarray             # polynomial coefficients (highest power first, t from −1 at the first sample to +1 at the last)
-    mean_removed: float
+    mean_removed: float           # the mean left after the detrend, removed by step 3 (unit of x)
     steps: tuple[str, ...]
+    #: the constant the preprocessing took out (steps 2–3): the mean of the series after the outlier
+    #: step less that of ``x`` (unit of x; module doc)
+    offset_removed: float = 0.0
+    #: the series' unit, as the steps name it ('' unknown)
+    unit: str = ""
 
     def summary(self) -> str:
         return "; ".join(self.steps)
@@ -49,7 +58,8 @@ class Preprocessed:
         first, t from −1 at the first sample to +1 at the last, as :func:`detrend` fits them), mean
         removed and the number of samples."""
         return {"steps": list(self.steps), "samples": int(self.x.size), "outliers": self.outliers.tolist(),
-                "trend": np.asarray(self.trend, float).tolist(), "mean_removed": float(self.mean_removed)}
+                "trend": np.asarray(self.trend, float).tolist(), "mean_removed": float(self.mean_removed),
+                "offset_removed": float(self.offset_removed), "unit": self.unit}
 
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"x": self.x})
@@ -142,8 +152,9 @@ def detrend(x: np.ndarray, order: int = 1) -> tuple[np.ndarray, np.ndarray]:
 
 
 def preprocess(x, *, pauta_k: float | None = 4.0, replace: str = "mean",
-               detrend_order: int = 1, zero_mean: bool = True) -> Preprocessed:
-    """Outliers → detrend → zero mean (each optional), as seed 000 §3.1."""
+               detrend_order: int = 1, zero_mean: bool = True, unit: str = "") -> Preprocessed:
+    """Outliers → detrend → zero mean (each optional), as seed 000 §3.1. ``unit``: the series'
+    unit (rad/s, m/s² for IMU channels), named with the offset and trend removed."""
     x = np.asarray(x, dtype=np.float64)
     if x.ndim != 1 or x.size < 3:
         raise InputError("expected a 1-D series of at least 3 samples", field="x")
@@ -159,11 +170,17 @@ def preprocess(x, *, pauta_k: float | None = 4.0, replace: str = "mean",
                      f"{'mean of the other samples' if replace == 'mean' else 'previous good sample'}"
                      + (f" ({kept} sample(s) beyond {pauta_k:g}σ kept: their neighbours predict them, "
                         "an excursion of a correlated series, not a spike)" if kept else ""))
+    level = float(x.mean())  # after the outlier step: what the offset is measured against
+    unit_text = f" {unit}" if unit else ""
     x, coef = detrend(x, detrend_order)
-    if detrend_order:
-        steps.append(f"removed a degree-{detrend_order} polynomial trend")
     mean = float(x.mean()) if zero_mean else 0.0
     if zero_mean:
         x = x - mean
-        steps.append(f"removed the mean {mean:.6g}")
-    return Preprocessed(x, outliers, coef, mean, tuple(steps) or ("nothing done",))
+    offset = level - float(x.mean())
+    if detrend_order:
+        change = float(np.polyval(coef, 1.0) - np.polyval(coef, -1.0))
+        steps.append(f"removed a degree-{detrend_order} polynomial trend: offset {offset:.6g}{unit_text} (the "
+                     f"series' mean), change {change:.3g}{unit_text} from the first sample to the last")
+    elif zero_mean:
+        steps.append(f"removed the offset {offset:.6g}{unit_text} (the series' mean)")
+    return Preprocessed(x, outliers, coef, mean, tuple(steps) or ("nothing done",), offset, unit)

@@ -68,8 +68,17 @@ from .allan import AllanResult
 
 TERMS = ("Q", "N", "B", "K", "R")
 FLICKER = 2.0 * math.log(2.0) / math.pi
-TERM_NAMES = {"Q": "quantization", "N": "white noise (ARW/VRW)", "B": "bias instability",
+#: The two bias-instability quantities, named here once and so wherever either is printed: the
+#: IEEE-952 coefficient B of a channel's fit (SI) and the Allan-deviation floor it sets,
+#: √(2 ln2/π)·B ≈ 0.664·B — the catalog's column (convention ``adev_min``, what vendors quote).
+#: One name for both read "bias instability 3.37 deg/h" beside "bias instability 2.46e-05 rad/s"
+#: (5.07 deg/h): two numbers, one name.
+B_NAME = "bias instability coefficient B"
+FLOOR_NAME = "bias instability (Allan floor 0.664·B)"
+TERM_NAMES = {"Q": "quantization", "N": "white noise (ARW/VRW)", "B": B_NAME,
               "K": "rate random walk", "R": "rate ramp"}
+#: Width of the name column of :meth:`NoiseTerms.summary`.
+_NAME_WIDTH = max(len(n) for n in TERM_NAMES.values())
 #: A term must exceed this many standard deviations of σ̂² (relative, at each τ) … over
 RESOLVE_Z = 2.0
 #: … a τ span of at least this ratio (an octave) to be resolved (module doc).
@@ -167,13 +176,16 @@ class NoiseTerms:
             v, s = self.values[t], self.sigmas[t]
             lim = self.limit_text(t)
             if v is None:
-                lines.append(f"  {t} {TERM_NAMES[t]:<24} absent" + (f", not resolved: {lim}" if lim else ""))
+                lines.append(f"  {t} {TERM_NAMES[t]:<{_NAME_WIDTH}} absent"
+                             + (f", not resolved: {lim}" if lim else ""))
             else:
                 # resolved = value² ≥ 2σ from 0 and above the curve's uncertainty over an octave
                 # (module doc); the ± is the value's own 1σ
                 flag = "" if self.resolved[t] else f"  (not resolved: {lim})" if lim else "  (not resolved)"
                 err = f" ± {s:.3g}" if s is not None else ""
-                lines.append(f"  {t} {TERM_NAMES[t]:<24} {v:.4g}{err} {units[t]}{flag}")
+                # B is not the catalog's figure: its Allan floor is, said beside it in the same unit
+                floor = f" (Allan floor 0.664·B = {math.sqrt(FLICKER) * v:.4g} {units[t]})" if t == "B" else ""
+                lines.append(f"  {t} {TERM_NAMES[t]:<{_NAME_WIDTH}} {v:.4g}{err} {units[t]}{floor}{flag}")
         return "\n".join(lines)
 
 
