@@ -224,18 +224,16 @@ def compute_bounds(scenario, mode: str = "paper", assumptions=None):
     ``no-autofocus`` take the scenario's ``platform_accel_m_s2`` and ``lever-arm`` its lever arm,
     turn rate and verdict window (:func:`budget.bounds.scenario_assumptions`). The table carries
     the scenario and the keys it left at their defaults (``scenario``, ``scenario_defaults`` in
-    ``to_dict()``; the defaults in words at the end of ``summary()``), as the CLI states them."""
-    from dataclasses import replace
-
-    from .bounds import check_bounds_tc, compute_bounds as _bounds, scenario_assumptions, scenario_keys
+    ``to_dict()``; the defaults in words at the end of ``summary()``) and what it holds that the
+    bounds do not use (``scenario_notes``: a ``platform_accel_m_s2`` seed 004's paper bounds replace by
+    g, :func:`budget.bounds.accel_level_note`), as the CLI states them."""
+    from .bounds import check_bounds_tc, compute_bounds as _bounds, for_scenario, scenario_assumptions
 
     s = load_scenario(scenario)
     check_bounds_tc(s.tc_s, field="tc_s (derived)")
     table = _bounds([s.tc_s], s.range_resolution_m, mode, wavelength_m=s.wavelength_m,
                     assumptions=scenario_assumptions(mode, s, assumptions))
-    keys = scenario_keys(mode)
-    return replace(table, scenario=s.model_dump(mode="json"), scenario_defaults=s.defaults_taken(keys),
-                   defaults_note=s.defaults_note(keys))
+    return for_scenario(table, s, mode, assumptions)
 
 
 def consistency_table(scenario, terms=None, scales=None, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEED,

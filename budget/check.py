@@ -112,6 +112,9 @@ class CheckResult:
     #: in words (:meth:`Scenario.defaults_note`; '' when every key was set)
     scenario_defaults: tuple[dict, ...] = ()
     defaults_notes: tuple[str, ...] = ()
+    #: per scenario, what it holds that the verdicts do not use as the file might suggest (a
+    #: ``platform_accel_m_s2`` seed 004's bounds replace by g: :func:`budget.bounds.accel_level_note`)
+    scenario_notes: tuple[tuple[str, ...], ...] = ()
     #: per part, what its row asks a reader to look at (:func:`budget.catalog.fill.row_warnings`:
     #: figures given as 0, figures of another grade than its grade column); () when nothing
     row_notes: tuple[tuple[str, ...], ...] = ()
@@ -254,6 +257,7 @@ class CheckResult:
                                "scenario": self.scenarios[s] if self.scenarios else None,
                                "scenario_defaults": (self.scenario_defaults[s] if self.scenario_defaults
                                                      else None),
+                               "notes": list(self.scenario_notes[s]) if self.scenario_notes else [],
                                "fast_phase_limit_deg": (self.fast_phase_limit_deg[s]
                                                         if s < len(self.fast_phase_limit_deg) else None),
                                "fast_phase_share": self.fast_phase_share[s] if s < len(self.fast_phase_share) else None}
@@ -323,6 +327,8 @@ class CheckResult:
         if notes:
             lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
                       "its window, attitude error × lever arm); where the verdicts differ:"] + notes
+        if self.scenario_notes:
+            lines += list(self.scenario_notes[scenario_index])
         if self.defaults_notes and self.defaults_notes[scenario_index]:
             lines.append(self.defaults_notes[scenario_index])
         # a 0 passes every bound (a perfect term): said, not silently counted as a margin of ∞
@@ -492,7 +498,17 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen),
                        scenario_defaults=tuple(sc.defaults_taken(keys) for sc in scen),
                        defaults_notes=tuple(sc.defaults_note(keys) for sc in scen),
+                       scenario_notes=tuple(_scenario_notes(sc, mode, assumptions) for sc in scen),
                        row_notes=_row_notes(parts))
+
+
+def _scenario_notes(scenario: Scenario, mode: str, assumptions) -> tuple[str, ...]:
+    """What ``scenario`` holds that the check's verdicts (``mode``'s and the PGA-limited one beside
+    it) do not use as the file might suggest (:func:`budget.bounds.accel_level_note`)."""
+    from .bounds import accel_level_note
+
+    note = accel_level_note(scenario, mode, assumptions, pga_limited=True)
+    return (note,) if note else ()
 
 
 def _row_notes(parts: Sequence[PartSpec]) -> tuple[tuple[str, ...], ...]:

@@ -74,6 +74,8 @@ class InputError(ValueError):
         self.value = value  # shown through short_repr: it may be huge (a 5 MB cell, an alias tree)
         self.expected = expected
         self.reason = message
+        #: every error a combined error stands for (:func:`combine_errors`); () for one error
+        self.errors: tuple[InputError, ...] = ()
         super().__init__(self._format())
 
     def rename_file(self, file: str | Path) -> "InputError":
@@ -114,10 +116,19 @@ class OutputError(OSError):
         return str(self.args[0])
 
 
+def _cause(error: dict) -> InputError | None:
+    """The :class:`InputError` one of our validators raised for a pydantic error, or None."""
+    cause = (error.get("ctx") or {}).get("error")
+    return cause if isinstance(cause, InputError) else None
+
+
 def from_validation_error(err: ValidationError, *, file: str | Path | None = None,
                           row: int | None = None) -> InputError:
-    """Turn the first pydantic error into an :class:`InputError` naming the field."""
-    first = err.errors(include_url=False)[0]
+    """Turn the first pydantic error into an :class:`InputError` naming the field; every further
+    error is named in its message. An error one of our validators raised as an
+    :class:`InputError` keeps its own words, value and expectation."""
+    errors = err.errors(include_url=False)
+    first = errors[0]
     field = ".".join(str(p) for p in first.get("loc", ())) or None
     value = first.get("input")
     if isinstance(value, dict):
@@ -125,19 +136,72 @@ def from_validation_error(err: ValidationError, *, file: str | Path | None = Non
     msg = first.get("msg", "invalid value")
     if msg.startswith("Value error, "):  # pydantic's prefix for errors raised by our validators
         msg = msg[len("Value error, "):]
+    expected = None
+    own = _cause(first)
+    if own is not None:
+        field, value, msg, expected = own.field or field, own.value, own.reason, own.expected
     msg = _short_text(msg, 400)
     others = []  # every further error is named too, not only counted
-    for e in err.errors(include_url=False)[1:]:
+    for e in errors[1:]:
         loc = ".".join(str(p) for p in e.get("loc", ())) or "(model)"
+        cause = _cause(e)
+        if cause is not None:
+            others.append(error_item_text(cause, loc))
+            continue
         m = e.get("msg", "invalid value").removeprefix("Value error, ")
         v = e.get("input")
         got = "" if isinstance(v, dict) or v is None else f" (got {short_repr(v)})"
         others.append(_short_text(f"field {loc}: {m}{got}", 200))
+    if others and expected:  # the first error's expectation stays beside it
+        got = "" if value is None else f" (got {short_repr(value)})"
+        msg, value, expected = f"{msg}{got}; expected {expected}", None, None
     if others:
         if value is not None:  # keep the first error's value next to it, before the others
             msg, value = f"{msg} (got {short_repr(value)})", None
         msg += f"; {len(others)} more error{'s' if len(others) > 1 else ''}: " + "; ".join(others)
-    return InputError(msg, file=file, row=row, field=field, value=value)
+    return InputError(msg, file=file, row=row, field=field, value=value, expected=expected)
+
+
+def error_item_text(err: InputError, field: str | None = None, *, limit: int = 400) -> str:
+    """One error of a list, as the further errors of a message name it:
+    ``field F: reason (got V; expected E)``."""
+    where = err.field or field
+    extra = "; ".join(x for x in ((f"got {short_repr(err.value)}" if err.value is not None else ""),
+                                  (f"expected {err.expected}" if err.expected else "")) if x)
+    text = f"{err.reason}{f' ({extra})' if extra else ''}"
+    return _short_text(f"field {where}: {text}" if where else text, limit)
+
+
+def combine_errors(errors, *, file: str | Path | None = None) -> InputError:
+    """One :class:`InputError` for every error of ``errors`` (InputErrors, in the order found): the
+    error itself when there is one; otherwise the first one's field, its message with its value
+    and expectation, and ``; N more errors: field F: … (got V; expected E); …``. The combined
+    error keeps the list in ``errors`` (each error's own field, value and expectation)."""
+    errors = list(errors)
+    if not errors:
+        raise ValueError("combine_errors needs at least one error")
+    if len(errors) == 1:
+        one = errors[0]
+        return one.rename_file(file) if file is not None and one.file is None else one
+    first, rest = errors[0], errors[1:]
+    head = first.reason
+    if first.value is not None:
+        head += f" (got {short_repr(first.value)})"
+    if first.expected:
+        head += f"; expected {first.expected}"
+    seen = {first.expected}
+    items = []
+    for e in rest:  # an expectation said once (two unknown keys share theirs)
+        if e.expected in seen:
+            e = InputError(e.reason, file=e.file, row=e.row, field=e.field, value=e.value)
+        else:
+            seen.add(e.expected)
+        items.append(error_item_text(e))
+    others = "; ".join(items)
+    out = InputError(f"{head}; {len(rest)} more error{'s' if len(rest) > 1 else ''}: {others}",
+                     file=file if file is not None else first.file, row=first.row, field=first.field)
+    out.errors = tuple(errors)
+    return out
 
 
 def _admits(annotation, types: tuple[type, ...]) -> bool:

@@ -28,6 +28,7 @@ import re
 import stat
 import tempfile
 import time
+import warnings
 import zipfile
 import zlib
 from pathlib import Path
@@ -356,7 +357,9 @@ def atomic_write_text(path: str | Path, text: str, *, create_dirs: bool = True) 
     that is read-only (:func:`read_only_reason`) is refused with :class:`OutputError` and left
     as it is: the rename would otherwise replace it whatever its permissions. The temporary file
     (``.<name>.sar-budget-XXXX.tmp`` beside the target) is removed on any failure or
-    interruption; stale ones left by a killed process are cleaned after an hour.
+    interruption; stale ones left by a killed process are cleaned after an hour. ``create_dirs``:
+    a missing folder of ``path`` is created, with a :class:`UserWarning` naming it (the command
+    line prints it as a warning line); False refuses it with :class:`OutputError`.
     """
     given = path
     path = Path(os.path.realpath(path))
@@ -367,8 +370,14 @@ def atomic_write_text(path: str | Path, text: str, *, create_dirs: bool = True) 
         raise OutputError(locked, file=given)
     if not create_dirs and not path.parent.is_dir():
         raise OutputError(f"folder {path.parent} does not exist", file=given)
-    if create_dirs:
+    if create_dirs and not path.parent.is_dir():
+        created = [d for d in (path.parent, *path.parent.parents) if not d.exists()]
         path.parent.mkdir(parents=True, exist_ok=True)
+        # an output's missing folders are created (as documented for --json, --out, --report …),
+        # and said: a mistyped folder would otherwise appear silently
+        many = len(created) > 1
+        warnings.warn(f"created folder{'s' if many else ''} {', '.join(str(d) for d in reversed(created))} "
+                      f"({'they' if many else 'it'} did not exist) to write {given}", UserWarning, stacklevel=2)
     _clean_stale(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}{TMP_TAG}", suffix=".tmp", dir=path.parent)
     try:
@@ -541,6 +550,17 @@ def parse_structured(text: str, *, yaml_syntax: bool, path=None):
     return data
 
 
+def _reads_as_yaml_mapping(text: str, path) -> bool:
+    """True if ``text`` (not valid JSON) is a YAML block mapping (``key: value`` lines), read with
+    this module's limits; JSON with a slip (a trailing comma) is flow YAML too, and is not meant."""
+    if text.lstrip("\ufeff \t\r\n").startswith(("{", "[")):
+        return False
+    try:
+        return isinstance(parse_structured(text, yaml_syntax=True, path=path), dict)
+    except InputError:
+        return False
+
+
 def read_structured(path: str | Path, what: str, max_bytes: int = 10_000_000) -> dict:
     """Read a JSON or YAML mapping (by suffix; YAML also reads JSON) for ``what`` (e.g.
     "a scenario"); a missing, empty, malformed, too deep/large or non-mapping file raises
@@ -548,7 +568,17 @@ def read_structured(path: str | Path, what: str, max_bytes: int = 10_000_000) ->
     path = Path(path)
     text = read_text(path, max_bytes=max_bytes, expected=f"{what} JSON/YAML file")
     is_yaml = path.suffix.lower() in (".yaml", ".yml")
-    data = parse_structured(text, yaml_syntax=is_yaml, path=path)
+    try:
+        data = parse_structured(text, yaml_syntax=is_yaml, path=path)
+    except InputError as err:
+        if is_yaml or not err.reason.startswith("not valid JSON") or not _reads_as_yaml_mapping(text, path):
+            raise
+        # YAML in a file whose name says JSON (or nothing): which reader runs follows the extension
+        suffix = path.suffix or "no extension"
+        raise InputError(f"{err.reason}: the file holds YAML, but a file named {suffix} is read as JSON",
+                         file=path, expected="a .yaml or .yml name for YAML (rename the file), or JSON "
+                         "text; the extension decides the reader: .yaml and .yml are read as YAML, "
+                         ".json and any other as JSON") from None
     if not isinstance(data, dict):
         raise InputError(f"{what} must be a mapping of keys to values", file=path,
                          expected="a JSON object / YAML mapping")

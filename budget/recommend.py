@@ -4,7 +4,7 @@ margins of the part check (:mod:`budget.check`: bound / value ≥ 1 passes)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,6 +41,9 @@ class GradeRecommendation:
     #: the bounds' wavelength (m, ``no-autofocus`` and ``lever-arm``) and assumptions (``model_dump``)
     wavelength_m: float | None = None
     assumptions: dict | None = None
+    #: per Tc, why no grade suffices (:func:`grade_shortfall`: the binding terms and how far the best
+    #: grade misses them); None where a grade suffices
+    why_none: tuple[str | None, ...] = ()
 
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"tc_s": np.ravel(self.tc_s), "range_resolution_m": np.ravel(self.range_resolution_m),
@@ -51,24 +54,56 @@ class GradeRecommendation:
         and one row per Tc."""
         return {"mode": self.mode, "include": list(self.include), "use": self.use,
                 "wavelength_m": self.wavelength_m, "assumptions": self.assumptions,
-                "rows": [{"tc_s": float(t), "range_resolution_m": float(d), "lowest_sufficient_grade": g}
-                         for t, d, g in zip(np.ravel(self.tc_s), np.ravel(self.range_resolution_m), self.grade)]}
+                "rows": [{"tc_s": float(t), "range_resolution_m": float(d), "lowest_sufficient_grade": g,
+                          "why_none": self._why(i)}
+                         for i, (t, d, g) in enumerate(zip(np.ravel(self.tc_s), np.ravel(self.range_resolution_m),
+                                                           self.grade))]}
+
+    def _why(self, i: int) -> str | None:
+        return self.why_none[i] if i < len(self.why_none) else None
 
     def summary(self) -> str:
-        return (f"lowest sufficient grade ({self.mode} bounds, {self.use} typical values; checked: "
-                f"{', '.join(self.include)})\n"
-                + self.to_frame().to_string(index=False))
+        why = [f"Tc = {t:.4g} s: no grade suffices — {self._why(i)}" for i, t in enumerate(np.ravel(self.tc_s))
+               if self._why(i)]
+        head = (f"lowest sufficient grade ({self.mode} bounds, {self.use} typical values; checked: "
+                f"{', '.join(self.include)})")
+        return "\n".join([head, self.to_frame().to_string(index=False), *why])
+
+
+def grade_shortfall(margins_best: np.ndarray, bounds_si: np.ndarray, grade: GradeSpec, cols: Sequence[int],
+                    use: str = "best", rules: Mapping[str, str] | None = None, mode: str = "paper") -> str:
+    """Why no grade suffices, in words: every checked term (``cols``, :data:`PARAM_NAMES` order) whose
+    bound ``grade`` — the best grade — misses (margin < 1), smallest margin first: the bound (its
+    rule: ``rules[bound field]`` when a PGA-limited rule tightened it, else seed 004's equation of
+    ``mode``), the grade's ``use`` value and the factor by which it is too large; in the grade's units
+    (``grades.csv``)."""
+    misses = sorted((float(margins_best[j]), j) for j in cols if margins_best[j] < 1.0)
+    parts = []
+    for margin, j in misses:
+        prm = PARAMETERS[j]
+        term = prm.label.split(" (")[0]
+        rule = (rules or {}).get(prm.bound)
+        source = (f"{rule.split(' (')[0].replace(' ', '-')} limit" if rule else
+                  f"seed 004 {prm.equation} bound" if mode in ("paper", "pga-limited") else f"{mode} bound")
+        bound = bounds_si[j] / prm.grade_to_si
+        value = grade_value(grade, prm, use) * prm.to_si / prm.grade_to_si
+        parts.append(f"the {source} on {term}, {bound:.3g} {prm.grade_unit}, is below the {grade.grade} grade's "
+                     f"{use} {value:.3g} {prm.grade_unit} ({1.0 / margin:.3g}× too large)")
+    return "; ".join(parts)
 
 
 def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mode: str = "paper",
                     include: Sequence[str] = ("bias", "noise"), use: str = "best", wavelength_m=None,
-                    assumptions=None, bounds=None) -> GradeRecommendation:
+                    assumptions=None, bounds=None, rules: Mapping[str, str] | None = None) -> GradeRecommendation:
     """Lowest grade (highest rank) whose typical values meet the bounds of ``mode``, per Tc.
 
     ``wavelength_m`` (m) is needed by the ``no-autofocus`` and ``lever-arm`` modes, ``assumptions``
     is passed to :func:`budget.bounds.compute_bounds` (default assumptions when ``None``).
     ``bounds``: a ready :class:`~budget.bounds.BoundsTable` instead (e.g. the PGA-limited table of
-    :func:`budget.bounds.lever_arm.pga_limited_bounds`); its ``mode`` is reported.
+    :func:`budget.bounds.lever_arm.pga_limited_bounds`); its ``mode`` is reported, and ``rules``
+    (that function's second value: the rule tightening each bound field) names the binding limits
+    in ``why_none``. Where no grade suffices, ``why_none`` says which terms the best grade misses and
+    by how much (:func:`grade_shortfall`).
 
     Defaults follow seed 004's reading of its Tables 1–4: scale factor and misalignment are
     left out because calibration removes most of them (the paper says so), and a grade counts
@@ -88,24 +123,47 @@ def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mo
         mode = bounds.mode
         if np.size(bounds.tc_s) != tc.size:
             raise ValueError(f"bounds hold {np.size(bounds.tc_s)} aperture times, tc_s {tc.size}")
-    m = margins(grade_spec_matrix(ordered, use), bound_matrix(bounds))[:, :, cols]
+    bmat = bound_matrix(bounds)
+    full = margins(grade_spec_matrix(ordered, use), bmat)
+    m = full[:, :, cols]
     ok = np.all(m >= 1.0, axis=-1)  # (G, S)
-    out = []
+    out, why = [], []
     for s in range(tc.size):
         passing = [ordered[g].grade for g in range(len(ordered)) if ok[g, s]]
         out.append(passing[-1] if passing else None)
+        why.append(None if passing or not ordered else
+                   grade_shortfall(full[0, s], bmat[s], ordered[0], cols, use, rules, mode))
     return GradeRecommendation(tc, np.asarray(dr), tuple(out), tuple(include), use, mode,
                                None if wavelength_m is None else float(wavelength_m),
-                               assumptions_dict(assumptions))
+                               assumptions_dict(assumptions), tuple(why))
+
+
+class SufficientGrades(dict):
+    """``{mode: grade, "pga_limited": grade}`` (a dict, as it always was) with ``why_none``: per key
+    whose grade is None, why no grade suffices (:func:`grade_shortfall`)."""
+
+    def __init__(self, grades: Mapping[str, str | None], why_none: Mapping[str, str] | None = None):
+        super().__init__(grades)
+        self.why_none: dict[str, str] = {k: v for k, v in (why_none or {}).items() if v}
+
+    def text(self, key: str) -> str:
+        """The grade of ``key``, or 'none' with the reason: a line of ``sar-budget check``."""
+        grade = self.get(key)
+        if grade:
+            return grade
+        why = self.why_none.get(key)
+        return f"none — {why}" if why else "none"
 
 
 def lowest_sufficient_grades(scenario, mode: str, grades: Sequence[GradeSpec], assumptions=None
-                             ) -> dict[str, str | None]:
+                             ) -> SufficientGrades:
     """``{mode: grade, "pga_limited": grade}``: the lowest grade whose typical bias and noise
     figures meet ``mode``'s bounds for ``scenario`` (``assumptions``: the mode's, default the
     scenario's own, :func:`budget.bounds.scenario_assumptions`) and the PGA-limited bounds
-    (:func:`budget.bounds.lever_arm.pga_limited_bounds`); None where no grade suffices. What
-    ``sar-budget check`` prints and writes, and the dashboard's Check page shows."""
+    (:func:`budget.bounds.lever_arm.pga_limited_bounds`); None where no grade suffices, and then
+    ``why_none[key]`` names the binding terms and how far the best grade misses them
+    (:class:`SufficientGrades`). What ``sar-budget check`` prints and writes, and the dashboard's
+    Check page shows."""
     from .bounds import scenario_assumptions
     from .bounds.lever_arm import pga_limited_bounds
 
@@ -113,9 +171,10 @@ def lowest_sufficient_grades(scenario, mode: str, grades: Sequence[GradeSpec], a
     rec = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades, mode=mode,
                           wavelength_m=scenario.wavelength_m,
                           assumptions=scenario_assumptions(mode, scenario, assumptions))
-    limited = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades,
-                              bounds=pga_limited_bounds(scenario)[0])
-    return {mode: rec.grade[0], "pga_limited": limited.grade[0]}
+    table, rules = pga_limited_bounds(scenario)
+    limited = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades, bounds=table, rules=rules)
+    return SufficientGrades({mode: rec.grade[0], "pga_limited": limited.grade[0]},
+                            {mode: rec.why_none[0], "pga_limited": limited.why_none[0]})
 
 
 def check_record(result, scenario, mode: str, grades: dict[str, str | None], *, catalog: str,
@@ -123,11 +182,15 @@ def check_record(result, scenario, mode: str, grades: dict[str, str | None], *, 
     """The JSON record of one part check (``sar-budget check --json``, the dashboard's download):
     mode, scenario, Tc, the catalog the parts came from, the assumptions the verdicts were
     computed with, the part records, the rotation flown, the lowest sufficient grades
-    (:func:`lowest_sufficient_grades`), the scenario keys taken at their defaults and the
-    catalog note."""
+    (:func:`lowest_sufficient_grades`) and why one is none, the scenario keys taken at their
+    defaults, what the scenario holds that the verdicts do not use (``notes``) and the catalog note."""
+    first = result.to_dict()["scenarios"][0]
     return {"mode": mode, "scenario": scenario.model_dump(mode="json"), "tc_s": float(scenario.tc_s),
             "catalog": catalog, "assumptions": result.assumptions,
-            "parts": result.to_dict()["scenarios"][0]["parts"],
+            "parts": first["parts"],
             "rotation": result.rotation[0] if result.rotation else None,
             "lowest_sufficient_grade": dict(grades),
+            # why a grade above is None (the binding terms, how far the best grade misses them)
+            "lowest_sufficient_grade_why_none": dict(getattr(grades, "why_none", {})),
+            "notes": first["notes"],
             "scenario_defaults": scenario.defaults_taken(scenario_keys), "catalog_note": catalog_note or None}

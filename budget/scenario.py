@@ -21,7 +21,7 @@ from pydantic import (BaseModel, ConfigDict, Field, ValidationError, ValidationI
                       model_validator)
 
 from .aiding_spec import CORRECTION_MODES, DEFAULT_CORRECTION_MODE, AidingConfig, parse_aiding
-from .errors import InputError, from_validation_error, refuse_bool_numbers, short_repr
+from .errors import InputError, combine_errors, refuse_bool_numbers
 from .fileio import atomic_write_text, read_structured
 from .units import C_LIGHT, C_SOUND_WATER, G0, unit_of_name, value_text_hint
 
@@ -46,8 +46,16 @@ PLAUSIBLE_TC_S = (1e-5, 1e5)
 RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S = 1e7, 2e4
 #: IMU → antenna lever arm (m) beyond which a scenario carries a note (:meth:`Scenario.notes`):
 #: longer than the installations that carry an IMU for motion compensation (the presets: ≤ 2 m),
-#: and what a lever arm written in cm (50 for 0.5 m) becomes; still simulated as given.
+#: and what a lever arm written in cm becomes (an entry of 50 for 0.5 m reads as 50 m); still
+#: simulated as given.
 LONG_LEVER_ARM_M = 20.0
+#: Specific force (m/s²) beyond which ``platform_accel_m_s2`` carries a unit note
+#: (:meth:`Scenario.notes`): 100 g. Missile manoeuvres reach tens of g (≈ 30–60 g for agile
+#: air-to-air missiles), aircraft ≤ 10 g, so 100 g is above any platform that flies a synthetic
+#: aperture, while 1 g written in cm/s² (980.665) or mm/s² (9806.65) lies above it; still used as given.
+HIGH_PLATFORM_ACCEL_M_S2 = 100.0 * G0
+#: What a lever arm is written as.
+LEVER_ARM_EXPECTED = "three numbers [x, y, z] in m (IMU → antenna phase centre, body frame)"
 #: Exact straight-track aperture ÷ seed 004 (5)'s small-angle V·Tc beyond which a scenario carries
 #: a note (:meth:`Scenario.notes`): 1.05 is an angular aperture of about 35° at broadside.
 WIDE_APERTURE_RATIO = 1.05
@@ -71,30 +79,72 @@ DERIVED_KEYS = {
 }
 
 
+#: What each required scenario key is (its unit is in its name; a typical value is read from the
+#: preset :data:`TYPICAL_PRESET`): the expectation of a "required key missing" error.
+REQUIRED_KEYS = {
+    "carrier_frequency_hz": "the carrier frequency f0",
+    "slant_range_m": "the slant range R from the antenna to the scene centre",
+    "azimuth_resolution_m": "the azimuth (along-track) resolution δℓ",
+    "range_resolution_m": "the range resolution δr = c/(2B), B the bandwidth",
+    "platform_speed_m_s": "the platform speed V over ground",
+}
+#: The preset whose values a missing required key's message gives as typical.
+TYPICAL_PRESET = "airborne_xband"
+
+
+def _missing_key_error(key: str) -> InputError:
+    """A required key missing from a scenario: what the key is, its unit and a typical value."""
+    what = REQUIRED_KEYS.get(key)
+    unit = key_unit(key)
+    if what is None or unit is None:
+        return InputError("required key missing", field=key, expected=f"{key} (every scenario needs it)")
+    from .presets import PRESETS  # the presets are Scenarios: imported when first needed
+    typical = getattr(PRESETS[TYPICAL_PRESET], key)
+    return InputError("required key missing", field=key,
+                      expected=f"{key}: {what}, in {unit} (e.g. {typical:g} in preset {TYPICAL_PRESET}); "
+                               "every scenario gives it")
+
+
+def _scenario_errors(err: ValidationError) -> list[InputError]:
+    """Each error of a scenario's validation as an :class:`InputError`: the one a validator
+    raised as it is; an unknown key with the key meant; text where a number is expected with the
+    number to write (:func:`_number_text_hint`); a missing required key with what it is, its
+    unit and a typical value (:func:`_missing_key_error`)."""
+    out = []
+    for x in err.errors(include_url=False):
+        field = ".".join(str(p) for p in x.get("loc", ())) or None
+        cause = (x.get("ctx") or {}).get("error")
+        if isinstance(cause, InputError):
+            if cause.field is None and field:
+                cause.field = field
+                cause.args = (cause._format(),)
+            out.append(cause)
+            continue
+        kind, value = x.get("type"), x.get("input")
+        if kind == "missing" and field:
+            out.append(_missing_key_error(field))
+            continue
+        value = None if isinstance(value, dict) else value
+        msg = x.get("msg", "invalid value").removeprefix("Value error, ")
+        expected = None
+        if kind == "extra_forbidden" and field:
+            msg = _unknown_key_text(field)
+            expected = ("only the scenario keys (sar-budget scenario write --preset NAME F.yaml writes a file "
+                        "with every key)")
+        elif kind == "float_parsing" and isinstance(value, str) and field:
+            hint = _number_text_hint(field, value)
+            if hint is not None:
+                msg, expected = hint
+        out.append(InputError(msg[:400], field=field, value=value, expected=expected))
+    return out
+
+
 def _unknown_key_text(key: str) -> str:
     """'unknown key' with what the user probably meant: a derived quantity or a close key."""
     if key in DERIVED_KEYS:
         return f"unknown key: {DERIVED_KEYS[key]}"
     close = difflib.get_close_matches(key, list(Scenario.model_fields), n=1, cutoff=0.75)
     return f"unknown key (did you mean {close[0]!r}?)" if close else "unknown key"
-
-
-def _unknown_keys_named(e: InputError, err: ValidationError) -> InputError:
-    """pydantic's "Extra inputs are not permitted" as "unknown key", with the likely meant key."""
-    extra = [str(x["loc"][0]) for x in err.errors(include_url=False)
-             if x.get("type") == "extra_forbidden" and x.get("loc")]
-    if not extra:
-        return e
-    pydantic_text = "Extra inputs are not permitted"
-    for key in extra:
-        e.reason = e.reason.replace(f"field {key}: {pydantic_text}", f"field {key}: {_unknown_key_text(key)}")
-    if e.field in extra and e.reason.startswith(pydantic_text):
-        e.reason = _unknown_key_text(e.field) + e.reason[len(pydantic_text):]
-        if e.expected is None:
-            e.expected = ("only the scenario keys (sar-budget scenario write --preset NAME F.yaml "
-                          "writes a file with every key)")
-    e.args = (e._format(),)
-    return e
 
 
 def key_unit(field: str | None) -> str | None:
@@ -108,34 +158,6 @@ def _number_text_hint(field: str, text: str) -> tuple[str, str] | None:
     (:func:`budget.units.value_text_hint`), or None for a key without a unit."""
     unit = key_unit(field)
     return None if unit is None else value_text_hint(field.split(".")[0], text, unit)
-
-
-def _number_text_named(e: InputError, err: ValidationError) -> InputError:
-    """Text where a number key expects a number (``platform_speed_m_s: 90 km/h``): each such
-    error of the file says the unit is in the key's name and what to write instead."""
-    pydantic_text = "Input should be a valid number, unable to parse string as a number"
-    errors = err.errors(include_url=False)
-    changed = False
-    for i, x in enumerate(errors):
-        field = ".".join(str(p) for p in x.get("loc", ()))
-        if x.get("type") != "float_parsing" or not isinstance(x.get("input"), str):
-            continue
-        hint = _number_text_hint(field, x["input"])
-        if hint is None:
-            continue
-        reason, write = hint
-        got = f" (got {short_repr(x['input'])})"
-        if i == 0 and e.value is not None:  # the first error alone: its value and expectation
-            e.reason = reason + e.reason[len(pydantic_text):]
-            e.expected = e.expected or write
-        else:  # written inside the message, beside its own value
-            old = (f"field {field}: " if i else "") + pydantic_text + got
-            e.reason = e.reason.replace(old, (f"field {field}: " if i else "") + f"{reason}{got}; "
-                                        f"write {write}", 1)
-        changed = True
-    if changed:
-        e.args = (e._format(),)
-    return e
 
 
 def scenario_field(field: str | None) -> bool:
@@ -290,12 +312,72 @@ class Scenario(BaseModel):
     @field_validator("lever_arm_m", mode="before")
     @classmethod
     def _three_components(cls, value):
-        # pydantic's own message for [0.5, 0.3] is "lever_arm_m.2: Field required"
+        # pydantic's own message for [0.5, 0.3] is "lever_arm_m.2: Field required", for null
+        # "Input should be a valid tuple"
         if isinstance(value, (list, tuple)) and len(value) != 3:
             raise InputError(f"lever_arm_m has {len(value)} component{'' if len(value) == 1 else 's'}",
-                             field="lever_arm_m", value=list(value),
-                             expected="three numbers [x, y, z] in m (IMU → antenna phase centre, body frame)")
+                             field="lever_arm_m", value=list(value), expected=LEVER_ARM_EXPECTED)
+        if value is None:
+            raise InputError("lever_arm_m is empty (got null)", field="lever_arm_m",
+                             expected=LEVER_ARM_EXPECTED + "; leave the key out for [0, 0, 0], the IMU at the "
+                                                           "antenna phase centre")
+        if not isinstance(value, (list, tuple)):
+            raise InputError("lever_arm_m is not a list of three numbers", field="lever_arm_m", value=value,
+                             expected=LEVER_ARM_EXPECTED)
         return value
+
+    @field_validator("lever_arm_m")
+    @classmethod
+    def _finite_lever_arm(cls, value):
+        if not all(math.isfinite(v) for v in value):
+            raise InputError("lever_arm_m must hold three finite numbers", field="lever_arm_m",
+                             value=list(value), expected=LEVER_ARM_EXPECTED + ", none NaN or infinite")
+        if any(abs(v) > 1e3 for v in value):
+            raise InputError("lever arm longer than 1 km", field="lever_arm_m",
+                             value=list(value), expected="|component| ≤ 1000 m")
+        return value
+
+    @field_validator("carrier_frequency_hz")
+    @classmethod
+    def _plausible_carrier(cls, f0: float, info: ValidationInfo) -> float:
+        # checked per field, so that one run names it beside every other error of the file
+        medium = info.data.get("medium")  # absent when the medium itself is in error
+        if medium == "sonar" and f0 > PLAUSIBLE_CARRIER_HZ["sonar"][1]:
+            raise InputError("sonar carrier above 5 MHz: did you mean medium 'radar'?",
+                             field="carrier_frequency_hz", value=f0,
+                             expected="{:g} … {:g} Hz for sonar, or medium: radar".format(
+                                 *PLAUSIBLE_CARRIER_HZ["sonar"]))
+        if medium == "radar" and f0 < PLAUSIBLE_CARRIER_HZ["radar"][0]:
+            raise InputError("radar carrier below 1 MHz: " + carrier_unit_hint("radar", f0),
+                             field="carrier_frequency_hz", value=f0,
+                             expected="{:g} … {:g} Hz for radar, the number in Hz".format(
+                                 *PLAUSIBLE_CARRIER_HZ["radar"]))
+        if medium in PLAUSIBLE_CARRIER_HZ:
+            lo, hi = PLAUSIBLE_CARRIER_HZ[medium]
+            if not lo <= f0 <= hi:
+                raise InputError(f"{medium} carrier of {f0:.4g} Hz is not physically plausible",
+                                 field="carrier_frequency_hz", expected=f"{lo:g} … {hi:g} Hz for {medium}")
+        return f0
+
+    @field_validator(*PLAUSIBLE)
+    @classmethod
+    def _plausible_value(cls, v, info: ValidationInfo):
+        if v is None:
+            return v
+        name = info.field_name
+        medium = info.data.get("medium")
+        if name == "propagation_speed_m_s" and medium == "radar" and v < RADAR_MIN_SPEED_M_S:
+            raise InputError("a speed of sound for radar: did you mean medium 'sonar'?",
+                             field=name, value=v,
+                             expected=f"≥ {RADAR_MIN_SPEED_M_S:g} m/s for radio waves (≈ c/9 in water)")
+        if name == "propagation_speed_m_s" and medium == "sonar" and v > SONAR_MAX_SPEED_M_S:
+            raise InputError("faster than sound in any medium: did you mean medium 'radar'?",
+                             field=name, value=v, expected=f"≤ {SONAR_MAX_SPEED_M_S:g} m/s for sound")
+        lo, hi, why = PLAUSIBLE[name]
+        if not lo <= v <= hi:
+            raise InputError(f"{v:.4g} is not physically plausible", field=name,
+                             expected=f"{lo:g} … {hi:g} ({why})")
+        return v
 
     @field_validator("aiding", mode="before")
     @classmethod
@@ -306,43 +388,19 @@ class Scenario(BaseModel):
 
     @model_validator(mode="after")
     def _check(self) -> "Scenario":
-        if not all(math.isfinite(v) for v in self.lever_arm_m):
-            raise ValueError("lever_arm_m must hold three finite numbers (m)")
-        f0 = self.carrier_frequency_hz
-        if self.medium == "sonar" and f0 > PLAUSIBLE_CARRIER_HZ["sonar"][1]:
-            raise InputError("sonar carrier above 5 MHz: did you mean medium 'radar'?",
-                             field="carrier_frequency_hz", value=f0,
-                             expected="{:g} … {:g} Hz for sonar, or medium: radar".format(
-                                 *PLAUSIBLE_CARRIER_HZ["sonar"]))
-        if self.medium == "radar" and f0 < PLAUSIBLE_CARRIER_HZ["radar"][0]:
-            raise InputError("radar carrier below 1 MHz: " + carrier_unit_hint("radar", f0),
-                             field="carrier_frequency_hz", value=f0,
-                             expected="{:g} … {:g} Hz for radar, the number in Hz".format(
-                                 *PLAUSIBLE_CARRIER_HZ["radar"]))
-        c = self.propagation_speed_m_s
-        if c is not None and self.medium == "radar" and c < RADAR_MIN_SPEED_M_S:
-            raise InputError("a speed of sound for radar: did you mean medium 'sonar'?",
-                             field="propagation_speed_m_s", value=c,
-                             expected=f"≥ {RADAR_MIN_SPEED_M_S:g} m/s for radio waves (≈ c/9 in water)")
-        if c is not None and self.medium == "sonar" and c > SONAR_MAX_SPEED_M_S:
-            raise InputError("faster than sound in any medium: did you mean medium 'radar'?",
-                             field="propagation_speed_m_s", value=c,
-                             expected=f"≤ {SONAR_MAX_SPEED_M_S:g} m/s for sound")
-        self._check_plausible()
+        # every key is valid and plausible alone here (the field validators): what is left are
+        # the combinations, each error of them listed at once
+        errors = self._combination_errors()
+        if errors:
+            raise combine_errors(errors)
+        for note in self.notes():
+            warnings.warn(note, UserWarning, stacklevel=2)
         return self
 
-    def _check_plausible(self) -> None:
-        """Refuse physically absurd inputs and a Tc outside :data:`PLAUSIBLE_TC_S`, with the reason."""
-        lo, hi = PLAUSIBLE_CARRIER_HZ[self.medium]
-        if not lo <= self.carrier_frequency_hz <= hi:
-            raise InputError(f"{self.medium} carrier of {self.carrier_frequency_hz:.4g} Hz is not "
-                             "physically plausible", field="carrier_frequency_hz",
-                             expected=f"{lo:g} … {hi:g} Hz for {self.medium}")
-        for name, (lo, hi, why) in PLAUSIBLE.items():
-            v = getattr(self, name)
-            if v is not None and not lo <= v <= hi:
-                raise InputError(f"{v:.4g} is not physically plausible", field=name,
-                                 expected=f"{lo:g} … {hi:g} ({why})")
+    def _combination_errors(self) -> list[InputError]:
+        """Inputs valid alone that no radar or sonar can have together, and a Tc outside
+        :data:`PLAUSIBLE_TC_S`, with the reason (every one found; the Tc only when the rest pass)."""
+        errors: list[InputError] = []
         # resolutions no aperture or bandwidth can give: δr = c/(2B) with B < 2 f0 (the band's
         # lower edge above 0 Hz), δℓ ≥ λ/4 (a 180° synthetic aperture)
         lam = self.c_m_s / self.carrier_frequency_hz
@@ -351,44 +409,40 @@ class Scenario(BaseModel):
                      f" (a carrier outside the {self.medium} bands: "
                      f"{carrier_unit_hint(self.medium, self.carrier_frequency_hz)})")
         if self.range_resolution_m <= 0.25 * lam:
-            raise InputError(f"range resolution {self.range_resolution_m:.4g} m needs a bandwidth "
+            errors.append(InputError(f"range resolution {self.range_resolution_m:.4g} m needs a bandwidth "
                              f"c/(2δr) = {self.c_m_s / (2 * self.range_resolution_m):.4g} Hz, more than "
                              f"twice the carrier {self.carrier_frequency_hz:.4g} Hz{unit_hint}",
                              field="range_resolution_m",
-                             expected=f"> λ/4 = {0.25 * lam:.4g} m (bandwidth < 2 × carrier)")
-        if self.azimuth_resolution_m < 0.25 * lam:
-            raise InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m is finer than any "
-                             f"synthetic aperture gives{unit_hint}", field="azimuth_resolution_m",
-                             expected=f"≥ λ/4 = {0.25 * lam:.4g} m (a 180° aperture)")
+                             expected=f"> λ/4 = {0.25 * lam:.4g} m (bandwidth < 2 × carrier)"))
         reach = self.straight_track_aperture()
-        if not reach["reachable"]:
-            raise InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m needs an angular "
+        if self.azimuth_resolution_m < 0.25 * lam:
+            errors.append(InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m is finer than any "
+                                     f"synthetic aperture gives{unit_hint}", field="azimuth_resolution_m",
+                                     expected=f"≥ λ/4 = {0.25 * lam:.4g} m (a 180° aperture)"))
+        elif not reach["reachable"]:
+            errors.append(InputError(f"azimuth resolution {self.azimuth_resolution_m:.4g} m needs an angular "
                              f"aperture {reach['text']}, which no straight track gives at squint "
                              f"{self.squint_deg:g}°", field="azimuth_resolution_m",
                              expected=f"> {reach['finest_m']:.4g} m at this squint, window and wavelength "
                                       "(δℓ = a_w λ / (4 sin(Δθ/2)), the aperture within 0° … 180° of "
-                                      "the velocity)")
+                                      "the velocity)"))
         for key in ("range_resolution_m", "azimuth_resolution_m"):
             # a cell as wide as the range itself holds the whole scene and the platform: no image,
             # and every bound (∝ δr) or Tc (∝ 1/δℓ) computed from it would be a silently wrong number
             cell = getattr(self, key)
             if cell >= self.slant_range_m:
-                raise InputError(f"a resolution cell of {cell:.4g} m is as wide as the slant range "
+                errors.append(InputError(f"a resolution cell of {cell:.4g} m is as wide as the slant range "
                                  f"{self.slant_range_m:.4g} m: no image resolves anything", field=key,
                                  expected=f"< slant_range_m = {self.slant_range_m:.4g} m (check the units of "
-                                          "the resolution and of the range)")
-        if any(abs(v) > 1e3 for v in self.lever_arm_m):
-            raise InputError("lever arm longer than 1 km", field="lever_arm_m",
-                             value=list(self.lever_arm_m), expected="|component| ≤ 1000 m")
+                                          "the resolution and of the range)"))
         tc = self.tc_s
         lo, hi = PLAUSIBLE_TC_S
-        if not (math.isfinite(tc) and lo <= tc <= hi):
-            raise InputError(f"these inputs give an aperture time Tc = a_w λ R / (2 δℓ V sin θ) of "
+        if not errors and not (math.isfinite(tc) and lo <= tc <= hi):
+            errors.append(InputError(f"these inputs give an aperture time Tc = a_w λ R / (2 δℓ V sin θ) of "
                              f"{tc:.3g} s, which no IMU budget can mean", field="tc_s (derived)",
                              expected=f"inputs giving {lo:g} s ≤ Tc ≤ {hi:g} s (check the units of "
-                             "frequency, range, resolution and speed)")
-        for note in self.notes():
-            warnings.warn(note, UserWarning, stacklevel=2)
+                             "frequency, range, resolution and speed)"))
+        return errors
 
     def notes(self) -> list[str]:
         """What the scenario's numbers hold that the tool does not model (one sentence each;
@@ -398,7 +452,8 @@ class Scenario(BaseModel):
         Stop-and-go (seed 004's geometry, the simulator's echoes) assumes the platform does not
         cross the whole synthetic aperture while one pulse travels to the scene and back:
         Tc > 2R/c, i.e. V < a_w λ c / (4 δℓ sin θ); only a sonar flown fast misses it. A lever arm
-        longer than :data:`LONG_LEVER_ARM_M` is noted too (a length in cm read as m), and so are an
+        longer than :data:`LONG_LEVER_ARM_M` is noted too (entries in cm read as m), a
+        ``platform_accel_m_s2`` above :data:`HIGH_PLATFORM_ACCEL_M_S2` (100 g: g in cm/s² or mm/s²), and so are an
         angular aperture wide enough that seed 004 (5)'s small-angle Tc is more than
         :data:`WIDE_APERTURE_RATIO` short of the straight-track aperture
         (:meth:`straight_track_aperture`) and a speed at which level flight's specific force is no
@@ -452,10 +507,19 @@ class Scenario(BaseModel):
                        "do not describe its navigation error")
         d = math.sqrt(sum(v * v for v in self.lever_arm_m))
         if d > LONG_LEVER_ARM_M:
-            out.append(f"{self.name}: the lever arm lever_arm_m = {list(self.lever_arm_m)} is "
-                       f"{d:.4g} m long, more than the {LONG_LEVER_ARM_M:g} m between an IMU and its "
-                       "antenna on any platform the presets describe; it is in metres (a lever arm "
-                       f"written in cm, e.g. 50 for 0.5 m, reads as {d:.4g} m): check its unit")
+            big = max(self.lever_arm_m, key=abs)
+            out.append(f"{self.name}: the lever arm lever_arm_m = [{', '.join(f'{v:g}' for v in self.lever_arm_m)}] "
+                       f"is {d:.4g} m long, more than the {LONG_LEVER_ARM_M:g} m between an IMU and its "
+                       "antenna on any platform the presets describe; its entries are in metres (an "
+                       f"entry of {big:g} reads as {big:g} m: if the arm was written in cm, that entry is "
+                       f"{big / 100:g} m and the arm {d / 100:.4g} m long): check its unit")
+        a = self.platform_accel_m_s2
+        if a > HIGH_PLATFORM_ACCEL_M_S2:
+            out.append(f"{self.name}: platform_accel_m_s2 = {a:.6g} m/s² is {a / G0:.4g} g, more than the "
+                       f"{HIGH_PLATFORM_ACCEL_M_S2 / G0:g} g ({HIGH_PLATFORM_ACCEL_M_S2:.0f} m/s²) any platform "
+                       "flying a synthetic aperture sustains (missile manoeuvres reach tens of g); it is in "
+                       f"m/s² (1 g written in cm/s² is {100 * G0:g}, in mm/s² {1000 * G0:g}): check its unit "
+                       "— the derived and no-autofocus bounds use it as given")
         return out
 
     def defaults_taken(self, keys=DEFAULTED_KEYS) -> dict[str, object]:
@@ -554,11 +618,10 @@ class Scenario(BaseModel):
         try:
             return cls.model_validate(data)
         except ValidationError as err:
-            cause = (err.errors()[0].get("ctx") or {}).get("error")
-            if isinstance(cause, InputError):  # the aiding section names its own field
-                raise (cause.rename_file(source) if source else cause) from None
-            e = _unknown_keys_named(from_validation_error(err, file=source), err)
-            raise _number_text_named(e, err) from None
+            # every error of the file at once: pydantic's (types, bounds, unknown and missing
+            # keys) beside our validators' (a value valid alone but implausible, the aiding
+            # section naming its own field), each with its value and what was expected
+            raise combine_errors(_scenario_errors(err), file=source) from None
 
     @classmethod
     def load(cls, path: str | Path) -> "Scenario":

@@ -42,6 +42,12 @@ def _recommendation(ctx: sidebar.Context, rec: dict[str, str | None]) -> None:
     right.metric("lowest sufficient grade, PGA-limited", rec["pga_limited"] or "none",
                  help="seed 004's bounds tightened by what PGA cannot remove: fast phase beyond its window "
                       "and attitude error × lever arm")
+    # why a grade is none: the binding terms and how far the best grade misses them (as `sar-budget check`)
+    why = getattr(rec, "why_none", {})
+    if ctx.mode != "no-autofocus" and why.get(ctx.mode):
+        left.caption(f"none: {why[ctx.mode]}")
+    if why.get("pga_limited"):
+        right.caption(f"none: {why['pga_limited']}")
 
 
 def check_json(result, ctx: sidebar.Context, rec: dict[str, str | None], motion_kind: str | None) -> dict:

@@ -30,7 +30,7 @@ __all__ = ["BOUND_FIELDS", "BoundsTable", "paper_bounds", "DerivedAssumptions", 
            "fast_phase_residual", "scenario_fast_phase", "FastPhaseResidual",
            "random_walk_constants", "compute_bounds", "check_bounds_tc", "max_bounds_tc_s", "LeverArmAssumptions", "lever_arm_bounds",
            "lever_arm_terms", "MODES", "scenario_assumptions", "coerce_assumptions", "scenario_keys", "RotationExcursion",
-           "motion_excursion", "rotation_excursion"]
+           "motion_excursion", "rotation_excursion", "accel_level_note", "for_scenario"]
 
 #: Bound modes of :func:`compute_bounds` (and ``sar-budget bounds --mode``).
 MODES = ("paper", "derived", "no-autofocus", "lever-arm")
@@ -153,3 +153,53 @@ def compute_bounds(tc_s, range_resolution_m, mode: str = "paper", *, wavelength_
         return lever_arm_bounds(tc_s, range_resolution_m, wavelength_m, assumptions or LeverArmAssumptions())
     raise InputError("unknown bounds mode", field="mode", value=mode,
                      expected="paper, derived, no-autofocus or lever-arm")
+
+
+#: Modes whose bounds take the specific force from their assumptions (the scenario's
+#: ``platform_accel_m_s2`` by default); seed 004's paper bounds, and the lever-arm and PGA-limited
+#: bounds built on them, take g.
+ACCEL_LEVEL_MODES = ("derived", "no-autofocus", "no_autofocus")
+
+
+def accel_level_note(scenario, mode: str, assumptions=None, *, pga_limited: bool = False) -> str:
+    """What the bounds of ``mode`` do with a ``platform_accel_m_s2`` the scenario sets to other
+    than g ('' when it sets none, or g): seed 004's paper bounds (and the lever-arm mode built on
+    them) take the specific force as g whatever the file says; the derived and no-autofocus bounds
+    use the file's value (or the ``assumptions``' ``accel_level_m_s2`` when given). ``pga_limited``:
+    a PGA-limited verdict is shown beside the mode's (``sar-budget check``), and it takes g too."""
+    from ..units import G0
+
+    if "platform_accel_m_s2" not in scenario.model_fields_set:
+        return ""
+    a = float(scenario.platform_accel_m_s2)
+    if a == G0:
+        return ""
+    given = f"{scenario.name}: platform_accel_m_s2 = {a:.6g} m/s² ({a / G0:.3g} g) in the scenario"
+    g_taken = f"take the specific force as g = {G0:g} m/s² whatever the file says"
+    if mode in ACCEL_LEVEL_MODES:
+        used = float(getattr(scenario_assumptions(mode, scenario, assumptions), "accel_level_m_s2", a))
+        text = (f"{given}: the {mode} bounds of the accel scale factor and misalignment use it"
+                if used == a else f"{given} is not used: the {mode} assumptions given take {used:.6g} m/s²")
+        return text + (f" (seed 004's paper bounds, and the PGA-limited verdict built on them, {g_taken})"
+                       if pga_limited else f" (seed 004's paper bounds {g_taken})")
+    whose = ("the lever-arm bounds (seed 004's paper bounds tightened by the lever arm)"
+             if mode in ("lever-arm", "lever_arm") else "seed 004's paper bounds")
+    if pga_limited:
+        whose += " and the PGA-limited verdict built on them"
+    derived = ("--mode derived (or no-autofocus) uses the file's value" if a > 0 else
+               "--mode derived (or no-autofocus) would use the file's value and refuses 0 (free fall: it needs "
+               "the specific force the scale factor and misalignment see, > 0)")
+    return f"{given} is not used: {whose} {g_taken}; {derived}"
+
+
+def for_scenario(table: BoundsTable, scenario, mode: str, assumptions=None) -> BoundsTable:
+    """``table`` (the bounds of ``mode`` at ``scenario``'s Tc) carrying the scenario, the keys it
+    left at their defaults (:func:`scenario_keys`) and what it holds that the bounds do not use
+    (:func:`accel_level_note`): what ``budget.compute_bounds`` and ``sar-budget bounds --scenario``
+    print and write."""
+    from dataclasses import replace
+
+    keys = scenario_keys(mode)
+    note = accel_level_note(scenario, mode, assumptions)
+    return replace(table, scenario=scenario.model_dump(mode="json"), scenario_defaults=scenario.defaults_taken(keys),
+                   defaults_note=scenario.defaults_note(keys), scenario_notes=(note,) if note else ())

@@ -86,7 +86,7 @@ def _limits(tc, dr, wavelength_m: float, a: LeverArmAssumptions) -> dict[str, np
     inf = np.full_like(tc, np.inf)
     if d == 0.0:
         return {"gyro_arw_migration": inf, "gyro_arw_fast": inf, "gyro_bias": inf,
-                "misalignment": inf, "gyro_scale_factor": inf}
+                "misalignment": inf, "misalignment_uncapped": inf, "gyro_scale_factor": inf}
     theta = math.radians(a.platform_rate_deg_s) * tc
     with np.errstate(divide="ignore"):
         by_turn = np.where(theta > 0, dr / (d * theta), np.inf)
@@ -95,11 +95,41 @@ def _limits(tc, dr, wavelength_m: float, a: LeverArmAssumptions) -> dict[str, np
     if a.fast_residual_share is not None:  # the limit met on that share of apertures, not in rms
         c_rw *= random_walk_rms_quantile("rw", a.fast_residual_share, float(a.pga_bandwidth_cycles),
                                          a.aperture_window)
+    # an angle's limit stops at 90°, as seed 004 (7)'s arcsin does: beyond it any misalignment
+    # meets it (inf stays inf: no turn, no limit at all)
+    mis = np.where(np.isfinite(by_turn), np.minimum(by_turn, MISALIGNMENT_CAP_RAD), np.inf)
     return {"gyro_arw_migration": dr / (a.k_sigma * np.sqrt(tc) * d),
             "gyro_arw_fast": fast_m / (c_rw * np.sqrt(tc) * d),
             "gyro_bias": dr / (tc * d),
-            "misalignment": by_turn,
+            "misalignment": mis,
+            "misalignment_uncapped": by_turn,
             "gyro_scale_factor": by_turn}
+
+
+#: Largest misalignment limit (rad): 90°, where seed 004 (7)'s arcsin saturates; a lever-arm
+#: limit δr/(|d| Θ) beyond it is capped there (any misalignment then meets it) and noted.
+MISALIGNMENT_CAP_RAD = math.pi / 2
+
+
+def lever_arm_limit_notes(tc_s, range_resolution_m, wavelength_m: float,
+                          a: LeverArmAssumptions | None = None) -> tuple[str, ...]:
+    """Where a lever-arm limit stops constraining, as :meth:`BoundsTable.limit_notes` says it for
+    seed 004's: the misalignment limit δr/(|d| Θ) reaching 90° (capped there: any misalignment
+    meets it) and a gyro scale-factor limit δr/(Θ |d|) of 100 % or more."""
+    a = a or LeverArmAssumptions()
+    tc, dr = _inputs(tc_s, range_resolution_m)
+    lim = _limits(tc, dr, float(wavelength_m), a)
+    raw, sf = np.ravel(lim["misalignment_uncapped"]), np.ravel(lim["gyro_scale_factor"])
+    out = []
+    for t, m, g in zip(np.ravel(tc), raw, sf):
+        if np.isfinite(m) and m >= MISALIGNMENT_CAP_RAD:
+            out.append(f"lever-arm misalignment limit capped at 90° ({1e3 * MISALIGNMENT_CAP_RAD:.4g} mrad) at "
+                       f"Tc = {t:.4g} s: δr/(|d|·Θ) = {1e3 * m:.4g} mrad is beyond π/2, so any misalignment "
+                       "meets it — the lever arm does not constrain the misalignment there")
+        if np.isfinite(g) and g >= 1.0:
+            out.append(f"lever-arm gyro scale factor limit ≥ 100 % at Tc = {t:.4g} s ({g * 1e6:.4g} ppm): it "
+                       "does not constrain any real sensor")
+    return tuple(out)
 
 
 def lever_arm_bounds(tc_s, range_resolution_m, wavelength_m: float,
@@ -153,10 +183,14 @@ def lever_arm_terms(tc_s: float, range_resolution_m: float, wavelength_m: float,
         rows.append({"term": key, "lever_arm_rule": rule, "paper_bound": pb, "lever_arm_limit": lv,
                      "binding": "lever arm" if lv < pb else "paper",
                      "paper_over_lever": pb / lv if lv > 0 else math.inf})
-    return pd.DataFrame(rows)
+    frame = pd.DataFrame(rows)
+    # where a limit stops constraining (capped at 90°, ≥ 100 %): said beside the table
+    frame.attrs["notes"] = list(lever_arm_limit_notes(tc, dr, float(wavelength_m), a))
+    return frame
 
 
-__all__ = ["LeverArmAssumptions", "lever_arm_bounds", "lever_arm_terms"]
+__all__ = ["MISALIGNMENT_CAP_RAD", "LeverArmAssumptions", "lever_arm_bounds", "lever_arm_limit_notes",
+           "lever_arm_terms"]
 
 
 def pga_limited_bounds(scenario, a: LeverArmAssumptions | None = None) -> tuple[BoundsTable, dict]:

@@ -54,6 +54,10 @@ class BoundsTable:
     #: words (set by :func:`budget.compute_bounds`; None / '' for bare arrays or when every key was set)
     scenario_defaults: dict | None = None
     defaults_note: str = ""
+    #: what the scenario holds that these bounds treat otherwise than the file might suggest (e.g. a
+    #: ``platform_accel_m_s2`` that seed 004's paper bounds do not use: :func:`budget.bounds.accel_level_note`);
+    #: printed by :meth:`summary`, in :meth:`to_dict`'s ``notes``
+    scenario_notes: tuple[str, ...] = ()
 
     def datasheet(self) -> dict[str, np.ndarray]:
         """Bounds in datasheet units keyed as in the CLI JSON (``accel_bias_ug`` …)."""
@@ -97,7 +101,7 @@ class BoundsTable:
         list); ``scenario`` (in full) when the bounds were computed for one."""
         frame = self.to_frame().drop(columns="range_resolution_m")
         out = {"mode": self.mode, "assumptions": self.assumptions,
-               "notes": list(self.notes) + list(self.limit_notes()),
+               "notes": list(self.notes) + list(self.limit_notes()) + list(self.scenario_notes),
                "range_resolution_m": np.ravel(self.range_resolution_m).tolist(),
                "rows": frame.to_dict(orient="records")}
         if self.scenario is not None:
@@ -117,4 +121,5 @@ class BoundsTable:
         text = head + "\n" + self.to_frame().to_string(index=False, na_rep="-", float_format=lambda v: f"{v:.4g}")
         unused = (["range_resolution_m '-': these bounds limit phase (λ), not range cells: δr is not used"]
                   if np.all(np.isnan(np.asarray(self.range_resolution_m, float))) else [])
-        return "\n".join([text, *unused, *self.limit_notes(), *([self.defaults_note] if self.defaults_note else [])])
+        return "\n".join([text, *unused, *self.limit_notes(), *self.scenario_notes,
+                          *([self.defaults_note] if self.defaults_note else [])])

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
-from ..bounds import (LeverArmAssumptions, compute_bounds, fast_phase_limits, lever_arm_terms, scenario_assumptions,
-                      scenario_keys)
+from ..bounds import (LeverArmAssumptions, compute_bounds, fast_phase_limits, for_scenario, lever_arm_terms,
+                      scenario_assumptions, scenario_keys)
 from ..errors import InputError
 from .common import add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
@@ -106,10 +104,8 @@ def run(args) -> int:
             lever = LeverArmAssumptions.from_scenario(s)
     assumed = lever if args.tc or lever is not None else scenario_assumptions(args.mode, s)
     table = compute_bounds(tc, dr, args.mode, wavelength_m=lam, assumptions=assumed)
-    if not args.tc:  # the table says which scenario it is for and its defaults, as budget.compute_bounds does
-        keys = scenario_keys(args.mode)
-        table = replace(table, scenario=s.model_dump(mode="json"), scenario_defaults=s.defaults_taken(keys),
-                        defaults_note=s.defaults_note(keys))
+    if not args.tc:  # the table says which scenario it is for, its defaults and what it does not use,
+        table = for_scenario(table, s, args.mode)  # as budget.compute_bounds does
     # fast-phase limits at these Tc, weighted by the window the verdict images with (a scenario's:
     # Taylor on radar) or unweighted, the conservative side, for bare --tc
     window = LeverArmAssumptions.from_scenario(s).aperture_window if not args.tc else "rect"
@@ -123,16 +119,20 @@ def run(args) -> int:
                "fast_phase": None if fast is None else fast.to_dict(),
                "scenario_defaults": None if args.tc else s.defaults_taken(scenario_keys(args.mode))}
         if lever is not None:
+            terms = {f"{t:.6g}": lever_arm_terms(float(t), dr, lam, lever) for t in np.atleast_1d(tc)}
             out["lever_arm"] = {"assumptions": lever.model_dump(mode="json"),
-                                "terms": {f"{t:.6g}": lever_arm_terms(float(t), dr, lam, lever).to_dict(orient="records")
-                                          for t in np.atleast_1d(tc)}}
+                                "terms": {t: f.to_dict(orient="records") for t, f in terms.items()},
+                                "notes": [n for f in terms.values() for n in f.attrs.get("notes", [])]}
         write_json(out, args.json)
         return 0
     print(table.summary())
     if lever is not None:
         for t in np.atleast_1d(tc):
             print(f"lever arm at Tc = {t:.4g} s (|d| = {lever.lever_m:.3g} m):")
-            print(lever_arm_terms(float(t), dr, lam, lever).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+            terms = lever_arm_terms(float(t), dr, lam, lever)
+            print(terms.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+            for note in terms.attrs.get("notes", []):
+                print(note)
     if fast is not None:
         print(fast.summary())
     return 0

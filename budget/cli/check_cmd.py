@@ -44,6 +44,6 @@ def run(args) -> int:
     print(res.summary())
     if origin:
         print(origin)
-    print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {grades[args.mode] or 'none'}")
-    print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {grades['pga_limited'] or 'none'}")
+    print(f"lowest sufficient grade (typical, bias + noise, {args.mode} bounds): {grades.text(args.mode)}")
+    print(f"lowest sufficient grade (typical, bias + noise, PGA-limited bounds): {grades.text('pga_limited')}")
     return 0

@@ -207,11 +207,9 @@ def run(args) -> int:
             print(origin)
         if gains is not None:
             print("pre-filter DC gain: " + ", ".join(f"{ch} {g:.4f}" for ch, g in gains.items()))
-        if versus is not None and versus["agree"] is False:
-            print(f"check vs Monte Carlo: DISAGREE — {versus['reason']}")
-        elif versus is not None:
-            print(f"check vs Monte Carlo: {'agree' if versus['agree'] else versus['reason']} "
-                  f"(check {versus['check_verdict']}, MC {versus['mc_verdict']})")
+        if versus is not None:  # names the check compared: the PGA-limited one
+            from ..report import check_vs_mc_text
+            print(check_vs_mc_text(versus))
     return 0
 
 

@@ -491,7 +491,8 @@ def run_chunk(setup: ChainSetup, model, seed: int, start: int, stop: int,
         pre = _prefilter(model, setup.scenario.imu_rate_hz, opts.prefilter,
                          opts.prefilter_calibration_samples, seed)
     motion = simulate_motion(setup.scenario, model, stop - start, seed, first_trial=start,
-                             keep_series="position", prefilter=pre, disturbance=setup.disturbance)
+                             keep_series="position", prefilter=pre, disturbance=setup.disturbance,
+                             warn_notes=False)  # stated once per run by budget.mc.runner.run_mc
     time_s, series, cells = motion.time_s, motion.position_error_m, motion.peak_range_cells.max(axis=1)
     out = []
     lo, end = (start, stop) if only is None else (max(start, only[0]), min(stop, only[1]))

@@ -31,8 +31,10 @@ from typing import Callable
 
 from threadpoolctl import threadpool_limits
 
+from ..aiding_spec import AidingPlan
 from ..catalog.fill import resolve_unspecified
 from ..errors import InputError, whole_number
+from ..motion.engine import engine_notes
 from ..scenario import Scenario
 from .aggregate import Aggregate
 from .chain import FORMATION_BATCH, ChainSetup, chain_plan, run_chunk, scene_reference
@@ -185,6 +187,10 @@ def run_mc(scenario: Scenario, model, trials: int, seed: int, *, options: McOpti
     options, room = resolve_defocus_room(scenario, options, model)
     scen_json, opt_json = scenario.model_dump_json(), options.model_dump_json()
     _cached_setup(scen_json, opt_json)  # fail early (e.g. a scenario beyond the simulation limits)
+    # the motion engine's notes, once per run: the engine runs for the defocus pilot and for every
+    # chunk (in every worker), each of which warned them again (two or more identical lines)
+    for note in engine_notes(scenario, AidingPlan.from_scenario(scenario)):
+        warnings.warn(note, UserWarning, stacklevel=2)
     units = work_units(trials, options.chunk_trials, 1 if backend == "serial" else workers)
     agg = Aggregate(keep_worst=options.keep_worst, keep_trial_metrics=options.keep_trial_metrics)
     cancelled = False

@@ -104,6 +104,40 @@ def first_fix_note(plan: AidingPlan, n_warm: int, n_total: int, rate_hz: float) 
             "the aperture is free-inertial from the initial errors")
 
 
+def aperture_span_note(scenario: Scenario) -> str | None:
+    """None, or the warning that the aperture is simulated over whole IMU intervals, (N − 1)/rate s,
+    more than :data:`APERTURE_ROUNDING_NOTE` away from Tc (a bias's quadratic phase scales with
+    its square)."""
+    n = aperture_samples(scenario)
+    span = (n - 1) / scenario.imu_rate_hz
+    if abs(span - scenario.tc_s) <= APERTURE_ROUNDING_NOTE * scenario.tc_s:
+        return None
+    off = 100 * (span / scenario.tc_s - 1)
+    return (f"{scenario.name}: the aperture is simulated over {n - 1} IMU intervals = "
+            f"{span:.4g} s, {abs(off):.1f} % {'shorter' if off < 0 else 'longer'} than Tc = "
+            f"{scenario.tc_s:.4g} s (a bias's quadratic phase scales with its square): raise "
+            "imu_rate_hz")
+
+
+def engine_notes(scenario: Scenario, aiding: AidingPlan | None = None) -> list[str]:
+    """The warnings :func:`simulate_motion` gives for ``scenario`` flown with ``aiding`` (a plan, or
+    None: free inertial): the aperture cut to whole IMU intervals (:func:`aperture_span_note`) and an
+    aided run with no fix in time (:func:`first_fix_note`). A caller that runs the engine several
+    times for one result (the Monte Carlo: its pilot and every chunk) states them once itself and
+    passes ``warn_notes=False``. Empty when the engine refuses the aperture's sampling (fewer
+    than 5 or more than :data:`MAX_SAMPLES` samples): its error says it then."""
+    if not 5 <= aperture_samples(scenario) <= MAX_SAMPLES:
+        return []
+    out = [note] if (note := aperture_span_note(scenario)) else []
+    if aiding is not None and aiding.aiding:
+        rate = scenario.imu_rate_hz
+        n_warm = int(round(aiding.warmup_s * rate))
+        no_fix = first_fix_note(aiding, n_warm, n_warm + aperture_samples(scenario), rate)
+        if no_fix is not None:
+            out.append(f"{scenario.name}: {no_fix}")
+    return out
+
+
 def _label(model) -> str:
     if isinstance(model, NoiseModelSI):
         return "noise model"
@@ -238,7 +272,7 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
                     keep_series: bool | str = True, first_trial: int = 0, prefilter=None,
                     aiding: AidingPlan | dict | str | None = "scenario",
                     latitude_deg: float | None = None, heading_deg: float | None = None,
-                    progress=None, unspecified: str = "zero") -> MotionResult:
+                    progress=None, unspecified: str = "zero", warn_notes: bool = True) -> MotionResult:
     """Monte Carlo of the motion error of ``n_trials`` apertures of ``scenario`` with IMU ``model``.
 
     ``model``: :class:`~budget.imu.noise_model.NoiseModel`, catalog ``PartSpec`` or
@@ -273,6 +307,8 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
     navigation-grade part's empty VRW as 0, 55× quieter than ``mc``, and said nothing).
     ``progress(done, total)`` (trials) is called after each block (:func:`~budget.motion.cost.estimate_cost`
     gives the cost before the run; one beyond ``MAX_WORKING_BYTES`` is refused).
+    ``warn_notes``: give :func:`engine_notes` as :class:`UserWarning` (default); False for a caller
+    that states them once for several runs (the Monte Carlo).
     """
     if not isinstance(scenario, Scenario):
         scenario = Scenario.from_dict(scenario) if isinstance(scenario, dict) else scenario
@@ -323,14 +359,9 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
 
     aided = aiding is not None and bool(aiding.aiding)
     frame, earth_note = earth_model(scenario, aiding, si, initial_errors, latitude_deg, heading_deg)
-    span = (n - 1) / scenario.imu_rate_hz
-    if abs(span - scenario.tc_s) > APERTURE_ROUNDING_NOTE * scenario.tc_s:
-        off = 100 * (span / scenario.tc_s - 1)
-        warnings.warn(f"{scenario.name}: the aperture is simulated over {n - 1} IMU intervals = "
-                      f"{span:.4g} s, {abs(off):.1f} % {'shorter' if off < 0 else 'longer'} than Tc = "
-                      f"{scenario.tc_s:.4g} s (a bias's quadratic phase scales with its square): raise "
-                      "imu_rate_hz",
-                      UserWarning, stacklevel=2)
+    span_note = aperture_span_note(scenario)
+    if span_note is not None and warn_notes:
+        warnings.warn(span_note, UserWarning, stacklevel=2)
     warm = round(aiding.warmup_s * scenario.imu_rate_hz) if aided else 0
     if n + warm > MAX_SAMPLES:
         raise InputError(f"the warm-up and aperture span more than {MAX_SAMPLES:,} IMU samples",
@@ -343,7 +374,8 @@ def simulate_motion(scenario: Scenario, model, n_trials: int, seed: int, *, chun
         no_fix = first_fix_note(ctx.plan, ctx.n_warm, ctx.n_total, ctx.rate)
         if no_fix is not None:
             aiding_label += f"; {no_fix}"
-            warnings.warn(f"{scenario.name}: {no_fix}", UserWarning, stacklevel=2)
+            if warn_notes:
+                warnings.warn(f"{scenario.name}: {no_fix}", UserWarning, stacklevel=2)
     first = whole_number("first_trial", first_trial, 0)
     if first % ctx.block:
         raise InputError(f"first_trial must be a multiple of the {ctx.block}-trial random-stream block",

@@ -64,6 +64,18 @@ def check_vs_mc(record: Mapping, mc, target: float = MC_PASS_TARGET) -> dict:
     return out
 
 
+def check_vs_mc_text(versus: Mapping) -> str:
+    """:func:`check_vs_mc`'s record in one line, naming which check the Monte Carlo was compared
+    with (``check_basis``: the PGA-limited check, the verdict that predicts one after PGA; the
+    check table's ``verdict`` column is the ``--mode`` one): what ``sar-budget mc`` prints."""
+    basis = versus.get("check_basis") or "analytic check"
+    if versus.get("agree") is False:
+        return f"check vs Monte Carlo: DISAGREE — {versus.get('reason')}"
+    head = "agree" if versus.get("agree") else versus.get("reason")
+    return (f"check vs Monte Carlo: {head} ({basis} {versus.get('check_verdict')}, "
+            f"MC {versus.get('mc_verdict')})")
+
+
 #: Check columns that act only through the platform's rotation (none in straight, level flight).
 _ROTATION_TERMS = ("gyro_scale_factor_ppm", "gyro_misalignment_mrad")
 #: Rise of the part's combined use of the bounds (:func:`filled_terms_share`) from its filled
