@@ -120,8 +120,15 @@ def test_lever_arm_bounds_closed_forms():
             == pytest.approx(math.radians(1.0) * lam / (4 * math.pi)))
     bias = t.loc["b·Tc·|d| ≤ δr", "lever_arm_limit"]
     assert math.radians(bias / 3600.0) * tc * d == pytest.approx(dr)
+    # δr/(|d|·Θ) = 0.5/(0.6·6°) = 7.96 rad is beyond 90°: capped there, as seed 004 (7)'s
+    # arcsin is, and said beside the table
     mis = t.loc["φm·|d|·Θ ≤ δr", "lever_arm_limit"]
-    assert mis * 1e-3 * d * math.radians(2.0 * tc) == pytest.approx(dr)
+    assert dr / (d * math.radians(2.0 * tc)) > math.pi / 2
+    assert mis * 1e-3 == pytest.approx(math.pi / 2)
+    assert any("capped at 90°" in n for n in t.attrs["notes"])
+    # a faster turn (20 deg/s: Θ = 60°, 796 mrad) keeps the closed form
+    fast_turn = lever_arm_terms(tc, dr, lam, a.model_copy(update={"platform_rate_deg_s": 20.0})).set_index("lever_arm_rule")
+    assert fast_turn.loc["φm·|d|·Θ ≤ δr", "lever_arm_limit"] * 1e-3 * d * math.radians(20.0 * tc) == pytest.approx(dr)
 
 
 def test_zero_lever_arm_gives_the_paper_bounds():
