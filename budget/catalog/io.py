@@ -45,10 +45,10 @@ from pydantic import ValidationError
 from ..errors import InputError, OutputError, from_validation_error
 from ..fileio import atomic_write_text
 from ..safe_text import csv_text
-from .schema import PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED, GradeSpec, PartSpec
-from .validate import (ALT_UNIT_COLUMNS, MAX_BYTES, MAX_CELL_CHARS, _expected_text,  # noqa: F401
-                       _map_header, _read_rows, _read_text, case_twin_reason, count_valid_parts,
-                       validate_parts_table)
+from .across_rows import case_twin_reason
+from .schema import PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED, GradeSpec, PartSpec, expected_text
+from .validate import (ALT_UNIT_COLUMNS, MAX_BYTES, MAX_CELL_CHARS,  # noqa: F401
+                       _map_header, _read_rows, _read_text, count_valid_parts, validate_parts_table)
 
 ENV_VAR = "SAR_BUDGET_CATALOG"
 
@@ -90,7 +90,7 @@ def _parts_of(path: Path, text: str | None = None) -> dict[str, PartSpec]:
             canon = str(e["loc"][0]) if e.get("loc") else None
             unit = PART_NUMERIC_COLUMNS.get(canon, ("",))[0]
             raise InputError(e["msg"].removeprefix("Value error, "), file=path, row=i, field=canon,
-                             value=rec.get(canon), expected=_expected_text(canon, unit)) from None
+                             value=rec.get(canon), expected=expected_text(canon, unit)) from None
         parts[part.part_id] = part
     return parts
 
@@ -306,7 +306,7 @@ def _as_part(part: PartSpec | Mapping[str, object], file: str | Path | None = No
         canon = e.field if e.field in PartSpec.model_fields else None
         unit = PART_NUMERIC_COLUMNS.get(canon, ("",))[0]
         raise InputError((f"part {pid!r}: " if isinstance(pid, str) else "") + e.reason, file=file,
-                         field=e.field, value=e.value, expected=_expected_text(canon, unit)) from None
+                         field=e.field, value=e.value, expected=expected_text(canon, unit)) from None
 
 
 def _checked(path: str | Path, text: str, part_id: str | None = None) -> str:

@@ -79,6 +79,26 @@ PART_COLUMNS = ("part_id", "vendor", "model", "grade", *PART_NUMERIC_COLUMNS, "s
 PART_REQUIRED = ("part_id", "grade", "source")
 
 
+
+def expected_text(canon: str | None, unit: str) -> str | None:
+    """What a cell of column ``canon`` (its unit ``unit``) must hold, in the words every catalog
+    error uses; ``None`` for a column with nothing more to say."""
+    if canon == "grade":
+        return "one of " + ", ".join(GRADES)
+    if canon == "part_id":
+        return "letters, digits, '.', '_' or '-' (1-64 characters, starting with a letter or digit)"
+    if canon in PART_NUMERIC_COLUMNS:
+        lim = PART_NUMERIC_COLUMNS[canon][1]
+        return f"a number in {unit}, 0 … {lim:g}" + (" (> 0)" if canon == "rate_hz" else "")
+    if canon == "bias_instability_convention":
+        return ("one of " + ", ".join(BIAS_CONVENTIONS) + " (empty = adev_min); total_1sigma and "
+                "turn_on_1sigma leave the repeatability columns empty")
+    if canon == "verified":
+        return "one of " + ", ".join(VERIFIED_STATES) + " (or empty)"
+    if canon == "source":
+        return "the datasheet (with revision) the numbers come from"
+    return None
+
 class PartSpec(BaseModel):
     """One IMU part in datasheet units (a row of ``catalog/parts.csv``).
 

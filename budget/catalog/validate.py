@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import csv
 import io
-import itertools
 import math
 import re
 from collections.abc import Mapping
@@ -31,8 +30,10 @@ from ..errors import InputError
 from ..fileio import read_text
 from ..safe_text import FORMULA_START, looks_like_formula
 from .header_units import quantity_table, respell, suggest, unit_words
-from .schema import (BIAS_CONVENTIONS, CONSTANT_BIAS_CONVENTIONS, GRADES, PART_COLUMNS,
-                     PART_NUMERIC_COLUMNS, PART_REQUIRED, VERIFIED_STATES)
+from .across_rows import ACROSS_ROWS, check_rows, row_problems
+from .decimal_comma import decimal_comma_split
+from .schema import (BIAS_CONVENTIONS, GRADES, PART_COLUMNS, PART_NUMERIC_COLUMNS, PART_REQUIRED,
+                     VERIFIED_STATES, expected_text)
 
 #: Largest catalog file read (bytes) and longest cell (characters).
 MAX_BYTES = 64_000_000
@@ -145,7 +146,7 @@ def _check_not_comment(r: list[str], path: Path, i: int) -> None:
 def _check_length(r: list[str], header: list[str], path: Path, i: int) -> None:
     _check_not_comment(r, path, i)
     if len(r) != len(header):
-        hint = _decimal_comma_split(r, header) if len(r) > len(header) else None
+        hint = decimal_comma_split(r, header, _cell_fits) if len(r) > len(header) else None
         if hint is not None:
             reason, field, value, write = hint
             raise InputError(f"has {len(r)} cells but the header has {len(header)}; {reason}", file=path,
@@ -158,57 +159,6 @@ def _check_length(r: list[str], header: list[str], path: Path, i: int) -> None:
         j = max(range(len(r)), key=lambda k: len(r[k]))
         raise InputError(f"cell of {len(r[j]):,} characters", file=path, row=i, field=header[j],
                          value=r[j], expected=f"at most {MAX_CELL_CHARS:,} characters")
-
-
-_INT_CELL = re.compile(r"[+-]?\d+")
-_DIGITS_CELL = re.compile(r"\d+")
-
-
-def _decimal_comma_split(r: list[str], header: list[str]):
-    """For a row with more cells than the header: the adjacent whole-number cells that, joined as
-    one decimal (``0`` and ``42`` → 0.42: an unquoted decimal comma), make it fit — every numeric
-    cell then a number within its column's range and every choice column valid. Returns (reason,
-    field, value, what to write) naming the two cells and the column, or None. Several fits are
-    ranked (an integer part of 0 is a decimal comma rather than a thousands separator) and up to
-    three of the best are named."""
-    extra = len(r) - len(header)
-    pairs = [j for j in range(len(r) - 1) if _INT_CELL.fullmatch(r[j]) and _DIGITS_CELL.fullmatch(r[j + 1])]
-    if not 1 <= extra <= 3 or len(pairs) > 40:
-        return None
-    fits = []
-    for combo in itertools.combinations(pairs, extra):
-        if any(b - a < 2 for a, b in zip(combo, combo[1:])):
-            continue  # overlapping pairs
-        merged, k = [], 0
-        while k < len(r):
-            if k in combo:
-                merged.append(f"{r[k]}.{r[k + 1]}")
-                k += 2
-            else:
-                merged.append(r[k])
-                k += 1
-        if all(_cell_fits(c, col) for c, col in zip(merged, header)):
-            # where each joined cell lands in the merged row: its index minus the pairs before it
-            at = [j - n for n, j in enumerate(combo)]
-            rank = (sum(_INT_CELL.fullmatch(r[j]) and int(r[j]) == 0 for j in combo) * -1,
-                    sum(len(r[j + 1]) == 3 for j in combo))
-            fits.append((rank, combo, at))
-    if not fits:
-        return None
-    fits.sort(key=lambda f: f[0])
-    best = [f for f in fits if f[0] == fits[0][0]][:3]
-
-    def said(combo, at) -> str:
-        return " and ".join(f"cells {j + 1} and {j + 2} ('{r[j]}' and '{r[j + 1]}') as {r[j]}.{r[j + 1]} "
-                            f"in {header[a]}" for j, a in zip(combo, at))
-
-    what = "an unquoted decimal comma" if extra == 1 else "unquoted decimal commas"
-    joined = "joining " + ", or ".join(said(c, a) for _, c, a in best) + f" makes it fit: {what}?"
-    if len(best) > 1:
-        return joined, None, None, "write a decimal"
-    _, combo, at = best[0]
-    return (joined, header[at[0]] if extra == 1 else None, ", ".join(f"{r[j]},{r[j + 1]}" for j in combo),
-            "write " + " and ".join(f"{r[j]}.{r[j + 1]}" for j in combo))
 
 
 def _cell_fits(cell: str, col: str) -> bool:
@@ -355,7 +305,7 @@ def _check_numbers(vals: np.ndarray, empty: np.ndarray, rows: list[int], path: P
         if mask.any():
             k = int(np.argmax(mask))
             raise InputError(msg, file=path, row=rows[k], field=col, value=cell(k),
-                             expected=_expected_text(canon, unit) if col == canon else
+                             expected=expected_text(canon, unit) if col == canon else
                              f"a number in {unit}, 0 … {shown}")
     vals = np.array(vals, float)
     vals[empty] = np.nan
@@ -402,7 +352,7 @@ def _check_choice(cells, rows, path, col, canon, ok, required: bool) -> None:
     for k, c in enumerate(cells):
         if not ok(c) and (c != "" or required):
             raise InputError(_choice_message(canon, c), file=path, row=rows[k], field=col,
-                             value=c, expected=_expected_text(canon, ""))
+                             value=c, expected=expected_text(canon, ""))
 
 
 def _choice_message(canon: str, value: str) -> str:
@@ -505,9 +455,9 @@ def _table_fast(path: Path, text: str):
                     k = int(np.argmax(~ok))
                     v = s.iloc[k]
                     raise InputError(_choice_message(canon, v), file=path, row=rows[k], field=col,
-                                     value=v, expected=_expected_text(canon, ""))
+                                     value=v, expected=expected_text(canon, ""))
             table[canon] = tuple(s.tolist())
-    _check_rows(table, rows, path, {mapping[c]: c for c in header})
+    check_rows(table, rows, path, {mapping[c]: c for c in header})
     return table, rows
 
 
@@ -573,95 +523,13 @@ def _table_row_by_row(path: Path, text: str) -> tuple[dict[str, object], list[in
         raise InputError("has a header but no parts", file=path, expected="at least one data row")
     table = {c: (np.concatenate(v) if c in PART_NUMERIC_COLUMNS else
                  tuple(x for part in v for x in part)) for c, v in columns.items()}
-    _check_rows(table, row_numbers, path, {mapping[c]: c for c in header})
+    check_rows(table, row_numbers, path, {mapping[c]: c for c in header})
     return table, row_numbers
-
-
-def _check_rows(table: dict, rows: list[int], path: Path, header_of: dict[str, str]) -> None:
-    """Checks across columns and rows (:func:`row_problems`): the first problem raises."""
-    problems = row_problems(table, rows, path, header_of, first_only=True)
-    if problems:
-        raise problems[0]
-
-
-def case_twin_reason(other: str, row: int | None = None) -> str:
-    """Why a part_id differing only in letter case from ``other`` (at ``row`` of the same file,
-    if given) is refused — the words of :func:`budget.catalog.io.append_part` and of the reader."""
-    return f"part_id differs only in case from {other!r}" + (f" (row {row})" if row is not None else "") \
-        + ", already in the catalog"
-
-
-def row_problems(table: dict, rows: list[int], path: Path, header_of: dict[str, str],
-                 first_only: bool = False) -> list[InputError]:
-    """Problems across columns and rows, in row order: a repeated part_id (naming the row that
-    has it first), a part_id differing only in letter case from an earlier one (refused as
-    :func:`~budget.catalog.io.append_part` refuses it: ids are case-sensitive, so it would be a
-    separate part, which is never what two spellings of one id mean), a repeatability column
-    given with a constant-bias convention. An empty part_id is skipped (a cell error of its own).
-    ``first_only``: stop at the first row with a problem."""
-    import pandas as pd
-
-    found: list[tuple[int, InputError]] = []
-    ids = pd.Series(table["part_id"], dtype=object)
-    given = (ids != "").to_numpy()
-    lower = ids.str.lower()
-    dup = ids.duplicated().to_numpy() & given
-    twin = lower.duplicated().to_numpy() & given & ~dup
-    bad = np.flatnonzero(dup | twin)
-    # the row where each id comes first, as written and in any case
-    first_exact = {v: j for j, v in reversed(list(enumerate(ids))) if given[j]} if bad.size else {}
-    first_any = {v: j for j, v in reversed(list(enumerate(lower))) if given[j]} if bad.size else {}
-    for k in bad[:1] if first_only else bad:
-        j = first_exact[ids.iat[k]] if dup[k] else first_any[lower.iat[k]]
-        if dup[k]:
-            err = InputError(f"duplicate part_id (also at row {rows[j]})", file=path, row=rows[k],
-                             field=header_of.get("part_id", "part_id"), value=ids.iat[k],
-                             expected="each part_id once per file")
-        else:
-            err = InputError(case_twin_reason(ids.iat[j], rows[j]), file=path, row=rows[k],
-                             field=header_of.get("part_id", "part_id"), value=ids.iat[k],
-                             expected=f"each part_id once per file, letter case ignored (rename or "
-                                      f"delete one of rows {rows[j]} and {rows[k]})")
-        found.append((k, err))
-    conv = table.get("bias_instability_convention")
-    if conv is not None:
-        const = pd.Series(conv, dtype=object).isin(CONSTANT_BIAS_CONVENTIONS).to_numpy()
-        for rep in ("gyro_bias_repeatability_deg_h", "accel_bias_repeatability_ug"):
-            if rep not in table:
-                continue
-            for k in np.flatnonzero(const & np.isfinite(table[rep])):
-                found.append((k, InputError(
-                    f"{conv[k]} says the bias columns already hold the turn-on bias, but {rep} is "
-                    "also given; leave it empty or use adev_min / ieee_b for an in-run figure",
-                    file=path, row=rows[k], field=header_of.get("bias_instability_convention"),
-                    value=conv[k], expected=_expected_text("bias_instability_convention", ""))))
-                if first_only:
-                    break
-    found.sort(key=lambda ke: ke[0])
-    return [e for _, e in (found[:1] if first_only else found)]
 
 
 def count_valid_parts(path: str | Path) -> int:
     """Number of parts of a valid parts CSV (fast: no models built); raises on the first bad cell."""
     return len(validate_parts_table(path)[1])
-
-
-def _expected_text(canon: str | None, unit: str) -> str | None:
-    if canon == "grade":
-        return "one of " + ", ".join(GRADES)
-    if canon == "part_id":
-        return "letters, digits, '.', '_' or '-' (1-64 characters, starting with a letter or digit)"
-    if canon in PART_NUMERIC_COLUMNS:
-        lim = PART_NUMERIC_COLUMNS[canon][1]
-        return f"a number in {unit}, 0 … {lim:g}" + (" (> 0)" if canon == "rate_hz" else "")
-    if canon == "bias_instability_convention":
-        return ("one of " + ", ".join(BIAS_CONVENTIONS) + " (empty = adev_min); total_1sigma and "
-                "turn_on_1sigma leave the repeatability columns empty")
-    if canon == "verified":
-        return "one of " + ", ".join(VERIFIED_STATES) + " (or empty)"
-    if canon == "source":
-        return "the datasheet (with revision) the numbers come from"
-    return None
 
 
 def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
@@ -687,7 +555,7 @@ def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
     except InputError as err:
         return [err]
     # what the checks across rows need, a bad cell replaced by a neutral value ('' or NaN)
-    across = [c for c in header if mapping[c] in _ACROSS_ROWS]
+    across = [c for c in header if mapping[c] in ACROSS_ROWS]
     kept: dict[str, list] = {mapping[c]: [] for c in across}
     kept_rows: list[int] = []
     errors: list[InputError] = []
@@ -726,8 +594,3 @@ def collect_errors(path: str | Path, limit: int = 200) -> list[InputError]:
         except InputError as err:
             errors.append(err)
     return errors[:limit]
-
-
-#: The columns :func:`row_problems` looks at.
-_ACROSS_ROWS = ("part_id", "bias_instability_convention", "gyro_bias_repeatability_deg_h",
-                "accel_bias_repeatability_ug")
