@@ -13,7 +13,7 @@ import streamlit as st
 
 from budget.bounds import DerivedAssumptions, NoAutofocusAssumptions, scenario_assumptions
 from budget.errors import InputError
-from budget.fileio import parse_structured
+from budget.structured import parse_structured
 from budget.presets import PRESETS, get_preset
 from budget.scenario import Scenario
 
@@ -148,7 +148,7 @@ def _apply_upload() -> None:
 
 def scenario_from_upload(data: bytes, name: str) -> Scenario:
     """A scenario from uploaded JSON/YAML bytes (parsed as data, never executed), read with the
-    limits and rules of the CLI's reader (:func:`budget.fileio.parse_structured`)."""
+    limits and rules of the CLI's reader (:func:`budget.structured.parse_structured`)."""
     if len(data) > MAX_SCENARIO_BYTES:
         raise InputError(f"file is {len(data)} bytes", file=name, expected=f"at most {MAX_SCENARIO_BYTES} bytes")
     hint = "a scenario file as written by `sar-budget scenario write`"

@@ -22,7 +22,8 @@ from pydantic import (BaseModel, ConfigDict, Field, ValidationError, ValidationI
 
 from .aiding_spec import CORRECTION_MODES, DEFAULT_CORRECTION_MODE, AidingConfig, parse_aiding
 from .errors import InputError, combine_errors, refuse_bool_numbers
-from .fileio import atomic_write_text, read_structured
+from .fileio import atomic_write_text
+from .structured import read_structured
 from .units import C_LIGHT, C_SOUND_WATER, G0, unit_of_name, value_text_hint
 
 

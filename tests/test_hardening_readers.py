@@ -16,7 +16,8 @@ import pytest
 
 from budget.catalog.io import read_parts
 from budget.errors import InputError, short_repr
-from budget.fileio import MAX_DEPTH, check_input_file, read_bytes, read_structured
+from budget.fileio import check_input_file, read_bytes
+from budget.structured import MAX_DEPTH, read_structured
 from budget.noise import read_log
 from budget.noise.logs import _estimate_rows
 from budget.scenario import Scenario

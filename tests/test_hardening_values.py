@@ -15,7 +15,7 @@ import budget
 from budget.bounds import LeverArmAssumptions, compute_bounds
 from budget.cli.main import main
 from budget.errors import InputError
-from budget.fileio import read_structured
+from budget.structured import read_structured
 from budget.imu.noise_model import NoiseModel
 from budget.noise import LogMapping
 from budget.noise.pipeline import analyse_arma

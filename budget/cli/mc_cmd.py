@@ -43,7 +43,7 @@ def _options(args) -> McOptions:
     if motion is not None:
         upd["platform_motion"] = motion
     if getattr(args, "acceptance", None):
-        from ..fileio import read_structured
+        from ..structured import read_structured
         spec = read_structured(args.acceptance, "an acceptance spec")  # size, depth and duplicate-key limits
         if not isinstance(spec, dict):
             raise InputError("the acceptance spec must be a JSON object", file=args.acceptance)

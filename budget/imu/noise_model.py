@@ -58,7 +58,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from ..catalog.schema import ImuErrorsSI, PartSpec
 from ..errors import InputError, from_validation_error, refuse_bool_numbers
-from ..fileio import atomic_write_text, read_structured
+from ..fileio import atomic_write_text
+from ..structured import read_structured
 from ..units import ACCEL_CHANNELS, CHANNELS, GYRO_CHANNELS, channel_si_unit
 from .registry import QUANTIZERS, REGISTRY
 

@@ -25,7 +25,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from ..errors import InputError, from_validation_error, refuse_bool_numbers
-from ..fileio import read_structured
+from ..structured import read_structured
 from ..units import G0
 
 TRANSLATION_AXES = ("surge", "sway", "heave")
@@ -166,7 +166,7 @@ class Disturbance(BaseModel):
 
     @classmethod
     def load(cls, path: str | Path) -> "Disturbance":
-        """Read a disturbance JSON (or YAML) file with the limits of :func:`~budget.fileio.read_structured`;
+        """Read a disturbance JSON (or YAML) file with the limits of :func:`~budget.structured.read_structured`;
         problems raise :class:`InputError` naming file and field."""
         path = Path(path)
         data = read_structured(path, "a disturbance")

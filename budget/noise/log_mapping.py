@@ -26,7 +26,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from .. import units as u
 from ..errors import LOG_NAMES_WAY, InputError, from_validation_error, refuse_bool_numbers
-from ..fileio import read_structured
+from ..structured import read_structured
 from .log_clock import is_clock_name
 
 #: Time column name → factor to seconds.
