@@ -7,7 +7,6 @@ disagree with the inputs.
 
 from __future__ import annotations
 
-import difflib
 import json
 import math
 import unicodedata
@@ -24,173 +23,13 @@ from .aiding_spec import CORRECTION_MODES, DEFAULT_CORRECTION_MODE, AidingConfig
 from .errors import InputError, combine_errors, refuse_bool_numbers
 from .fileio import atomic_write_text
 from .structured import read_structured
-from .units import C_LIGHT, C_SOUND_WATER, G0, unit_of_name, value_text_hint
-
-
-#: Physically plausible ranges (SI) of the scenario inputs and of Tc, with the reason: a value
-#: outside is refused with the reason rather than turned into absurd bounds or margins.
-PLAUSIBLE: dict[str, tuple[float, float, str]] = {
-    "propagation_speed_m_s": (100.0, C_LIGHT, "between slow acoustic media and the speed of light"),
-    "slant_range_m": (0.01, 1e9, "1 cm … 10⁶ km (beyond lunar-radar distances)"),
-    "azimuth_resolution_m": (1e-5, 1e5, "10 µm … 100 km"),
-    "range_resolution_m": (1e-5, 1e5, "10 µm … 100 km"),
-    "platform_speed_m_s": (1e-3, 2e4, "1 mm/s … 20 km/s (faster than any orbit)"),
-    "platform_accel_m_s2": (0.0, 1e4, "≤ 10⁴ m/s² (about 1000 g)"),
-    "platform_rate_deg_s": (0.0, 1e4, "≤ 10⁴ deg/s"),
-}
-#: Carrier frequency per medium (Hz): radar 1 MHz … 10 THz, sonar 10 Hz … 5 MHz.
-PLAUSIBLE_CARRIER_HZ = {"radar": (1e6, 1e13), "sonar": (10.0, 5e6)}
-#: Synthetic-aperture time Tc (s) that a budget can mean something for.
-PLAUSIBLE_TC_S = (1e-5, 1e5)
-#: Propagation speed per medium (m/s): radio waves are slowed at most ~9× (water, ε ≈ 80), sound
-#: travels at most ~12 km/s (diamond); outside, the medium and the speed do not belong together.
-RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S = 1e7, 2e4
-#: IMU → antenna lever arm (m) beyond which a scenario carries a note (:meth:`Scenario.notes`):
-#: longer than the installations that carry an IMU for motion compensation (the presets: ≤ 2 m),
-#: and what a lever arm written in cm becomes (an entry of 50 for 0.5 m reads as 50 m); still
-#: simulated as given.
-LONG_LEVER_ARM_M = 20.0
-#: Specific force (m/s²) beyond which ``platform_accel_m_s2`` carries a unit note
-#: (:meth:`Scenario.notes`): 100 g. Missile manoeuvres reach tens of g (≈ 30–60 g for agile
-#: air-to-air missiles), aircraft ≤ 10 g, so 100 g is above any platform that flies a synthetic
-#: aperture, while 1 g written in cm/s² (980.665) or mm/s² (9806.65) lies above it; still used as given.
-HIGH_PLATFORM_ACCEL_M_S2 = 100.0 * G0
-#: What a lever arm is written as.
-LEVER_ARM_EXPECTED = "three numbers [x, y, z] in m (IMU → antenna phase centre, body frame)"
-#: Exact straight-track aperture ÷ seed 004 (5)'s small-angle V·Tc beyond which a scenario carries
-#: a note (:meth:`Scenario.notes`): 1.05 is an angular aperture of about 35° at broadside.
-WIDE_APERTURE_RATIO = 1.05
-#: Centripetal share V²/r_E of g beyond which level flight's specific force is no longer ≈ g
-#: (V ≈ 2.5 km/s) and a scenario carries a note (an orbiting platform is in free fall).
-ORBITAL_SPECIFIC_FORCE_SHARE = 0.1
-#: Wavelength (m) the limits above allow: 1 µm (radar at 10 THz slowed to 10⁷ m/s) … 2 km (sonar
-#: at 10 Hz and 20 km/s); what a wavelength given alone (``bounds --wavelength``) is checked against.
-PLAUSIBLE_WAVELENGTH_M = (
-    min(RADAR_MIN_SPEED_M_S / PLAUSIBLE_CARRIER_HZ["radar"][1],
-        PLAUSIBLE["propagation_speed_m_s"][0] / PLAUSIBLE_CARRIER_HZ["sonar"][1]),
-    max(C_LIGHT / PLAUSIBLE_CARRIER_HZ["radar"][0], SONAR_MAX_SPEED_M_S / PLAUSIBLE_CARRIER_HZ["sonar"][0]))
-
-
-#: Quantities a user may try to give but that are derived (never stored), and what sets them.
-DERIVED_KEYS = {
-    "wavelength_m": "the wavelength is derived: λ = c/f0 from carrier_frequency_hz (and "
-                    "propagation_speed_m_s)",
-    "tc_s": "Tc is derived: a_w λ R / (2 δℓ V sin θ) from the geometry keys",
-    "aperture_length_m": "the aperture length is derived: V·Tc",
-}
-
-
-#: What each required scenario key is (its unit is in its name; a typical value is read from the
-#: preset :data:`TYPICAL_PRESET`): the expectation of a "required key missing" error.
-REQUIRED_KEYS = {
-    "carrier_frequency_hz": "the carrier frequency f0",
-    "slant_range_m": "the slant range R from the antenna to the scene centre",
-    "azimuth_resolution_m": "the azimuth (along-track) resolution δℓ",
-    "range_resolution_m": "the range resolution δr = c/(2B), B the bandwidth",
-    "platform_speed_m_s": "the platform speed V over ground",
-}
-#: The preset whose values a missing required key's message gives as typical.
-TYPICAL_PRESET = "airborne_xband"
-
-
-def _missing_key_error(key: str) -> InputError:
-    """A required key missing from a scenario: what the key is, its unit and a typical value."""
-    what = REQUIRED_KEYS.get(key)
-    unit = key_unit(key)
-    if what is None or unit is None:
-        return InputError("required key missing", field=key, expected=f"{key} (every scenario needs it)")
-    from .presets import PRESETS  # the presets are Scenarios: imported when first needed
-    typical = getattr(PRESETS[TYPICAL_PRESET], key)
-    return InputError("required key missing", field=key,
-                      expected=f"{key}: {what}, in {unit} (e.g. {typical:g} in preset {TYPICAL_PRESET}); "
-                               "every scenario gives it")
-
-
-def _scenario_errors(err: ValidationError) -> list[InputError]:
-    """Each error of a scenario's validation as an :class:`InputError`: the one a validator
-    raised as it is; an unknown key with the key meant; text where a number is expected with the
-    number to write (:func:`_number_text_hint`); a missing required key with what it is, its
-    unit and a typical value (:func:`_missing_key_error`)."""
-    out = []
-    for x in err.errors(include_url=False):
-        field = ".".join(str(p) for p in x.get("loc", ())) or None
-        cause = (x.get("ctx") or {}).get("error")
-        if isinstance(cause, InputError):
-            if cause.field is None and field:
-                cause.field = field
-                cause.args = (cause._format(),)
-            out.append(cause)
-            continue
-        kind, value = x.get("type"), x.get("input")
-        if kind == "missing" and field:
-            out.append(_missing_key_error(field))
-            continue
-        value = None if isinstance(value, dict) else value
-        msg = x.get("msg", "invalid value").removeprefix("Value error, ")
-        expected = None
-        if kind == "extra_forbidden" and field:
-            msg = _unknown_key_text(field)
-            expected = ("only the scenario keys (sar-budget scenario write --preset NAME F.yaml writes a file "
-                        "with every key)")
-        elif kind == "float_parsing" and isinstance(value, str) and field:
-            hint = _number_text_hint(field, value)
-            if hint is not None:
-                msg, expected = hint
-        out.append(InputError(msg[:400], field=field, value=value, expected=expected))
-    return out
-
-
-def _unknown_key_text(key: str) -> str:
-    """'unknown key' with what the user probably meant: a derived quantity or a close key."""
-    if key in DERIVED_KEYS:
-        return f"unknown key: {DERIVED_KEYS[key]}"
-    close = difflib.get_close_matches(key, list(Scenario.model_fields), n=1, cutoff=0.75)
-    return f"unknown key (did you mean {close[0]!r}?)" if close else "unknown key"
-
-
-def key_unit(field: str | None) -> str | None:
-    """SI unit of the scenario key ``field`` (``lever_arm_m.0`` → ``m``), from its suffix, or None."""
-    base = (field or "").split(".")[0]
-    return unit_of_name(base) if base in Scenario.model_fields else None
-
-
-def _number_text_hint(field: str, text: str) -> tuple[str, str] | None:
-    """(reason, what to write) for text given to the number key ``field``
-    (:func:`budget.units.value_text_hint`), or None for a key without a unit."""
-    unit = key_unit(field)
-    return None if unit is None else value_text_hint(field.split(".")[0], text, unit)
-
-
-def scenario_field(field: str | None) -> bool:
-    """True if an error's ``field`` is a key of the scenario (``slant_range_m``,
-    ``aiding.0.rate_hz``, the derived ``tc_s``) — an error about the scenario's values. The bare
-    ``aiding`` and ``name`` are left out: API arguments of that name exist elsewhere."""
-    if not field:
-        return False
-    base = field.split(".")[0].split(" ")[0]
-    if field in ("aiding", "name"):
-        return False
-    return base in Scenario.model_fields or base == "tc_s"
-
-
-#: Carrier bands (Hz) a synthetic aperture is flown in: radar VHF (foliage-penetrating SAR flies
-#: 20–90 MHz) … W band and beyond (20 MHz … 300 GHz), sonar 1 kHz … 1 MHz. Used only to guess the
-#: unit a carrier was written in, and to note a carrier outside them.
-TYPICAL_CARRIER_HZ = {"radar": (2e7, 3e11), "sonar": (1e3, 1e6)}
-
-
-def carrier_unit_hint(medium: str, f0_hz: float) -> str:
-    """Why a carrier ``f0_hz`` (Hz) is implausible for ``medium``, in words: the unit
-    (kHz, MHz, GHz) whose reading puts it in the medium's typical band (a GHz figure written into
-    the Hz key: 9.6 → 9.6e+09 Hz), and, for a radar carrier in the sonar band, the other medium."""
-    lo, hi = TYPICAL_CARRIER_HZ[medium]
-    guesses = [f"{f0_hz * k:.4g} Hz if it was in {unit}"
-               for unit, k in (("kHz", 1e3), ("MHz", 1e6), ("GHz", 1e9)) if lo <= f0_hz * k <= hi]
-    text = "carrier_frequency_hz is in Hz" + (f" ({'; '.join(guesses)})" if guesses else "")
-    lo, hi = PLAUSIBLE_CARRIER_HZ["sonar"]
-    if medium == "radar" and lo <= f0_hz <= hi:
-        text += "; or did you mean medium 'sonar'?"
-    return text
+from .scenario_errors import (DERIVED_KEYS, REQUIRED_KEYS, TYPICAL_PRESET, key_unit,  # noqa: F401 (re-exported)
+                              name_scenario_file, scenario_errors, scenario_field)
+from .scenario_limits import (HIGH_PLATFORM_ACCEL_M_S2, LEVER_ARM_EXPECTED, LONG_LEVER_ARM_M,  # noqa: F401
+                              ORBITAL_SPECIFIC_FORCE_SHARE, PLAUSIBLE, PLAUSIBLE_CARRIER_HZ, PLAUSIBLE_TC_S,
+                              PLAUSIBLE_WAVELENGTH_M, RADAR_MIN_SPEED_M_S, SONAR_MAX_SPEED_M_S,
+                              TYPICAL_CARRIER_HZ, WIDE_APERTURE_RATIO, carrier_unit_hint)
+from .units import C_LIGHT, C_SOUND_WATER, G0
 
 
 def los_unit_vector(depression_deg: float, squint_deg: float) -> np.ndarray:
@@ -199,16 +38,6 @@ def los_unit_vector(depression_deg: float, squint_deg: float) -> np.ndarray:
     x along-track, y horizontal cross-track toward the imaged side, z up."""
     psi, s = math.radians(depression_deg), math.radians(squint_deg)
     return np.array([math.cos(psi) * math.sin(s), math.cos(psi) * math.cos(s), -math.sin(psi)])
-
-
-def name_scenario_file(err: InputError, source) -> InputError:
-    """An error raised *after* a scenario file was loaded (the simulator's limits, the motion
-    engine's sampling, the bounds) names the scenario's field but not the file: name ``source``
-    (a path) in it when the field is a scenario key and no file is named yet."""
-    if isinstance(err, InputError) and err.file is None and isinstance(source, (str, Path)) \
-            and str(source) and scenario_field(err.field):
-        err.rename_file(source)
-    return err
 
 
 #: Scenario keys with a default that feed a result (Tc, the bounds, the check, the simulation):
@@ -622,7 +451,7 @@ class Scenario(BaseModel):
             # every error of the file at once: pydantic's (types, bounds, unknown and missing
             # keys) beside our validators' (a value valid alone but implausible, the aiding
             # section naming its own field), each with its value and what was expected
-            raise combine_errors(_scenario_errors(err), file=source) from None
+            raise combine_errors(scenario_errors(err), file=source) from None
 
     @classmethod
     def load(cls, path: str | Path) -> "Scenario":
