@@ -230,9 +230,8 @@ def located_mode_lr(st: State, spread: Effect, located: Effect) -> float | None:
     c_loc = walk.effect_cov(located.name, params, lay)
     try:
         a, _, _ = walk.located_log_likelihood(y, base, cov0 if c_loc is None else cov0 + c_loc, np.array(units))
-        if spread.name in _PROFILED_SPREADS:
-            sp = dict(spread.params)
-            level = float(sp["K"]) ** 2 if spread.name == "rate_random_walk" else 2.0 * float(sp["sigma"]) ** 2 / float(sp["tau_s"])
+        if spread.name in walk.PROFILED_SPREADS:
+            level = walk.walk_level(spread.name, dict(spread.params))
             b, _ = walk.profile_log_likelihood(spread.name, y, base, cov0, lay, level)
         else:
             b = walk.log_likelihood(y, base, cov0 + cov_s)
@@ -243,5 +242,3 @@ def located_mode_lr(st: State, spread: Effect, located: Effect) -> float | None:
 
 #: Located effects whose time the modes resolve: the parameter :func:`located_mode_lr` profiles.
 _LOCATED_TIME = {"bias_step": "time_s"}
-#: Spreads :func:`located_mode_lr` profiles (:func:`budget.gap.walk.profile_log_likelihood`).
-_PROFILED_SPREADS = ("rate_random_walk", "gauss_markov")

@@ -449,6 +449,22 @@ def _spread_cov(name: str, theta: np.ndarray, lay: WalkLayout, stack: np.ndarray
     return 0.5 * math.exp(theta[0]) * tau * np.tensordot(c[:used], stack[:used], axes=1)
 
 
+#: Spreads :func:`profile_log_likelihood` maximises over their own parameters.
+PROFILED_SPREADS = frozenset({"rate_random_walk", "gauss_markov"})
+
+
+def walk_level(name: str, params: dict) -> float:
+    """Walk-equivalent level K² ((rad/s)²/s or (m/s²)²/s, per second of record) of a profiled
+    spread: K² for the walk; q = 2σ²/τ for a Gauss–Markov term, the level its modes above the
+    corner 1/τ share with a walk (:func:`_spread_cov`) — what :func:`profile_log_likelihood`
+    centres its search on."""
+    if name == "rate_random_walk":
+        return float(params["K"]) ** 2
+    if name == "gauss_markov":
+        return 2.0 * float(params["sigma"]) ** 2 / float(params["tau_s"])
+    raise ValueError(f"no walk-equivalent level for {name!r}")
+
+
 def profile_log_likelihood(name: str, y: np.ndarray, mean: np.ndarray | None, cov0: np.ndarray,
                            lay: WalkLayout, level: float) -> tuple[float, np.ndarray]:
     """(max ln L, θ̂): the modes' Gaussian log-likelihood (:func:`log_likelihood`) under the
@@ -461,6 +477,21 @@ def profile_log_likelihood(name: str, y: np.ndarray, mean: np.ndarray | None, co
     τ on a log grid from 4 samples to :data:`GM_TAU_LIMIT` × the record (its last point is the
     walk limit), q profiled at each τ by the same 1-D search, then Nelder–Mead from the best
     point; bounded in τ by the same range."""
+    key = (name, y.tobytes(), None if mean is None else mean.tobytes(), cov0.tobytes(), lay.n_samples,
+           lay.dt_s, level)
+    if key in _PROFILE_CACHE:
+        f, th = _PROFILE_CACHE[key]
+        return f, th.copy()
+    if len(_PROFILE_CACHE) > 64:
+        _PROFILE_CACHE.clear()
+    f, th = _profile(name, y, mean, cov0, lay, level)
+    _PROFILE_CACHE[key] = (f, th.copy())
+    return f, th
+
+
+def _profile(name: str, y: np.ndarray, mean: np.ndarray | None, cov0: np.ndarray,
+             lay: WalkLayout, level: float) -> tuple[float, np.ndarray]:
+    """:func:`profile_log_likelihood` without its cache."""
     from scipy import optimize
 
     stack = _lag_stack(lay) if name == "gauss_markov" else None
@@ -529,6 +560,8 @@ def nested_spread_lr(simple: str, rich: str, y: np.ndarray, mean: np.ndarray | N
 
 
 _LR_CACHE: dict[tuple, float] = {}
+#: profile likelihoods asked again for the same modes, model and start (the located effects' tests)
+_PROFILE_CACHE: dict[tuple, tuple[float, np.ndarray]] = {}
 
 #: (covariance, modes) → z: a candidate that adds no slow power leaves both unchanged, and
 #: the fits ask for the same z many times
