@@ -117,9 +117,20 @@ def check_parts(parts=None, scenarios="airborne_xband", mode: str = "paper", ass
     """
     from .catalog.io import as_catalog
     from .check import check_parts as _check
+    from .mc.provenance import catalog_source
 
     plist = list(as_catalog(catalog).values()) if parts is None else load_parts(parts, catalog)
-    return _check(plist, load_scenarios(scenarios), mode, assumptions, platform_motion=platform_motion)
+    given = _scenario_sources(scenarios)
+    return _check(plist, [load_scenario(s) for s in given], mode, assumptions, platform_motion=platform_motion,
+                  catalog=catalog_source(catalog, ids_given=_names_parts(parts)),
+                  sources=[s if _is_file(s) else None for s in given])
+
+
+def _names_parts(parts) -> bool:
+    """True when ``parts`` looks anything up in a catalog (None, or a part id among them)."""
+    if parts is None or isinstance(parts, str):
+        return True
+    return isinstance(parts, Iterable) and any(isinstance(p, str) for p in parts)
 
 
 def _mc_keywords(kwargs: dict, engine) -> dict:
@@ -133,7 +144,8 @@ def _mc_keywords(kwargs: dict, engine) -> dict:
     from pydantic import ValidationError
 
     from .errors import from_validation_error
-    from .mc.options import McOptions
+    from .mc.options import McOptions, acceptance_spec_options
+    from .sar.acceptance import Acceptance
 
     own = tuple(n for n, p in inspect.signature(engine).parameters.items()
                 if p.kind is p.KEYWORD_ONLY and n != "sources")
@@ -149,6 +161,13 @@ def _mc_keywords(kwargs: dict, engine) -> dict:
             raise InputError(f"options is not McOptions (type {type(base).__name__})", field="options",
                              expected="budget.mc.McOptions or None")
         data = {**(base.model_dump(exclude_unset=True) if base is not None else {}), **fields}
+        spec = fields.get("acceptance")
+        if isinstance(spec, (Mapping, Acceptance)):
+            # a partial acceptance completes the options' own (given) or the verdict's defaults —
+            # as ``sar-budget mc --acceptance`` does — never Acceptance's (1-cell peak shift)
+            keep = base.acceptance if base is not None and "acceptance" in base.model_fields_set else None
+            given = spec if isinstance(spec, Mapping) else spec.model_dump(include=set(spec.model_fields_set))
+            data.update(acceptance_spec_options(given, keep))
         try:
             kwargs["options"] = McOptions(**data)
         except ValidationError as err:
@@ -172,10 +191,14 @@ def run_mc(scenario, part, trials: int = DEFAULT_TRIALS, seed: int = DEFAULT_SEE
     kwargs = _mc_keywords(kwargs, _run)
     s = load_scenario(scenario)
     imu = load_part(part, catalog)
+    from .mc.provenance import catalog_source
+
     try:
-        return _run(s, imu, trials, seed, **kwargs)
+        result = _run(s, imu, trials, seed, **kwargs)
     except InputError as err:  # a scenario file's value the simulator cannot use: name the file
         raise name_scenario_file(err, scenario if _is_file(scenario) else None) from None
+    result.extra["catalog"] = catalog_source(catalog, ids_given=isinstance(part, str))  # in to_dict()
+    return result
 
 
 def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int = DEFAULT_TRIALS,
@@ -188,10 +211,13 @@ def sweep(parts=None, scenarios: Sequence | str = "airborne_xband", trials: int 
     --catalog``)."""
     from .mc.sweep import sweep as _sweep
 
+    from .mc.provenance import catalog_source
+
     kwargs = _mc_keywords(kwargs, _sweep)
     given = _scenario_sources(scenarios)
     return _sweep(load_parts(parts, catalog), [load_scenario(s) for s in given], trials, seed,
-                  sources=[s if _is_file(s) else None for s in given], **kwargs)
+                  sources=[s if _is_file(s) else None for s in given],
+                  catalog_source=catalog_source(catalog, ids_given=_names_parts(parts)), **kwargs)
 
 
 def real_scene_verdict(data, part, trials: int = 8, seed: int = 1, *,

@@ -22,6 +22,8 @@ are for a constant bias, so that figure is the natural one). A separately given 
 
 from __future__ import annotations
 
+import hashlib
+import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -118,6 +120,15 @@ class CheckResult:
     #: per part, what its row asks a reader to look at (:func:`budget.catalog.fill.row_warnings`:
     #: figures given as 0, figures of another grade than its grade column); () when nothing
     row_notes: tuple[tuple[str, ...], ...] = ()
+    #: where the part ids were looked up (:func:`budget.mc.provenance.catalog_source`; None: not
+    #: said), per part the figures checked (:func:`part_figures`) and their origin (:func:`part_origins`)
+    catalog: str | None = None
+    part_figures: tuple[dict, ...] = ()
+    part_origins: tuple[str, ...] = ()
+    #: (S, 8) True where the mode's bound does not constrain (:func:`unconstraining_bounds`: a
+    #: misalignment bound capped at 90°, a scale-factor bound ≥ 100 % or not exercised): never
+    #: named ``binding``, nor counted in ``min_margin``; None: every bound constrains
+    unconstraining: np.ndarray | None = None
 
     def fast_phase(self, i: int, s: int) -> float:
         """Predicted rms (deg) beyond PGA's window of part ``i`` on scenario ``s`` (NaN: unknown)."""
@@ -157,21 +168,19 @@ class CheckResult:
         if paper_ok:
             return True, (f"passes the {self.mode} bounds (min margin {self.min_margin[i, s]:.3g}) but fails "
                           f"{self.params[j]} by {rule}: margin {pm[j]:.3g}")
-        b = int(self.binding_index[i, s])
+        b = int(np.argmin(np.where(self.specified[i, s], self.margins[i, s], np.inf)))
         return True, (f"fails the {self.mode} bounds ({self.params[b]}: margin {self.min_margin[i, s]:.3g}) but "
                       f"passes seed 004's bounds tightened by fast phase and lever arm (min margin {mm:.3g})")
 
     def _pga_min_margin(self, i: int, s: int) -> tuple[float, bool]:
         """(min margin against the PGA-limited bounds and the combined fast-phase limit, True when
-        the combined limit is the one that binds)."""
-        mm = float(np.min(np.where(self.specified[i, s], self.pga_margins[i, s], np.inf)))
+        the combined limit is the one that binds): :func:`pga_limited_margin`."""
         fp = self.fast_phase(i, s)
+        combined = float("nan")
         if s < len(self.fast_phase_limit_deg) and np.isfinite(fp) and fp > 0:
             combined = (float(self.fast_phase_margin[i, s]) if self.fast_phase_margin is not None
                         else self.fast_phase_limit_deg[s] / fp)
-            if combined < mm:
-                return combined, True
-        return mm, False
+        return pga_limited_margin(self.pga_margins[i, s], combined)
 
     def _combined_words(self, i: int, s: int) -> str:
         """The combined fast-phase limit in words: the limit and, when asked, the share."""
@@ -204,15 +213,26 @@ class CheckResult:
         return np.all(m >= 1.0, axis=-1)
 
     @property
+    def _constraining(self) -> np.ndarray:  # (P, S, 8) specified terms whose bound constrains
+        return self.specified & ~(False if self.unconstraining is None else self.unconstraining[None])
+
+    @property
     def min_margin(self) -> np.ndarray:
-        """(P, S) smallest margin over the specified parameters; NaN where none is specified (the
-        verdict is "unknown" then, as :meth:`pga_limited`'s margin is, not an infinite margin)."""
-        m = np.min(np.where(self.specified, self.margins, np.inf), axis=-1)
+        """(P, S) smallest margin over the specified terms whose bound constrains (:attr:`unconstraining`);
+        NaN where none is specified (verdict "unknown", as :meth:`pga_limited`'s), ∞ where only
+        non-constraining bounds are."""
+        m = np.min(np.where(self._constraining, self.margins, np.inf), axis=-1)
         return np.where(self.specified.any(axis=-1), m, np.nan)
 
     @property
     def binding_index(self) -> np.ndarray:
-        return np.argmin(np.where(self.specified, self.margins, np.inf), axis=-1)
+        """(P, S) index of the binding term: the smallest margin of a constraining bound."""
+        return np.argmin(np.where(self._constraining, self.margins, np.inf), axis=-1)
+
+    def binding(self, i: int, s: int) -> str | None:
+        """The binding term of part ``i`` on scenario ``s``; None where nothing is specified or
+        every specified term's bound does not constrain (:attr:`unconstraining`)."""
+        return self.params[int(self.binding_index[i, s])] if self._constraining[i, s].any() else None
 
     def _part_records(self, scenario_index: int = 0) -> list[dict]:
         """Per-part dicts for one scenario: ``part_id, grade, verdict, binding, margins, unspecified``."""
@@ -222,13 +242,12 @@ class CheckResult:
             flagged, why = self.flag(i, scenario_index)
             limited, limited_margin = self.pga_limited(i, scenario_index)
             spec = ~np.isnan(m)
-            b = int(self.binding_index[i, scenario_index])
             out.append({
                 "part_id": pid,
                 "grade": self.grades[i],
                 "verdict": ("unknown" if not spec.any() else
                             "pass" if self.passed[i, scenario_index] else "fail"),
-                "binding": self.params[b] if spec.any() else None,
+                "binding": self.binding(i, scenario_index),
                 "margins": {p: float(m[j]) for j, p in enumerate(self.params) if spec[j]},
                 "unspecified": [p for j, p in enumerate(self.params) if not spec[j]],
                 "bias_convention": self.bias_conventions[i] if self.bias_conventions else None,
@@ -250,8 +269,11 @@ class CheckResult:
         ``pga_limited_verdict``, ``pga_limited_min_margin``: :meth:`pga_limited`;
         ``fast_phase_residual_deg``: :meth:`fast_phase`; ``fast_phase_p_within_limit``:
         :meth:`fast_phase_p`; ``fast_phase_share_margin``: :attr:`fast_phase_margin`), with the
-        scenario's ``fast_phase_limit_deg`` and ``fast_phase_share``."""
+        scenario's ``fast_phase_limit_deg`` and ``fast_phase_share``; ``catalog`` (where the ids were
+        looked up) and ``part_figures`` (per part: ``part_id``, ``figures`` in datasheet units,
+        their ``digest`` and ``origin``, :mod:`budget.mc.provenance`)."""
         return {"mode": self.mode, "assumptions": self.assumptions, "params": list(self.params),
+                "catalog": self.catalog, "part_figures": self._figures(),
                 "scenarios": [{"name": name, "tc_s": float(tc), "parts": self._part_records(s),
                                "rotation": self.rotation[s] if self.rotation else None,
                                "scenario": self.scenarios[s] if self.scenarios else None,
@@ -263,8 +285,17 @@ class CheckResult:
                                "fast_phase_share": self.fast_phase_share[s] if s < len(self.fast_phase_share) else None}
                               for s, (name, tc) in enumerate(zip(self.scenario_names, np.ravel(self.tc_s)))]}
 
+    def _figures(self) -> list[dict]:
+        return [{"part_id": i, "figures": f, "digest": figures_digest(f), "origin": o} for i, f, o in
+                zip(self.part_ids, self.part_figures, self.part_origins or [None] * len(self.part_ids))]
+
     def to_frame(self) -> pd.DataFrame:
-        """Tidy table: one row per part × scenario with the margins and the verdict."""
+        """Tidy table: one row per part × scenario with the margins and the verdict.
+
+        ``margin_<column>`` is bound/spec for the catalog column ``<column>`` — a dimensionless
+        ratio (pass at ≥ 1), named by the datasheet column it compares, whose unit suffix is that
+        column's, not the margin's (``attrs["margin_columns"]`` says so); ``part_digest`` names the
+        figures checked (:meth:`to_dict`'s ``part_figures``), ``attrs["catalog"]`` the catalog."""
         P, S, _ = self.margins.shape
         idx = pd.MultiIndex.from_product([range(P), range(S)], names=["p", "s"])
         df = pd.DataFrame(self.margins.reshape(P * S, -1), columns=[f"margin_{p}" for p in self.params],
@@ -276,8 +307,7 @@ class CheckResult:
         any_spec = self.specified.any(axis=-1).reshape(-1)
         df["verdict"] = np.where(~any_spec, "unknown", np.where(self.passed.reshape(-1), "pass", "fail"))
         # no specified term: no binding one (None, as in to_dict and '-' in summary)
-        df["binding"] = [self.params[b] if known else None
-                         for b, known in zip(self.binding_index.reshape(-1), any_spec)]
+        df["binding"] = [self.binding(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["min_margin"] = self.min_margin.reshape(-1)
         flags = [self.flag(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["flag"] = [f for f, _ in flags]
@@ -288,83 +318,37 @@ class CheckResult:
         df["fast_phase_residual_deg"] = [self.fast_phase(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["fast_phase_p_within_limit"] = [self.fast_phase_p(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
         df["fast_phase_share_margin"] = [self._share_margin(int(p), int(s)) for p, s in zip(df["p"], df["s"])]
+        if self.part_figures:
+            df["part_digest"] = [d["digest"] for d in self._figures() for _ in range(S)]
+        df.attrs.update({"catalog": self.catalog, "margin_columns": "margin_<column> = bound / spec of the "
+                         "catalog column <column>: dimensionless (≥ 1 passes); the unit suffix is the column's"})
         return df.drop(columns=["p", "s"])
 
-    def summary(self, scenario_index: int = 0) -> str:
+    def summary(self, scenario_index: int | None = None) -> str:
         """The verdict against the ``mode`` bounds, beside the PGA-limited one (fast phase and
-        lever arm); every disagreement is explained below the table."""
-        wb = max(len(p) for p in self.params) + 2  # the binding column holds any parameter name
-        n_par = len(self.params)
-        lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'terms':>6}{'min margin':>11}  {'binding':<{wb}}"
-                 f"{'PGA-limited':<12}{'margin':>8}{'beyond PGA':>12}{'P(≤ limit)':>12}"]
-        notes = []
-        partial = False
-        for i, (r, mm) in enumerate(zip(self._part_records(scenario_index), self.min_margin[:, scenario_index])):
-            v, pmm = self.pga_limited(i, scenario_index)
-            given = n_par - len(r["unspecified"])
-            partial |= given < n_par
-            lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{f'{given}/{n_par}':>6}{_number(mm):>11}  "
-                         f"{r['binding'] or '-':<{wb}}{v:<12}{_number(pmm):>8}"
-                         f"{_degrees(r['fast_phase_residual_deg']):>12}"
-                         f"{_probability(r['fast_phase_p_within_limit']):>12}")
-            if r["flag"]:
-                notes.append(f"  {r['part_id']}: {r['flag_reason']}")
-        share = self.fast_phase_share[scenario_index] if scenario_index < len(self.fast_phase_share) else None
-        limit = (self.fast_phase_limit_deg[scenario_index] if scenario_index < len(self.fast_phase_limit_deg)
-                 else 1.0)
-        asked = (f"the PGA-limited verdict asks it of {share:g} of apertures, the Monte Carlo's pass target"
-                 if share is not None else "the PGA-limited verdict holds the rms to the limit")
-        lines.append("beyond PGA: predicted rms over apertures of the phase PGA's window cannot see, from the part's "
-                     f"VRW and ARW (free inertial over Tc; seed 004's limit {limit:g}°; '-' where either is "
-                     "unspecified); P(≤ limit): the share of apertures that stay within the limit (one aperture's "
-                     f"residual scatters about the rms: the Monte Carlo judges each trial); {asked}")
-        if partial:
-            lines.append(f"terms: datasheet terms the verdict rests on, of {n_par}; an unspecified term is not "
-                         "checked (it neither passes nor fails: the JSON lists them under 'unspecified'), so a "
-                         "'pass' on few terms says little — the Monte Carlo fills them from the grade by default")
-        if self.rotation:
-            lines.append(rotation_line(self.rotation[scenario_index]))
-        if notes:
-            lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
-                      "its window, attitude error × lever arm); where the verdicts differ:"] + notes
-        if self.scenario_notes:
-            lines += list(self.scenario_notes[scenario_index])
-        if self.defaults_notes and self.defaults_notes[scenario_index]:
-            lines.append(self.defaults_notes[scenario_index])
-        # a 0 passes every bound (a perfect term): said, not silently counted as a margin of ∞
-        lines += [f"row note, {pid}: {n}" for pid, ns in zip(self.part_ids, self.row_notes) for n in ns]
-        return "\n".join(lines)
+        lever arm); every disagreement is explained below the table. Every scenario, each under
+        a header naming it (``scenario_index``: that scenario only, its header saying how many
+        others there are): :func:`budget.recommend.check_summary`."""
+        from .recommend import check_summary
+
+        return check_summary(self, scenario_index)
 
 
-def rotation_line(rot: dict) -> str:
-    """One line: the rotation the gyro scale factor and misalignment were judged against."""
-    def term(name: str, key: str) -> str:
-        f = rot[f"{key}_bound_change"]
-        return f"{name} not exercised (bound infinite)" if not np.isfinite(f) else f"{name} bound × {f:.3g}"
-    mis = rot["gyro_misalignment_bound_factor"]
-    how = (f" (from the γ bound × {mis:.3g}: a gyro misalignment tilts the platform as a scale factor does)"
-           if np.isfinite(mis) else "")
-    return (f"rotation: gyro scale factor and misalignment judged against the motion flown — {rot['motion']} — "
-            f"equivalent excursion {rot['scale_factor_excursion_rad']:.3g} / {rot['misalignment_excursion_rad']:.3g} "
-            f"rad against the bounds' {rot['reference_excursion_rad']:g} rad: "
-            + "; ".join((term("gyro SF", "gyro_scale_factor"), term("gyro misalignment", "gyro_misalignment")))
-            + how)
+def pga_limited_margin(term_margins: np.ndarray, combined_margin: float) -> tuple[float, bool]:
+    """The PGA-limited verdict's margin (pass at ≥ 1): the smallest of the per-term margins against
+    the PGA-limited bounds (bound/spec, NaN = unspecified, left out) and the combined fast-phase
+    share margin of VRW and ARW together (:meth:`budget.bounds.FastPhaseResidual.share_margin`;
+    NaN = not computable, left out), and True when the combined one is the smallest. The one
+    criterion of :meth:`CheckResult.pga_limited` and of the PGA-limited grade recommendation
+    (:func:`budget.recommend.recommend_grade` with ``scenario``)."""
+    m = np.asarray(term_margins, dtype=float)
+    mm = float(np.min(np.where(np.isnan(m), np.inf, m))) if m.size else float("inf")
+    if np.isfinite(combined_margin) and combined_margin < mm:
+        return float(combined_margin), True
+    return mm, False
 
 
-def _number(value: float) -> str:
-    """A margin for the table: '-' where there is none (nothing specified)."""
-    return "-" if np.isnan(value) else f"{value:.3g}"
-
-
-def _probability(value: float) -> str:
-    return "-" if not np.isfinite(value) else f"{value:.3f}"
-
-
-def _degrees(value: float) -> str:
-    return "-" if not np.isfinite(value) else f"{value:.3g}°"
-
-
-def _fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
+def fast_phase_matrix(parts: Sequence[PartSpec], scen: Sequence[Scenario],
                        limited_assumptions: Sequence) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(P, S) :func:`budget.bounds.fast_phase_residual` totals (deg), their probabilities of one
     aperture within the limit and their share margins, NaN where a part leaves its VRW or ARW
@@ -441,13 +425,19 @@ MAX_CHECKS = 10_000
 
 
 def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scenario,
-                mode: str = "paper", assumptions=None, platform_motion=None) -> CheckResult:
+                mode: str = "paper", assumptions=None, platform_motion=None, *, catalog: str | None = None,
+                sources: Sequence | None = None) -> CheckResult:
     """Check parts against each scenario's bounds (Tc and δr from the scenario).
 
     ``platform_motion`` (a :class:`~budget.nav.manoeuvre.PlatformMotion` or its dict): judge the
     gyro scale factor and gyro misalignment against the rotation the platform flies over each
     aperture, as the Monte Carlo flies it (:func:`_apply_rotation`), instead of the bounds' own
-    1-rad attitude change; None keeps the bounds as they are."""
+    1-rad attitude change; None keeps the bounds as they are. ``catalog``: where the part ids were
+    looked up, in words (recorded); ``sources``: the file of each scenario (None: preset or
+    object), to name them when two different scenarios share a name (refused, as the sweep does:
+    :func:`budget.recommend.refuse_shared_names`). A bound that does not constrain is not named binding; the
+    scenario's own notes (:meth:`Scenario.notes`) and the bounds' limit notes are in
+    ``scenario_notes``."""
     parts = list(parts)
     scen = [scenarios] if isinstance(scenarios, Scenario) else list(scenarios)
     if not parts or not scen:
@@ -455,6 +445,8 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
         raise InputError(f"no {what} to check", field=f"{what}s",
                          expected=f"at least one {what}")
     refuse_repeats(parts, lambda p: getattr(p, "part_id", None), field="parts", what="part")
+    from .recommend import refuse_shared_names
+    refuse_shared_names(list(zip(scen, sources or [None] * len(scen))), "check's rows")
     if len(parts) * len(scen) > MAX_CHECKS:
         # the exact share of apertures within the fast-phase limit (an eigen-decomposition and a
         # quadrature per part with VRW and ARW) costs ≈ 0.05–0.2 s per part and scenario: a
@@ -485,8 +477,9 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     if platform_motion is not None:
         rotation = _apply_rotation(bmat, pmat, scen, mode, assumptions, _platform_motion(platform_motion), assumed)
     specs = spec_matrix(parts)
+    free = unconstraining_bounds(bmat)
     keys = check_scenario_keys(mode, _platform_motion(platform_motion) if platform_motion is not None else None)
-    fast_deg, fast_p, fast_margin = _fast_phase_matrix(parts, scen, assumed)
+    fast_deg, fast_p, fast_margin = fast_phase_matrix(parts, scen, assumed)
     return CheckResult(tuple(p.part_id for p in parts), tuple(p.grade for p in parts),
                        tuple(s.name for s in scen), tc, margins(specs, bmat),
                        bias_conventions=tuple(p.bias_instability_convention for p in parts),
@@ -498,17 +491,65 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
                        rotation=rotation, scenarios=tuple(sc.model_dump(mode="json") for sc in scen),
                        scenario_defaults=tuple(sc.defaults_taken(keys) for sc in scen),
                        defaults_notes=tuple(sc.defaults_note(keys) for sc in scen),
-                       scenario_notes=tuple(_scenario_notes(sc, mode, assumptions) for sc in scen),
-                       row_notes=_row_notes(parts))
+                       scenario_notes=tuple(_scenario_notes(sc, mode, assumptions) + _limit_notes(bmat[s], free[s])
+                                            for s, sc in enumerate(scen)),
+                       row_notes=_row_notes(parts), catalog=catalog, unconstraining=free,
+                       part_figures=tuple(part_figures(p) for p in parts), part_origins=part_origins(parts))
 
 
 def _scenario_notes(scenario: Scenario, mode: str, assumptions) -> tuple[str, ...]:
-    """What ``scenario`` holds that the check's verdicts (``mode``'s and the PGA-limited one beside
-    it) do not use as the file might suggest (:func:`budget.bounds.accel_level_note`)."""
+    """The scenario's own notes (:meth:`Scenario.notes`: what its numbers hold that the tool does not
+    model, e.g. a spaceborne speed) and what it holds that the check's verdicts (``mode``'s and the
+    PGA-limited one beside it) do not use as the file might suggest (:func:`budget.bounds.accel_level_note`)."""
     from .bounds import accel_level_note
 
     note = accel_level_note(scenario, mode, assumptions, pga_limited=True)
-    return (note,) if note else ()
+    return tuple(scenario.notes()) + ((note,) if note else ())
+
+
+def part_figures(part) -> dict:
+    """What a verdict rests on of a catalog row, JSON-ready: ``grade``, bias convention and every
+    numeric column given (datasheet units; empty ones left out); a noise model's own dump."""
+    from .catalog.schema import PART_NUMERIC_COLUMNS
+
+    if not isinstance(part, PartSpec):
+        return part.to_dict() if hasattr(part, "to_dict") else {}
+    return {"grade": part.grade, "bias_instability_convention": part.bias_instability_convention,
+            **{k: float(getattr(part, k)) for k in PART_NUMERIC_COLUMNS if getattr(part, k) is not None}}
+
+
+def figures_digest(figures: dict) -> str:
+    """12 hex digits of SHA-256 over ``figures`` (sorted keys): equal digests, equal figures."""
+    return hashlib.sha256(json.dumps(figures, sort_keys=True, default=str).encode()).hexdigest()[:12]
+
+
+def part_origins(parts) -> tuple[str, ...]:
+    """Per part: "shipped" (the shipped row, same figures), "user row replacing the shipped one" (a
+    shipped id, other figures), "not in the shipped catalog" or "noise model"."""
+    from .catalog.io import read_parts, shipped_catalog_dir
+    shipped = read_parts(shipped_catalog_dir() / "parts.csv")
+    return tuple("noise model" if not isinstance(p, PartSpec) else "not in the shipped catalog"
+                 if p.part_id not in shipped else "shipped" if part_figures(shipped[p.part_id]) == part_figures(p)
+                 else "user row replacing the shipped one" for p in parts)
+
+
+def unconstraining_bounds(bmat: np.ndarray) -> np.ndarray:
+    """(S, 8) True where a bound (SI, :func:`bound_matrix` order) does not constrain any sensor, as
+    :meth:`budget.bounds.BoundsTable.limit_notes` says: a misalignment bound capped at 90° (seed 004
+    (7)'s arcsin argument reaches 1) or a scale-factor bound of 100 % or more (∞: not exercised)."""
+    fam = np.array([p.family for p in PARAMETERS])
+    return (((fam == "misalignment") & (bmat >= np.pi / 2 * (1 - 1e-12)))
+            | ((fam == "scale_factor") & (bmat >= 1.0)))
+
+
+def _limit_notes(bounds_si: np.ndarray, free: np.ndarray) -> tuple[str, ...]:
+    """One line per bound of one scenario that does not constrain (:func:`unconstraining_bounds`)."""
+    def why(prm, v: float) -> str:
+        return ("capped at 90°: its arcsin argument reaches 1, so any misalignment meets it" if prm.family ==
+                "misalignment" else "not exercised (infinite)" if not np.isfinite(v) else "≥ 100 %: no real sensor nears it")
+    return tuple(f"{p.label.split(' (')[0]} bound {v:.4g} {p.bound_unit} {why(p, v)} — it does not constrain and is "
+                 "not named binding" for p, v in ((PARAMETERS[j], bounds_si[j] / PARAMETERS[j].bound_to_si)
+                                                  for j in np.flatnonzero(free)))
 
 
 def _row_notes(parts: Sequence[PartSpec]) -> tuple[tuple[str, ...], ...]:
@@ -547,3 +588,10 @@ def check_arrays(specs: np.ndarray, tc_s: np.ndarray, range_resolution_m: np.nda
     m = np.where(np.isnan(m), np.inf, m)
     mm = m.min(axis=-1)
     return mm >= 1.0, mm
+
+
+def __getattr__(name: str):
+    if name == "rotation_line":  # lives with the check's text (budget.recommend); imported from here too
+        from .recommend import rotation_line
+        return rotation_line
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,6 +1,11 @@
 """The lowest sufficient IMU grade per synthetic-aperture time Tc: each grade's typical values
 (seed 004 Tables 3–4, :func:`budget.parameters.grade_value`) held to the Tc-driven bounds with the
-margins of the part check (:mod:`budget.check`: bound / value ≥ 1 passes)."""
+margins of the part check (:mod:`budget.check`: bound / value ≥ 1 passes; on the PGA-limited
+bounds with the check's combined VRW + ARW limit too, :func:`budget.check.pga_limited_margin`).
+
+Also the check's presentation: its JSON record (:func:`check_record`), its text
+(:func:`check_summary`, :func:`rotation_line`) and the rule on scenario names shared with the sweep
+(:func:`refuse_shared_names`); :mod:`budget.check` keeps the margins and verdicts."""
 
 from __future__ import annotations
 
@@ -11,16 +16,43 @@ import numpy as np
 import pandas as pd
 
 from .bounds import compute_bounds
-from .catalog.schema import GRADE_RANK, GradeSpec
-from .check import PARAM_NAMES, assumptions_dict, bound_matrix, margins
+from .catalog.schema import GRADE_RANK, GradeSpec, PartSpec
+from .check import PARAM_NAMES, assumptions_dict, bound_matrix, fast_phase_matrix, margins, pga_limited_margin
+from .errors import InputError
 from .parameters import FAMILIES, PARAMETERS, grade_value
+from .scenario import Scenario
+
+#: What "sufficient" means per term (seed 004's bounds, or a ready table without its scenario) and
+#: with the check's combined fast-phase limit (PGA-limited bounds given with their scenario).
+CRITERION_TERMS = "each checked term within its bound"
+CRITERION_COMBINED = ("each checked term within its PGA-limited bound and VRW and ARW together within the "
+                      "fast-phase limit (the check's PGA-limited verdict, budget.check.pga_limited_margin)")
+CRITERION_PGA_TERMS_ONLY = ("each checked term within its PGA-limited bound alone — VRW and ARW together are "
+                            "not checked (pass scenario= for the check's combined limit): may be too lenient")
+
+
+def _use(use: str) -> str:
+    if use not in ("best", "worst", "typical"):
+        raise InputError("unknown grade value", field="use", value=use, expected="'best', 'worst' or 'typical'")
+    return use
+
+
+def grade_part(grade: GradeSpec, use: str = "best", include: Sequence[str] = ("bias", "noise")) -> PartSpec:
+    """A catalog part holding ``grade``'s ``use`` values (:func:`budget.parameters.grade_value`) of
+    the ``include`` families, the other terms empty; the bias as a total 1σ (as
+    :func:`grade_spec_matrix` compares it with the bias bounds: seed 004 Tables 3–4). What the
+    recommendation checks a grade as, and what a user can give :func:`budget.check.check_parts`."""
+    values = {prm.column: grade_value(grade, prm, _use(use)) for prm in PARAMETERS if prm.family in include}
+    return PartSpec(part_id=f"{grade.grade}-grade-{use}", vendor="grades.csv", grade=grade.grade,
+                    model=f"{grade.grade} grade, {use} typical values ({', '.join(include)})",
+                    source="seed 004 Tables 3-4 (catalog/grades.csv)", bias_instability_convention="total_1sigma",
+                    verified="unverified", **values)
 
 
 def grade_spec_matrix(grades: Sequence[GradeSpec], use: str = "best") -> np.ndarray:
     """(G, 8) SI values of each grade (``best`` = range minimum, ``worst`` = maximum, ``typical``
     = geometric mean), :func:`budget.parameters.grade_value`."""
-    if use not in ("best", "worst", "typical"):
-        raise ValueError("use must be 'best', 'worst' or 'typical'")
+    _use(use)
     out = np.empty((len(grades), len(PARAMETERS)))
     for i, g in enumerate(grades):
         for j, prm in enumerate(PARAMETERS):
@@ -44,6 +76,9 @@ class GradeRecommendation:
     #: per Tc, why no grade suffices (:func:`grade_shortfall`: the binding terms and how far the best
     #: grade misses them); None where a grade suffices
     why_none: tuple[str | None, ...] = ()
+    #: what "sufficient" meant (:data:`CRITERION_TERMS`, :data:`CRITERION_COMBINED` or
+    #: :data:`CRITERION_PGA_TERMS_ONLY`)
+    criterion: str = CRITERION_TERMS
 
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"tc_s": np.ravel(self.tc_s), "range_resolution_m": np.ravel(self.range_resolution_m),
@@ -52,7 +87,7 @@ class GradeRecommendation:
     def to_dict(self) -> dict:
         """JSON-ready: the options (``mode``, ``include``, ``use``, ``wavelength_m``, ``assumptions``)
         and one row per Tc."""
-        return {"mode": self.mode, "include": list(self.include), "use": self.use,
+        return {"mode": self.mode, "include": list(self.include), "use": self.use, "criterion": self.criterion,
                 "wavelength_m": self.wavelength_m, "assumptions": self.assumptions,
                 "rows": [{"tc_s": float(t), "range_resolution_m": float(d), "lowest_sufficient_grade": g,
                           "why_none": self._why(i)}
@@ -66,7 +101,7 @@ class GradeRecommendation:
         why = [f"Tc = {t:.4g} s: no grade suffices — {self._why(i)}" for i, t in enumerate(np.ravel(self.tc_s))
                if self._why(i)]
         head = (f"lowest sufficient grade ({self.mode} bounds, {self.use} typical values; checked: "
-                f"{', '.join(self.include)})")
+                f"{', '.join(self.include)}; sufficient: {self.criterion})")
         return "\n".join([head, self.to_frame().to_string(index=False), *why])
 
 
@@ -94,7 +129,8 @@ def grade_shortfall(margins_best: np.ndarray, bounds_si: np.ndarray, grade: Grad
 
 def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mode: str = "paper",
                     include: Sequence[str] = ("bias", "noise"), use: str = "best", wavelength_m=None,
-                    assumptions=None, bounds=None, rules: Mapping[str, str] | None = None) -> GradeRecommendation:
+                    assumptions=None, bounds=None, rules: Mapping[str, str] | None = None,
+                    scenario=None) -> GradeRecommendation:
     """Lowest grade (highest rank) whose typical values meet the bounds of ``mode``, per Tc.
 
     ``wavelength_m`` (m) is needed by the ``no-autofocus`` and ``lever-arm`` modes, ``assumptions``
@@ -105,14 +141,26 @@ def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mo
     in ``why_none``. Where no grade suffices, ``why_none`` says which terms the best grade misses and
     by how much (:func:`grade_shortfall`).
 
+    ``scenario`` (with ``bounds`` from :func:`budget.bounds.lever_arm.pga_limited_bounds` of it, one
+    Tc): a grade must also meet the check's limit on VRW and ARW together — their combined phase
+    beyond PGA's window (:func:`budget.check.pga_limited_margin`, the criterion of the check's
+    PGA-limited verdict) — so that the grade recommended passes that check at its own values
+    (each term alone within its tightened bound is not enough: the industrial grade's best VRW
+    and ARW on a Ku-band UAV scenario). Without it a PGA-limited table is applied per term, said in
+    ``criterion`` and warned.
+
     Defaults follow seed 004's reading of its Tables 1–4: scale factor and misalignment are
     left out because calibration removes most of them (the paper says so), and a grade counts
     as sufficient when the best of its typical range meets the bound (``use="best"``).
     ``None`` where no grade suffices.
     """
+    if isinstance(include, str):
+        include = (include,)
     unknown = set(include) - set(FAMILIES)
     if unknown:
-        raise ValueError(f"unknown parameter families {sorted(unknown)}; expected {sorted(FAMILIES)}")
+        raise InputError(f"unknown parameter families {sorted(unknown)}", field="include", value=sorted(unknown),
+                         expected=", ".join(sorted(FAMILIES)))
+    _use(use)
     tc = np.atleast_1d(np.asarray(tc_s, float))
     dr = np.broadcast_to(np.asarray(range_resolution_m, float), tc.shape)
     cols = [PARAM_NAMES.index(p) for fam in include for p in FAMILIES[fam]]
@@ -127,15 +175,38 @@ def recommend_grade(tc_s, range_resolution_m, grades: Sequence[GradeSpec], *, mo
     full = margins(grade_spec_matrix(ordered, use), bmat)
     m = full[:, :, cols]
     ok = np.all(m >= 1.0, axis=-1)  # (G, S)
+    criterion, combined = CRITERION_TERMS, None
+    if scenario is not None:
+        if tc.size != 1:
+            raise InputError(f"one scenario for {tc.size} aperture times", field="scenario",
+                             expected="one Tc (the scenario's) with a scenario")
+        from .bounds.lever_arm import LeverArmAssumptions
+
+        parts = [grade_part(g, use, include) for g in ordered]
+        combined = fast_phase_matrix(parts, [scenario], [LeverArmAssumptions.from_scenario(scenario)])[2]
+        ok = np.array([[pga_limited_margin(m[g, 0], combined[g, 0])[0] >= 1.0] for g in range(len(ordered))])
+        criterion = CRITERION_COMBINED
+    elif mode == "pga-limited":
+        import warnings
+
+        criterion = CRITERION_PGA_TERMS_ONLY
+        warnings.warn(f"recommend_grade on PGA-limited bounds without scenario=: {criterion}", UserWarning,
+                      stacklevel=2)
     out, why = [], []
     for s in range(tc.size):
         passing = [ordered[g].grade for g in range(len(ordered)) if ok[g, s]]
         out.append(passing[-1] if passing else None)
-        why.append(None if passing or not ordered else
-                   grade_shortfall(full[0, s], bmat[s], ordered[0], cols, use, rules, mode))
+        text = None
+        if not passing and ordered:
+            text = grade_shortfall(full[0, s], bmat[s], ordered[0], cols, use, rules, mode)
+            if combined is not None and combined[0, s] < 1.0:
+                text = "; ".join(t for t in (text, f"the {ordered[0].grade} grade's {use} VRW and ARW together "
+                                             f"leave too much phase beyond PGA's window (combined fast-phase "
+                                             f"margin {combined[0, s]:.3g})") if t)
+        why.append(text)
     return GradeRecommendation(tc, np.asarray(dr), tuple(out), tuple(include), use, mode,
                                None if wavelength_m is None else float(wavelength_m),
-                               assumptions_dict(assumptions), tuple(why))
+                               assumptions_dict(assumptions), tuple(why), criterion)
 
 
 class SufficientGrades(dict):
@@ -155,26 +226,53 @@ class SufficientGrades(dict):
         return f"none — {why}" if why else "none"
 
 
-def lowest_sufficient_grades(scenario, mode: str, grades: Sequence[GradeSpec], assumptions=None
-                             ) -> SufficientGrades:
+def lowest_sufficient_grades(scenario, mode: str = "paper", grades: Sequence[GradeSpec] | None = None,
+                             assumptions=None) -> SufficientGrades:
     """``{mode: grade, "pga_limited": grade}``: the lowest grade whose typical bias and noise
     figures meet ``mode``'s bounds for ``scenario`` (``assumptions``: the mode's, default the
     scenario's own, :func:`budget.bounds.scenario_assumptions`) and the PGA-limited bounds
     (:func:`budget.bounds.lever_arm.pga_limited_bounds`); None where no grade suffices, and then
     ``why_none[key]`` names the binding terms and how far the best grade misses them
     (:class:`SufficientGrades`). What ``sar-budget check`` prints and writes, and the dashboard's
-    Check page shows."""
+    Check page shows. The PGA-limited grade meets the check's combined VRW + ARW limit too
+    (:func:`recommend_grade` with ``scenario``): at its own values it passes the check's
+    PGA-limited verdict. ``scenario``: a :class:`~budget.scenario.Scenario`, a preset name, a
+    scenario file or a mapping (:func:`budget.load_scenario`); ``grades``: None = ``grades.csv``."""
     from .bounds import scenario_assumptions
     from .bounds.lever_arm import pga_limited_bounds
+    from .catalog.io import load_grades
 
-    grades = list(grades)
+    scenario = _as_scenario(scenario)
+    grades = list(load_grades().values() if grades is None else grades)
     rec = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades, mode=mode,
                           wavelength_m=scenario.wavelength_m,
                           assumptions=scenario_assumptions(mode, scenario, assumptions))
     table, rules = pga_limited_bounds(scenario)
-    limited = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades, bounds=table, rules=rules)
+    limited = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades, bounds=table, rules=rules,
+                              scenario=scenario)
     return SufficientGrades({mode: rec.grade[0], "pga_limited": limited.grade[0]},
                             {mode: rec.why_none[0], "pga_limited": limited.why_none[0]})
+
+
+def _as_scenario(source) -> Scenario:
+    """A scenario from itself, a preset name, a mapping of its keys or a .json/.yaml path, as
+    :func:`budget.load_scenario` reads them (that front door sits above this module)."""
+    from pathlib import Path
+
+    from .presets import PRESETS, get_preset
+
+    if isinstance(source, Scenario):
+        return source
+    if isinstance(source, Mapping):
+        return Scenario.from_dict(dict(source), source="scenario mapping")
+    if isinstance(source, (str, Path)) and not (isinstance(source, str) and source in PRESETS) and \
+            Path(source).suffix.lower() in (".json", ".yaml", ".yml"):
+        return Scenario.load(source)
+    if isinstance(source, str):
+        return get_preset(source)
+    raise InputError(f"cannot use a {type(source).__name__} as a scenario", field="scenario",
+                     expected="a Scenario, a preset name (" + ", ".join(sorted(PRESETS)) +
+                              "), a .json/.yaml path or a mapping of scenario keys")
 
 
 def check_record(result, scenario, mode: str, grades: dict[str, str | None], *, catalog: str,
@@ -194,3 +292,129 @@ def check_record(result, scenario, mode: str, grades: dict[str, str | None], *, 
             "lowest_sufficient_grade_why_none": dict(getattr(grades, "why_none", {})),
             "notes": first["notes"],
             "scenario_defaults": scenario.defaults_taken(scenario_keys), "catalog_note": catalog_note or None}
+
+
+# --- the check's text and the scenario-name rule (budget.check keeps the margins and verdicts) ---------
+
+def check_summary(result, scenario_index: int | None = None) -> str:
+    """Every scenario of ``result`` (a :class:`~budget.check.CheckResult`), each under a header
+    naming it when there are several; ``scenario_index``: that scenario only, its header naming it
+    and saying how many others the result holds (one scenario: no header, as before)."""
+    n = len(result.scenario_names)
+    if scenario_index is not None:
+        if not -n <= scenario_index < n:
+            raise IndexError(f"scenario_index {scenario_index} out of range for {n} scenario(s)")
+        s = scenario_index % n
+        head = [] if n == 1 else [_header(result, s) + f" — {n - 1} other scenario(s) in this result: "
+                                  "summary() shows every one"]
+        return "\n".join(head + [_one(result, s)])
+    if n == 1:
+        return _one(result, 0)
+    return "\n\n".join(_header(result, s) + "\n" + _one(result, s) for s in range(n))
+
+
+def _header(result, s: int) -> str:
+    n = len(result.scenario_names)
+    return (f"== scenario {s + 1} of {n}: {result.scenario_names[s]} (Tc = {float(np.ravel(result.tc_s)[s]):.4g} s, "
+            f"{result.mode} bounds) ==")
+
+
+def _one(result, scenario_index: int) -> str:
+    """The table and notes of one scenario."""
+    wb = max(len(p) for p in result.params) + 2  # the binding column holds any parameter name
+    n_par = len(result.params)
+    lines = [f"{'part':<22}{'grade':<14}{'verdict':<8}{'terms':>6}{'min margin':>11}  {'binding':<{wb}}"
+             f"{'PGA-limited':<12}{'margin':>8}{'beyond PGA':>12}{'P(≤ limit)':>12}"]
+    notes = []
+    partial = False
+    for i, (r, mm) in enumerate(zip(result._part_records(scenario_index), result.min_margin[:, scenario_index])):
+        v, pmm = result.pga_limited(i, scenario_index)
+        given = n_par - len(r["unspecified"])
+        partial |= given < n_par
+        lines.append(f"{r['part_id']:<22}{r['grade']:<14}{r['verdict']:<8}{f'{given}/{n_par}':>6}{_number(mm):>11}  "
+                     f"{r['binding'] or '-':<{wb}}{v:<12}{_number(pmm):>8}"
+                     f"{_degrees(r['fast_phase_residual_deg']):>12}"
+                     f"{_probability(r['fast_phase_p_within_limit']):>12}")
+        if r["flag"]:
+            notes.append(f"  {r['part_id']}: {r['flag_reason']}")
+    share = result.fast_phase_share[scenario_index] if scenario_index < len(result.fast_phase_share) else None
+    limit = (result.fast_phase_limit_deg[scenario_index] if scenario_index < len(result.fast_phase_limit_deg)
+             else 1.0)
+    asked = (f"the PGA-limited verdict asks it of {share:g} of apertures, the Monte Carlo's pass target"
+             if share is not None else "the PGA-limited verdict holds the rms to the limit")
+    lines.append("beyond PGA: predicted rms over apertures of the phase PGA's window cannot see, from the part's "
+                 f"VRW and ARW (free inertial over Tc; seed 004's limit {limit:g}°; '-' where either is "
+                 "unspecified); P(≤ limit): the share of apertures that stay within the limit (one aperture's "
+                 f"residual scatters about the rms: the Monte Carlo judges each trial); {asked}")
+    if partial:
+        lines.append(f"terms: datasheet terms the verdict rests on, of {n_par}; an unspecified term is not "
+                     "checked (it neither passes nor fails: the JSON lists them under 'unspecified'), so a "
+                     "'pass' on few terms says little — the Monte Carlo fills them from the grade by default")
+    if result.rotation:
+        lines.append(rotation_line(result.rotation[scenario_index]))
+    if notes:
+        lines += ["PGA-limited: seed 004's bounds tightened by what PGA cannot remove (fast phase beyond "
+                  "its window, attitude error × lever arm); where the verdicts differ:"] + notes
+    if result.scenario_notes:
+        lines += list(result.scenario_notes[scenario_index])
+    if result.defaults_notes and result.defaults_notes[scenario_index]:
+        lines.append(result.defaults_notes[scenario_index])
+    # a 0 passes every bound (a perfect term): said, not silently counted as a margin of ∞
+    lines += [f"row note, {pid}: {n}" for pid, ns in zip(result.part_ids, result.row_notes) for n in ns]
+    return "\n".join(lines)
+
+
+def rotation_line(rot: dict) -> str:
+    """One line: the rotation the gyro scale factor and misalignment were judged against."""
+    def term(name: str, key: str) -> str:
+        f = rot[f"{key}_bound_change"]
+        return f"{name} not exercised (bound infinite)" if not np.isfinite(f) else f"{name} bound × {f:.3g}"
+    mis = rot["gyro_misalignment_bound_factor"]
+    how = (f" (from the γ bound × {mis:.3g}: a gyro misalignment tilts the platform as a scale factor does)"
+           if np.isfinite(mis) else "")
+    return (f"rotation: gyro scale factor and misalignment judged against the motion flown — {rot['motion']} — "
+            f"equivalent excursion {rot['scale_factor_excursion_rad']:.3g} / {rot['misalignment_excursion_rad']:.3g} "
+            f"rad against the bounds' {rot['reference_excursion_rad']:g} rad: "
+            + "; ".join((term("gyro SF", "gyro_scale_factor"), term("gyro misalignment", "gyro_misalignment")))
+            + how)
+
+
+def _number(value: float) -> str:
+    """A margin for the table: '-' where there is none (nothing specified)."""
+    return "-" if np.isnan(value) else f"{value:.3g}"
+
+
+def _probability(value: float) -> str:
+    return "-" if not np.isfinite(value) else f"{value:.3f}"
+
+
+def _degrees(value: float) -> str:
+    return "-" if not np.isfinite(value) else f"{value:.3g}°"
+
+
+def refuse_shared_names(given: Sequence[tuple[Scenario, object]], what: str = "sweep's rows, heat map and cheapest part") -> None:
+    """Two scenarios under one name (a preset and an edited copy that kept its name, say) give rows
+    nobody can tell apart (one overwrote the other's numbers): refused, naming both — as a repeat
+    when equal (a preset and a file holding it), as a clash when they differ (and in which keys).
+    ``given``: (scenario, its file or None) pairs; the one rule of :func:`budget.mc.sweep.sweep`
+    and :func:`check_parts` (``what``: whose rows are keyed by the name)."""
+    from .errors import _equal
+    from .presets import PRESETS
+
+    seen: dict[str, tuple[Scenario, object, int]] = {}
+    for k, (sc, src) in enumerate(given):
+        first = seen.setdefault(sc.name, (sc, src, k))
+        if first[0] is sc:
+            continue
+        # "preset" only for the preset itself: an edited copy that kept the preset's name is not one
+        where = [f"scenarios[{i}] (" + (f"file {w}" if w is not None
+                                         else "preset" if x.name in PRESETS and _equal(x, PRESETS[x.name])
+                                         else "a Scenario object or mapping") + ")" for x, w, i in (first, (sc, src, k))]
+        if _equal(first[0], sc):
+            raise InputError(f"scenario {sc.name!r} given more than once ({where[0]} and {where[1]}, equal)",
+                             field="scenarios", value=sc.name,
+                             expected="each scenario once (a repeat adds identical rows and runs the same trials again)")
+        diff = [f for f in type(sc).model_fields if getattr(sc, f) != getattr(first[0], f)][:4]
+        raise InputError(f"two different scenarios are named {sc.name!r}: {where[0]} and {where[1]}, which differ "
+                         f"in {', '.join(diff) or 'their keys'}", field="scenarios", value=sc.name,
+                         expected=f"a distinct name for each scenario (its 'name' key): the {what} are keyed by it")

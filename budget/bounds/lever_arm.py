@@ -197,11 +197,14 @@ def pga_limited_bounds(scenario, a: LeverArmAssumptions | None = None) -> tuple[
     """Seed 004's bounds for ``scenario`` tightened by what PGA cannot remove: the lever-arm
     limits above and the fast-phase VRW/ARW limits (:func:`budget.bounds.fast_phase_limits`,
     the same definition as the Monte Carlo). Returns the table (mode ``pga-limited``) and, per
-    bound field it tightens, the rule that does (``{si_field: rule}``)."""
+    bound field it tightens, the rule that does (``{si_field: rule}``). A Tc beyond the bounds'
+    navigation model is refused (:func:`budget.bounds.check_bounds_tc`), as in every other mode."""
     from dataclasses import replace
 
+    from . import check_bounds_tc
     from .fast_phase import fast_phase_limits
 
+    check_bounds_tc(scenario.tc_s, field="tc_s (derived)")
     a = a or LeverArmAssumptions.from_scenario(scenario)
     tc, dr, lam = np.array([scenario.tc_s]), scenario.range_resolution_m, scenario.wavelength_m
     paper = paper_bounds(tc, dr)

@@ -163,6 +163,25 @@ def aiding_defaults_note(scenario: Scenario) -> str:
 WINDOW_MISMATCH_RATIO = 1.05
 
 
+def resolution_reached(scenario: Scenario, options: McOptions) -> dict[str, float]:
+    """The resolution the verdict's image reaches (m) with its window (:meth:`McOptions.window_for`):
+    w/a_w · δℓ in azimuth and w/a_w · δr in range, w the window's 3 dB width in cells
+    (:func:`budget.sar.windows.ideal_irf`; 0.886 rect, 1.18 Taylor −35 dB, n̄ = 4) and a_w the
+    scenario's ``window_broadening`` (:func:`window_resolution_note`); ``ratio`` = w/a_w."""
+    from ..sar.windows import ideal_irf
+
+    ratio = ideal_irf(options.window_for(scenario)).width_3db_cells / scenario.window_broadening
+    return {"azimuth_m": ratio * scenario.azimuth_resolution_m, "range_m": ratio * scenario.range_resolution_m,
+            "ratio": ratio}
+
+
+def scenario_notes_text(scenario: Scenario) -> str:
+    """:meth:`Scenario.notes` (what the scenario's numbers hold that the tool does not model:
+    a spaceborne speed at which level flight's specific force is not g, a long lever arm …) in
+    one line, '' when there is none: stated in every result, not only as a Python warning."""
+    return "; ".join(scenario.notes())
+
+
 def window_resolution_note(scenario: Scenario, options: McOptions) -> str:
     """What resolution the verdict's image reaches when its window is broader than the scenario's
     ``window_broadening`` a_w sizes the aperture for ('' when within :data:`WINDOW_MISMATCH_RATIO`).
@@ -189,8 +208,8 @@ def window_resolution_note(scenario: Scenario, options: McOptions) -> str:
 
 def run_notes(scenario: Scenario, options: McOptions, model) -> dict[str, str]:
     """The notes of one run beside the setup's (:meth:`~budget.mc.chain.ChainSetup.describe`):
-    IMU rate, platform motion, lever arm, scenario and aiding defaults (when any), acceptance, Earth
-    model."""
+    IMU rate, platform motion, lever arm, scenario and aiding defaults (when any), the scenario's
+    own notes (:func:`scenario_notes_text`, when any), acceptance, Earth model."""
     notes = {"imu_rate": imu_rate_note(scenario, getattr(model, "rate_hz", None)),
              "platform_motion": platform_motion_note(scenario, options.platform_motion),
              "lever_arm": lever_arm_note(scenario)}
@@ -200,6 +219,8 @@ def run_notes(scenario: Scenario, options: McOptions, model) -> dict[str, str]:
         notes["aiding_defaults"] = aiding
     if window := window_resolution_note(scenario, options):
         notes["window_resolution"] = window
+    if caveats := scenario_notes_text(scenario):
+        notes["scenario_notes"] = "scenario: " + caveats
     notes["acceptance"] = acceptance_note(options)
     notes["earth_model"] = earth_model_line(scenario, model)
     if fast := fast_phase_note(scenario, options, model):

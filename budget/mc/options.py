@@ -17,9 +17,10 @@ where they come from:
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from ..catalog.fill import DEFAULT_POLICY as UNSPECIFIED_DEFAULT, POLICIES as UNSPECIFIED_POLICIES
 from ..errors import from_validation_error, refuse_bool_numbers
@@ -41,6 +42,42 @@ PREFILTERS = ("none", *PREFILTER_KINDS)
 #: peak shift is not a focus failure (constant and linear phase only move the image), so only a
 #: shift of 1000 cells — a response that has left any simulated scene — fails it.
 VERDICT_ACCEPTANCE = Acceptance(max_peak_shift_cells=1000.0)
+
+#: Keys of a user's acceptance spec that are verdict limits of :class:`McOptions`, not image
+#: levels of :class:`~budget.sar.acceptance.Acceptance` (``--acceptance A.json`` holds both).
+VERDICT_LIMIT_KEYS = ("max_range_migration_cells", "max_residual_phase_rms_deg")
+
+
+def verdict_acceptance(spec=None, base: Acceptance | None = None) -> dict:
+    """The image acceptance of a Monte Carlo verdict from a user's (possibly partial) spec: the
+    keys the spec sets over ``base`` (default :data:`VERDICT_ACCEPTANCE`, the verdict's own
+    defaults — a peak shift of up to 1000 cells — not :class:`Acceptance`'s, whose 1 cell suits
+    a single image's :func:`~budget.sar.acceptance.evaluate`), as a dict of Acceptance fields.
+
+    ``spec``: a mapping of Acceptance keys, or an :class:`Acceptance` (its explicitly set fields,
+    ``model_fields_set``, are the spec: ``Acceptance(max_broadening=0.2)`` loosens the broadening
+    only). The one merge of the API (``acceptance=`` of :func:`budget.run_mc` / :func:`budget.sweep`,
+    :class:`McOptions` built from a mapping) and of ``sar-budget mc --acceptance`` (which merges
+    the same way). Keys of :data:`VERDICT_LIMIT_KEYS` are not Acceptance's: see
+    :func:`acceptance_spec_options`."""
+    base = VERDICT_ACCEPTANCE if base is None else base
+    if spec is None:
+        given = {}
+    elif isinstance(spec, Acceptance):
+        given = spec.model_dump(include=set(spec.model_fields_set))
+    else:
+        given = dict(spec)
+    return {**base.model_dump(), **given}
+
+
+def acceptance_spec_options(spec: Mapping, base: Acceptance | None = None) -> dict:
+    """:class:`McOptions` fields of a user's acceptance spec (the ``--acceptance`` JSON, or the
+    ``acceptance=`` mapping of the API): ``acceptance`` merged over the verdict's defaults
+    (:func:`verdict_acceptance`) and each key of :data:`VERDICT_LIMIT_KEYS` as its own field."""
+    spec = dict(spec)
+    out = {k: spec.pop(k) for k in VERDICT_LIMIT_KEYS if k in spec}
+    out["acceptance"] = verdict_acceptance(spec, base)
+    return out
 
 #: Realistic-scene defaults: clutter 25 dB below the strongest target (CTR 25 dB) and SNR 30 dB
 #: per image pixel, the levels PGA was measured against on clutter (``benchmarks/bench_pga.py``).
@@ -127,6 +164,26 @@ class McOptions(BaseModel):
                                                        "with trials; sweeps turn it off)")
 
     _no_bool_numbers = field_validator("*", mode="before")(refuse_bool_numbers)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _partial_acceptance(cls, data):
+        """A partial ``acceptance`` (a mapping, or an Acceptance with some fields set) is completed
+        from the verdict's defaults (:func:`acceptance_spec_options`), never from Acceptance's own
+        (a peak shift of 1 cell would fail most trials on geolocation, not focus); verdict limits
+        in it (:data:`VERDICT_LIMIT_KEYS`) become their fields, unless also given as fields."""
+        if not isinstance(data, Mapping) or "acceptance" not in data:
+            return data
+        acc = data["acceptance"]
+        if isinstance(acc, Acceptance):
+            return {**data, "acceptance": Acceptance(**verdict_acceptance(acc))}
+        if not isinstance(acc, Mapping):
+            return data  # pydantic says what is wrong with it
+        merged = acceptance_spec_options(acc)
+        both = [k for k in VERDICT_LIMIT_KEYS if k in merged and k in data and data[k] != merged[k]]
+        if both:
+            raise ValueError(f"{both[0]} given twice, in the acceptance spec and as an option, with different values")
+        return {**data, **merged}
 
     @field_validator("defocus_room_cells")
     @classmethod

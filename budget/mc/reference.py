@@ -66,10 +66,15 @@ class SceneReference:
     spec: dict
     scene_fails_spec: tuple[str, ...]
     perfect_imu_pass_fraction: float
+    #: pulses of the image the reference was formed on (the scenario's default image, the same
+    #: for every part: :func:`budget.mc.chain.scene_reference`); None when not recorded
+    n_pulses: int | None = None
 
     def summary(self) -> str:
         q = self.quantiles
-        text = (f"perfect-IMU reference ({self.draws} noise draws, {100 * REFERENCE_QUANTILE:g} % quantile after PGA): PSLR "
+        on = (f" on the scenario's default {self.n_pulses}-pulse image, the same for every part"
+              if self.n_pulses else "")
+        text = (f"perfect-IMU reference ({self.draws} noise draws{on}, {100 * REFERENCE_QUANTILE:g} % quantile after PGA): PSLR "
                 f"{q['pslr_db']:.1f} dB, ISLR {q['islr_db']:.1f} dB, residual {q['residual_phase_rms_deg']:.2f}°; "
                 f"acceptance relative to it: PSLR ≤ {self.effective()['pslr_db']:.1f} dB, ISLR ≤ "
                 f"{self.effective()['islr_db']:.1f} dB, residual ≤ {self.effective()['residual_phase_rms_deg']:.2f}°")
@@ -98,7 +103,7 @@ class SceneReference:
         return {"draws": self.draws, "quantile": REFERENCE_QUANTILE, "perfect_imu_after_pga": dict(self.quantiles),
                 "ideal": dict(self.ideal), "spec": dict(self.spec), "limits": self.effective(),
                 "scene_fails_spec": list(self.scene_fails_spec),
-                "perfect_imu_pass_fraction": self.perfect_imu_pass_fraction}
+                "perfect_imu_pass_fraction": self.perfect_imu_pass_fraction, "n_pulses": self.n_pulses}
 
 
 def reference_from_outcomes(outcomes, acceptance: Acceptance,

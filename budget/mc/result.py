@@ -23,6 +23,14 @@ QUANTILE_NOTE = (f"p50 / p95: read from the run's streaming histograms ({Streami
                  f"decade: within {100 * (10 ** (1 / StreamingQuantiles.per_decade) - 1):.1f} % of the exact "
                  "order statistic); the per-trial values, when the run keeps them, are in the JSON (metrics_after)")
 
+#: Unit of each per-trial metric of :meth:`McResult.to_frame` (broadening: 3 dB width / the
+#: window's ideal − 1, a ratio; dB; degrees of phase).
+METRIC_UNITS = {"azimuth_broadening": "ratio (width/ideal − 1)", "range_broadening": "ratio (width/ideal − 1)",
+                "pslr_db": "dB", "islr_db": "dB", "peak_loss_db": "dB", "residual_phase_rms_deg": "deg rms",
+                "pga_error_rms_deg": "deg rms", "fast_phase_rms_deg": "deg rms"}
+#: The columns of :meth:`McResult.to_frame` its summary prints (the rest repeat the verdict).
+FRAME_METRIC_COLUMNS = ("metric", "unit", "p50_before", "p95_before", "p50_after", "p95_after")
+
 #: Per-trial metrics in the CLI JSON (``metrics_after``).
 JSON_METRICS = ("azimuth_broadening", "range_broadening", "pslr_db", "islr_db", "residual_phase_rms_deg",
                 "peak_loss_db", "pga_error_rms_deg", "fast_phase_rms_deg")
@@ -115,12 +123,19 @@ class McResult:
         return out
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per metric: p50/p95 before and after PGA. ``attrs`` hold what the summary's
-        head line says — part, scenario, Tc, trials, seed, P(pass) with its Wilson intervals — and
-        the options, so the frame still says which verdict it belongs to."""
+        """One row per metric: its ``unit`` (:data:`METRIC_UNITS`) and p50/p95 before and after PGA,
+        then the verdict repeated on every row (so that a CSV export or a concatenation of frames
+        keeps it): ``model``, ``scenario``, ``trials``, ``seed``, ``p_pass_before``, ``p_pass_after``,
+        ``ci_after_lo``, ``ci_after_hi`` (95 % Wilson) and ``verdict`` (:meth:`verdict`). ``attrs`` hold
+        the same and the options, ``judged_on`` and ``model_spec``."""
         b, a = self.percentiles("before"), self.percentiles("after")
-        frame = pd.DataFrame([{"metric": m, "p50_before": b[m]["p50"], "p95_before": b[m]["p95"],
-                               "p50_after": a[m]["p50"], "p95_after": a[m]["p95"]} for m in TRIAL_METRICS])
+        lo, hi = self.ci_after
+        frame = pd.DataFrame([{"metric": m, "unit": METRIC_UNITS.get(m, ""), "p50_before": b[m]["p50"],
+                               "p95_before": b[m]["p95"], "p50_after": a[m]["p50"], "p95_after": a[m]["p95"],
+                               "model": self.model_label, "scenario": self.scenario_name, "trials": self.trials,
+                               "seed": self.seed, "p_pass_before": self.p_pass_before,
+                               "p_pass_after": self.p_pass_after, "ci_after_lo": lo, "ci_after_hi": hi,
+                               "verdict": self.verdict()} for m in TRIAL_METRICS])
         frame.attrs.update({"model": self.model_label, "scenario": self.scenario_name, "tc_s": self.tc_s,
                             "trials": self.trials, "seed": self.seed, "p_pass_before": self.p_pass_before,
                             "p_pass_after": self.p_pass_after, "ci_before": list(self.ci_before),
@@ -138,6 +153,8 @@ class McResult:
             scene = (f"realistic scene ({j.get('n_targets')} scatterers, clutter "
                      f"{j.get('clutter_to_target_db'):g} dB, SNR {j.get('snr_db'):g} dB)")
         line = f"judged on: {scene}, {j.get('window')} window; {DECISION_RULE}\n"
+        if j.get("scenario_notes"):
+            line += j["scenario_notes"] + "\n"
         if j.get("window_resolution"):
             line += j["window_resolution"] + "\n"
         if j.get("navigation"):
@@ -200,6 +217,6 @@ class McResult:
                 f"after PGA {self.p_pass_after:.3f} [{lo:.3f}, {hi:.3f}] (95 % Wilson)\n"
                 f"verdict at P(pass after PGA) ≥ {DEFAULT_PASS_SHARE:g}: {self.verdict()}"
                 f"{' (the interval straddles the target: more trials decide)' if self.verdict() == 'undecided' else ''}\n"
-                f"failure reasons: {reasons}\n" + self._judged_line() + self._unspecified_line() + self.to_frame().to_string(
+                f"failure reasons: {reasons}\n" + self._judged_line() + self._unspecified_line() + self.to_frame()[list(FRAME_METRIC_COLUMNS)].to_string(
                     index=False, na_rep="n/a", float_format=lambda v: f"{v:.4g}")  # PGA's error: after only
                 + f"\n{QUANTILE_NOTE}")

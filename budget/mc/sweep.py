@@ -12,19 +12,24 @@ kept with ``status`` "not simulated: <reason>" and empty probabilities, and
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Sequence
 
 import pandas as pd
 
 from ..catalog.schema import GRADE_RANK
-from ..errors import InputError, _equal, refuse_repeats
+from ..errors import InputError, refuse_repeats
 from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
 from ..sar.residual import DEFAULT_PASS_SHARE
 from ..scenario import Scenario, name_scenario_file
-from .notes import SIMULATED_DEFAULT_KEYS, aiding_defaults_note, platform_motion_note
+from ..recommend import refuse_shared_names as _refuse_shared_names
+from .notes import (SIMULATED_DEFAULT_KEYS, aiding_defaults_note, platform_motion_note, resolution_reached,
+                    scenario_notes_text)
 from .options import McOptions
+from .provenance import figures_digest, part_figures, part_origins
+from .result import DECISION_RULE
 from .runner import check_options, check_run_counts, model_label, run_mc
 from .stats import wilson_interval
 
@@ -46,38 +51,28 @@ def scenario_defaults_text(scen: Scenario) -> str:
     return text or "none: every key the verdict uses is in the scenario"
 
 
-def _cell(scen: Scenario, part) -> dict:
-    """The columns that name a cell: scenario, its Tc and δr, and the part."""
-    return {"scenario": scen.name, "tc_s": scen.tc_s, "range_resolution_m": scen.range_resolution_m,
-            "part_id": model_label(part), "grade": getattr(part, "grade", None),
-            "price_usd": getattr(part, "price_usd", None)}
-
-
-def _refuse_shared_names(given: Sequence[tuple[Scenario, object]]) -> None:
-    """Two scenarios under one name (a preset and an edited copy of it that kept the preset's
-    name, say) would give rows the table, its heat map and ``cheapest_passing`` cannot tell
-    apart: one cell overwrote the other's P(pass). Refused, naming both: as a repeat when they
-    are equal (a preset and a file holding it), as a clash when they differ."""
-    seen: dict[str, tuple[Scenario, object]] = {}
-    for sc, src in given:
-        first = seen.setdefault(sc.name, (sc, src))
-        if first[0] is sc:
-            continue
-        where = [f"file {w}" if w is not None else ("preset" if x.name in PRESETS else "a Scenario object")
-                 for x, w in (first, (sc, src))]
-        if _equal(first[0], sc):
-            raise InputError(f"scenario {sc.name!r} given more than once ({where[0]} and {where[1]}, equal)",
-                             field="scenarios", value=sc.name,
-                             expected="each scenario once (a repeat adds identical rows and runs the same trials again)")
-        raise InputError(f"two different scenarios are named {sc.name!r}: {where[0]} and {where[1]}",
-                         field="scenarios", value=sc.name,
-                         expected="a distinct name for each scenario (its 'name' key): the sweep's "
-                                  "rows, heat map and cheapest part are keyed by it")
+def _cell(scen: Scenario, part, options: McOptions | None = None) -> dict:
+    """The columns that name a cell: scenario, its Tc and δr, the resolution the verdict's image
+    reaches with its window (:func:`budget.mc.notes.resolution_reached`; e.g. 0.355 m for 0.3 m asked
+    with Taylor at a_w = 1), the scenario's own notes, and the part with its figures (JSON, datasheet
+    units), their digest and origin (:mod:`budget.mc.provenance`)."""
+    figures = part_figures(part)
+    out = {"scenario": scen.name, "tc_s": scen.tc_s, "range_resolution_m": scen.range_resolution_m}
+    if options is not None:
+        reached = resolution_reached(scen, options)
+        out.update({"azimuth_resolution_reached_m": reached["azimuth_m"],
+                    "range_resolution_reached_m": reached["range_m"]})
+    return out | {"scenario_notes": scenario_notes_text(scen),
+                  "part_id": model_label(part), "grade": getattr(part, "grade", None),
+                  "price_usd": getattr(part, "price_usd", None),
+                  "part_figures": json.dumps(figures, sort_keys=True, default=str),
+                  "part_digest": figures_digest(figures), "part_origin": part_origins([part])[0]}
 
 
 def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int, *,
           options: McOptions | None = None, workers: int = 1, backend: str = "auto", client=None,
-          progress=None, cancel=None, sources: Sequence | None = None) -> pd.DataFrame:
+          progress=None, cancel=None, sources: Sequence | None = None, catalog_source: str | None = None,
+          target: float = DEFAULT_PASS_SHARE) -> pd.DataFrame:
     """One row per part × scenario: P(pass) before/after PGA with Wilson CIs, reasons, p50/p95,
     ``twin_passes`` (trials passed against their perfect-IMU twin, :func:`budget.mc.chain.run_trials`),
     ``pga_second_pass_kept`` (trials on which PGA kept its second pass, :mod:`budget.sar.pga`),
@@ -89,7 +84,17 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     from its grade, with its unit, or taken as 0 — as the Monte Carlo's own summary line says),
     ``scenario_defaults`` (the scenario keys the cell rests on that the scenario did not set, with
     the value taken: :func:`scenario_defaults_text`) and ``status`` ("simulated", or "not simulated: <reason>" for a scenario beyond the
-    simulator's sampling limits; module docstring). ``sources``: the file each scenario was read
+    simulator's sampling limits; module docstring), ``verdict`` ("pass", "fail" or "undecided" at
+    P(pass after PGA) ≥ ``target`` on the 95 % Wilson interval — :data:`budget.mc.result.DECISION_RULE`,
+    the rule of :func:`cheapest_passing` and ``McResult.verdict``; "not simulated"),
+    ``azimuth_resolution_reached_m`` / ``range_resolution_reached_m`` (what the verdict's window
+    resolves, :func:`budget.mc.notes.resolution_reached`), ``scenario_notes`` (:meth:`Scenario.notes`),
+    ``reference_pslr_limit_db`` / ``reference_islr_limit_db`` / ``reference_residual_limit_deg`` (the
+    perfect-IMU reference's limits on a cluttered or noisy scene, the same for every part of a
+    scenario: :func:`budget.mc.chain.scene_reference`; NaN without one), ``part_figures`` /
+    ``part_digest`` / ``part_origin`` (the figures judged, :mod:`budget.mc.provenance`) and
+    ``catalog`` (``catalog_source``: where the part ids were looked up, also in ``attrs``).
+    ``sources``: the file each scenario was read
     from (None for a preset or an object), one per scenario: an input error raised while that
     scenario runs then names its file."""
     parts, scenarios = list(parts), list(scenarios)
@@ -131,6 +136,7 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
                 rows.append(_cell(scen, part) | {"trials": 0, "seed": seed, "p_pass_before": math.nan,
                                                  "p_pass_after": math.nan, "ci_after_lo": math.nan,
                                                  "ci_after_hi": math.nan, "status": status,
+                                                 "verdict": "not simulated", "catalog": catalog_source,
                                                  "platform_motion": platform_motion_note(scen, options.platform_motion),
                                                  "scenario_defaults": scenario_defaults_text(scen)})
                 done += 1
@@ -139,16 +145,21 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             continue
         for part in parts:
             if cancel is not None and cancel.is_set():
-                return _table(rows, seed, options)
+                return _table(rows, seed, options, catalog_source, target)
             try:
                 r = run_mc(scen, part, trials, seed, options=options, workers=workers, backend=backend,
                            client=client, cancel=cancel)
             except InputError as err:  # a value of this scenario the simulator cannot use
                 raise name_scenario_file(err, source) from None
             pct = r.percentiles("after")
-            row = _cell(scen, part) | {
+            limits = (r.judged_on.get("reference") or {}).get("limits", {})
+            row = _cell(scen, part, options) | {
                 "trials": r.trials, "seed": seed, "p_pass_before": r.p_pass_before, "p_pass_after": r.p_pass_after,
                 "ci_after_lo": r.ci_after[0], "ci_after_hi": r.ci_after[1], "status": "simulated",
+                "verdict": r.verdict(target), "catalog": catalog_source,
+                "reference_pslr_limit_db": limits.get("pslr_db", math.nan),
+                "reference_islr_limit_db": limits.get("islr_db", math.nan),
+                "reference_residual_limit_deg": limits.get("residual_phase_rms_deg", math.nan),
                 "twin_passes": r.agg.twin_pass, "pga_second_pass_kept": r.agg.pga_second_pass_kept,
                 "platform_motion": r.judged_on.get("platform_motion"),
                 # what the verdict was judged on, as columns: a CSV export loses ``attrs``
@@ -164,14 +175,19 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
             done += 1
             if progress:
                 progress(done, total)
-    return _table(rows, seed, options)
+    return _table(rows, seed, options, catalog_source, target)
 
 
-def _table(rows: list[dict], seed: int, options: McOptions) -> pd.DataFrame:
+def _table(rows: list[dict], seed: int, options: McOptions, catalog: str | None = None,
+           target: float = DEFAULT_PASS_SHARE) -> pd.DataFrame:
     """The sweep's rows as a DataFrame that says how it was made: ``seed`` is a column (it
-    survives a CSV export) and ``attrs`` hold the seed and the Monte Carlo options in full."""
+    survives a CSV export) and ``attrs`` hold the seed, the Monte Carlo options in full, the
+    catalog, each part's figures (``parts``: part_id → figures) and the verdict rule."""
     table = pd.DataFrame(rows)
-    table.attrs.update({"seed": seed, "options": options.model_dump(mode="json")})
+    parts = {} if not len(table) else {
+        pid: json.loads(f) for pid, f in table.groupby("part_id", sort=False)["part_figures"].first().items()}
+    table.attrs.update({"seed": seed, "options": options.model_dump(mode="json"), "catalog": catalog,
+                        "parts": parts, "verdict_rule": f"{DECISION_RULE} (target {target:g})"})
     return table
 
 
