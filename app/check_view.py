@@ -8,6 +8,7 @@ lays them out and colours them.
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pandas as pd
@@ -19,6 +20,15 @@ PASS_BG, FAIL_BG, NONE_BG = "#c7e9c0", "#fcbba1", "#eeeeee"
 #: Darker shades mark the binding (smallest-margin) parameter of each part.
 PASS_BINDING_BG, FAIL_BINDING_BG = "#74c476", "#fb6a4a"
 
+
+#: A parameter as the table names it: its label without the datasheet unit ("gyro bias"): the
+#: table holds margins (bound/spec, unitless), not datasheet values.
+PARAM_NAMES_SHOWN: dict[str, str] = {col: re.sub(r"\s*\([^()]*\)$", "", label) for col, label in PARAM_LABELS.items()}
+#: Column of :func:`check_frame` holding a parameter's margin (catalog column → label).
+MARGIN_LABELS: dict[str, str] = {col: f"{name} margin (bound/spec)" for col, name in PARAM_NAMES_SHOWN.items()}
+_MARGIN_OF_NAME = {PARAM_NAMES_SHOWN[col]: label for col, label in MARGIN_LABELS.items()}
+#: Significant figures of the table's numbers (the dashboard's one rule, :mod:`formatting`).
+SIG_FIGS = 4
 
 #: Columns of :func:`check_frame` for what PGA cannot remove (rms over apertures, and the share of
 #: apertures whose residual stays within the limit).
@@ -32,18 +42,19 @@ def check_frame(result: CheckResult, scenario_index: int = 0) -> pd.DataFrame:
     the predicted rms beyond PGA's window and the share of apertures within its limit
     (``CheckResult.fast_phase`` / ``fast_phase_p``), unspecified parameters, flag (⚠ where the
     check's seed 004 verdict and its fast-phase / lever-arm verdict differ, ``CheckResult.flag``). Margins are bound/spec (≥ 1 passes); NaN where
-    not in the datasheet."""
+    not in the datasheet; their columns are labelled as margins (:data:`MARGIN_LABELS`), the
+    binding parameter by its name (:data:`PARAM_NAMES_SHOWN`)."""
     recs = result.to_dict()["scenarios"][scenario_index]["parts"]
     mins = np.asarray(result.min_margin[:, scenario_index], float)
     rows = []
     for rec, mm in zip(recs, mins):
         row = {"part_id": rec["part_id"], "grade": rec["grade"], "verdict": rec["verdict"],
-               "binding": PARAM_LABELS.get(rec["binding"], rec["binding"]) if rec["binding"] else None,
+               "binding": PARAM_NAMES_SHOWN.get(rec["binding"], rec["binding"]) if rec["binding"] else None,
                "min margin": float(mm) if math.isfinite(mm) else math.nan,
                "PGA-limited": rec["pga_limited_verdict"], "PGA-limited margin": rec["pga_limited_min_margin"],
                BEYOND_PGA: rec["fast_phase_residual_deg"], WITHIN_LIMIT: rec["fast_phase_p_within_limit"]}
         for p in result.params:
-            row[PARAM_LABELS[p]] = rec["margins"].get(p, math.nan)
+            row[MARGIN_LABELS[p]] = rec["margins"].get(p, math.nan)
         row["unspecified"] = len(rec["unspecified"])
         row["flag"] = "⚠" if rec.get("flag") else ""
         rows.append(row)
@@ -77,18 +88,21 @@ def _verdict_css(v: str) -> str:
 
 
 def style_check_frame(frame: pd.DataFrame):
-    """Colour margins (green ≥ 1, red < 1, grey unspecified; binding parameter darker) and verdicts."""
-    margin_cols = [c for c in frame.columns if c in PARAM_LABELS.values()] + ["min margin"]
+    """Colour margins (green ≥ 1, red < 1, grey unspecified; binding parameter darker) and verdicts;
+    every number to :data:`SIG_FIGS` significant figures ("–" where empty)."""
+    margin_cols = [c for c in frame.columns if c in MARGIN_LABELS.values()] + ["min margin"]
     margin_cols += [c for c in ("PGA-limited margin",) if c in frame.columns]
+    number = f"{{:.{SIG_FIGS}g}}"
 
     def margins_css(row: pd.Series) -> list[str]:
-        return [_margin_css(row[col], binding=(col == row["binding"])) if col in margin_cols else ""
+        binding = _MARGIN_OF_NAME.get(row["binding"])
+        return [_margin_css(row[col], binding=(col == binding)) if col in margin_cols else ""
                 for col in row.index]
 
+    shares = [c for c in (BEYOND_PGA, WITHIN_LIMIT) if c in frame.columns]
     return (frame.style
             .apply(margins_css, axis=1)
             .map(_verdict_css, subset=[c for c in ("verdict", "PGA-limited") if c in frame.columns])
             .format(na_rep="–")
-            .format("{:.3g}", subset=margin_cols, na_rep="–")
-            .format("{:.3g}", subset=[c for c in (BEYOND_PGA,) if c in frame.columns], na_rep="–")
-            .format("{:.3f}", subset=[c for c in (WITHIN_LIMIT,) if c in frame.columns], na_rep="–"))
+            .format(number, subset=margin_cols, na_rep="–")
+            .format(number, subset=shares, na_rep="–"))

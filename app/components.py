@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 import logging
+import os
 import types
 import typing
 from collections.abc import Callable, Hashable, Iterable
@@ -19,7 +20,7 @@ from typing import Any, NamedTuple
 import streamlit as st
 from pydantic import BaseModel, ValidationError
 
-from budget.catalog.io import load_catalog, load_grades
+from budget.catalog.io import load_catalog, load_grades, shipped_catalog_dir, user_catalog_path
 from budget.catalog.schema import GradeSpec, PartSpec
 from budget.errors import InputError, OutputError, from_validation_error
 
@@ -225,10 +226,35 @@ def model_from_state(model_cls: type[BaseModel], prefix: str):
 
 # --- catalog access ----------------------------------------------------------------------------
 
-@st.cache_data(show_spinner=False)
-def shipped_catalog() -> dict[str, PartSpec]:
-    """Shipped parts (merged with ``$SAR_BUDGET_CATALOG`` if set), cached per server."""
+def catalog_files_key() -> tuple:
+    """What the catalog read now depends on: the shipped ``parts.csv`` and the user catalog of
+    ``$SAR_BUDGET_CATALOG`` (if set), each as (path, mtime_ns, size) — (path, None, None) for a
+    file that cannot be read. A file edited, replaced or appended to gives another key."""
+    files = [shipped_catalog_dir() / "parts.csv"]
+    user = user_catalog_path(None)
+    if user is not None:
+        files.append(user)
+    key = []
+    for f in files:
+        try:
+            info = os.stat(f)
+            key.append((str(f), info.st_mtime_ns, info.st_size))
+        except OSError:
+            key.append((str(f), None, None))
+    return tuple(key)
+
+
+@st.cache_data(show_spinner=False, max_entries=8)
+def _catalog_of(files_key: tuple) -> dict[str, PartSpec]:
     return load_catalog()
+
+
+def shipped_catalog() -> dict[str, PartSpec]:
+    """Shipped parts (merged with ``$SAR_BUDGET_CATALOG`` if set), cached on the files' (path,
+    mtime_ns, size) (:func:`catalog_files_key`): an edit of the user catalog while the server runs
+    is read on the next run, as :func:`budget.catalog.io.catalog_note` and ``part_origins`` (read
+    fresh) see it, so a page never mixes the old parts with the new file's notes."""
+    return _catalog_of(catalog_files_key())
 
 
 @st.cache_data(show_spinner=False)

@@ -47,3 +47,12 @@ def value_table(row: dict, sig: int = SIG_FIGS) -> pd.DataFrame:
     items = [(k, v) for k, v in row.items() if v not in (None, "") and not
              (isinstance(v, float) and math.isnan(v))]
     return pd.DataFrame({"column": [k for k, _ in items], "value": [fmt_value(v, sig) for _, v in items]})
+
+
+def grade_text(grades: dict, key: str) -> str:
+    """A lowest sufficient grade as a page shows it: the grade; "none" where the library found no
+    grade sufficient (a verdict); "–" where nothing was computed (``key`` absent: the bounds were
+    refused — the page says why beside it)."""
+    if key not in grades:
+        return EMPTY
+    return grades[key] or "none"

@@ -263,12 +263,11 @@ def render() -> Context:
 
     errors: list[str] = []
     scenario = _build(Scenario, SCENARIO_PREFIX, "scenario", errors)
-    # the scenario's notes from the scenario itself, not from the process-wide warnings filter
-    # (another user's session may be building a scenario at the same time)
-    notes = tuple(scenario.notes()) if scenario is not None else ()
-    for note in notes:
-        sb.warning(note, icon=":material/warning:")
     scenario = _defaults_kept(_named(scenario)) if scenario is not None else None
+    # the scenario's notes from the scenario itself (with its edited name), not from the
+    # process-wide warnings filter (another user's session may be building a scenario at the same
+    # time); shown once, beside the results drawn from it (:func:`require_context`)
+    notes = tuple(scenario.notes()) if scenario is not None else ()
     derived = _build(DerivedAssumptions, DERIVED_PREFIX, "derived assumptions", errors)
     noaf = _build(NoAutofocusAssumptions, NOAF_PREFIX, "no-autofocus assumptions", errors)
     for e in errors:

@@ -25,7 +25,7 @@ from budget.check import check_parts
 from budget.cli.main import main as cli
 from budget.errors import InputError
 from budget.mc.options import McOptions
-from budget.plots.check import PARAM_LABELS
+from check_view import MARGIN_LABELS  # the check matrix labels margins as margins
 from budget.plots.mc import METRIC_LABELS
 from budget.presets import get_preset
 from budget.scenario import Scenario
@@ -135,9 +135,9 @@ def test_check_matrix_in_derived_mode_equals_the_library_at_platform_accel_20():
     table = at.table[0].value.set_index("part_id")
     for rec in recs:
         for param, margin in rec["margins"].items():
-            shown = table.loc[rec["part_id"], PARAM_LABELS[param]]
+            shown = table.loc[rec["part_id"], MARGIN_LABELS[param]]
             assert (math.isnan(shown) and math.isnan(margin)) or shown == pytest.approx(margin, rel=1e-12)
-    assert table.loc["STIM300", PARAM_LABELS["accel_scale_factor_ppm"]] == pytest.approx(17.0903, rel=1e-4)
+    assert table.loc["STIM300", MARGIN_LABELS["accel_scale_factor_ppm"]] == pytest.approx(17.0903, rel=1e-4)
     assert any("acceleration level 20 m/s²" in c.value for c in at.caption)
 
 

@@ -108,7 +108,7 @@ def test_check_page_verdicts_and_margins_are_check_parts():
     table = at.table[0].value
     assert list(table["part_id"]) == [r["part_id"] for r in recs]
     assert list(table["verdict"]) == [r["verdict"] for r in recs]
-    arw = table.set_index("part_id")["gyro ARW (deg/√h)"]
+    arw = table.set_index("part_id")["gyro ARW margin (bound/spec)"]  # margins, labelled as such
     for r in recs:
         if "gyro_arw_deg_rt_h" in r["margins"]:
             assert arw[r["part_id"]] == pytest.approx(r["margins"]["gyro_arw_deg_rt_h"], rel=1e-12)

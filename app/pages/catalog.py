@@ -62,19 +62,43 @@ def _details(frame: pd.DataFrame) -> None:
                  hide_index=True, key="cat_detail_table")
 
 
-def _merge(parts: dict) -> None:
-    st.session_state[c.USER_PARTS_KEY] = dict(parts)
+#: Session-state key of what the last merge did (shown under the upload until the next one).
+MERGE_NOTE_KEY = "cat_merge_note"
+
+
+def merged_parts(before: dict, parts: dict) -> tuple[dict, list[str]]:
+    """This session's parts after merging ``parts`` into ``before``: the parts merged before are
+    kept, a part of ``parts`` with an id already merged replaces it. → (parts, replaced ids)."""
+    replaced = [pid for pid in parts if pid in before]
+    return {**before, **parts}, replaced
+
+
+def merge_note(filename: str, parts: dict, replaced: list[str]) -> str:
+    """What a merge did, in one line: how many parts were added and which earlier ones it replaced."""
+    text = f"{filename}: merged {len(parts)} part{'s' if len(parts) != 1 else ''}"
+    if replaced:
+        text += (f"; replaced the part{'s' if len(replaced) > 1 else ''} you merged before with the same id: "
+                 f"{', '.join(replaced)}")
+    return text + "."
+
+
+def _merge(parts: dict, filename: str) -> None:
+    merged, replaced = merged_parts(c.user_parts(), parts)
+    st.session_state[c.USER_PARTS_KEY] = merged
+    st.session_state[MERGE_NOTE_KEY] = merge_note(filename, parts, replaced)
 
 
 def _unmerge() -> None:
     st.session_state.pop(c.USER_PARTS_KEY, None)
+    st.session_state.pop(MERGE_NOTE_KEY, None)
 
 
 def _upload(shipped_ids: set[str]) -> None:
     st.subheader("Add your own parts")
     st.markdown("A CSV with the columns of `catalog/parts.csv` (`part_id`, `grade` and `source` required; "
                 "empty cell = not in the datasheet). A row whose `part_id` is already in the catalog "
-                "replaces it for this session. Nothing is merged until the whole file is valid.")
+                "replaces it for this session; each merge adds to the parts merged before (a later upload of the "
+                "same id replaces it). Nothing is merged until the whole file is valid.")
     up = st.file_uploader(f"parts CSV (at most {MAX_UPLOAD_BYTES // 1_000_000} MB)", type=["csv"],
                           key="cat_upload", max_upload_size=MAX_UPLOAD_BYTES // 1_000_000)
     if up is not None:
@@ -84,13 +108,16 @@ def _upload(shipped_ids: set[str]) -> None:
             st.success(f"{res.filename}: {len(res.parts)} parts valid — {len(new)} new, "
                        f"{len(res.parts) - len(new)} replacing shipped parts.", icon=":material/check_circle:")
             st.button(f"Merge {len(res.parts)} parts into this session's catalog", key="cat_merge",
-                      on_click=_merge, args=(res.parts,), type="primary")
+                      on_click=_merge, args=(res.parts, res.filename), type="primary",
+                      help="added to the parts merged before; a part with an id merged before replaces it")
         else:
             more = " (listing stopped early)" if res.truncated else ""
             st.error(f"{res.filename}: {len(res.errors)} problem(s){more}; nothing was merged. "
                      f"First: {res.errors[0]}", icon=":material/error:")
             st.dataframe(pd.DataFrame(res.error_rows()), hide_index=True, key="cat_upload_errors")
     user = c.user_parts()
+    if note := st.session_state.get(MERGE_NOTE_KEY):
+        st.success(note, icon=":material/check_circle:")
     if user:
         st.info(f"Merged in this session: {len(user)} of your parts ({', '.join(sorted(user))}).",
                 icon=":material/info:")

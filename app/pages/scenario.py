@@ -14,15 +14,15 @@ from budget import units as u
 from budget.api import compute_bounds as scenario_bounds
 from budget.bounds import MODES as BOUND_MODES
 from budget.bounds import (BOUND_FIELDS, DerivedAssumptions, LeverArmAssumptions, NoAutofocusAssumptions,
-                           fast_phase_limits, scenario_keys)
-from budget.bounds.lever_arm import pga_limited_bounds
+                           fast_phase_limits, max_bounds_tc_s, scenario_keys)
 from budget.errors import InputError
-from budget.recommend import recommend_grade
+from budget.recommend import SufficientGrades, lowest_sufficient_grades
 from budget.sar.windows import verdict_window
 from budget.plots.bounds import BOUND_LABELS, bounds_vs_tc_figure
 
 import components as c
 import sidebar
+from formatting import grade_text
 from page_frame import run_page
 from uploads import error_text
 
@@ -71,7 +71,7 @@ def defaults_note(s) -> str:
 
 
 @st.cache_data(show_spinner="Drawing bounds vs. Tc …", max_entries=64)
-def _figure(dr: float, modes: tuple[str, ...], lo: float, hi: float, tc: float, lam: float,
+def _figure(dr: float, modes: tuple[str, ...], lo: float, hi: float, tc: float | None, lam: float,
             assumptions_json: tuple[tuple[str, str], ...]):
     classes = {"derived": DerivedAssumptions, "no-autofocus": NoAutofocusAssumptions,
                "lever-arm": LeverArmAssumptions}
@@ -95,32 +95,57 @@ def grade_verdicts(ctx: sidebar.Context) -> dict[str, str | None]:
     edits, as ``sar-budget check --mode derived`` computes it) and the PGA-limited bounds (seed
     004's tightened by what PGA cannot remove and attitude error × lever arm,
     :func:`budget.bounds.lever_arm.pga_limited_bounds`, as the Check page and ``sar-budget check``
-    give it). None where no grade suffices; a mode the library refuses is left out."""
+    give it). None where no grade suffices; a verdict the library refuses is left out (its
+    refusal: :func:`grade_refusals`)."""
+    return _grade_verdicts(ctx)[0]
+
+
+def grade_refusals(ctx: sidebar.Context) -> dict[str, str]:
+    """``{key: the library's one-line refusal}`` of each grade verdict not computed (e.g. a Tc
+    beyond the bounds' navigation model, :func:`budget.bounds.check_bounds_tc`)."""
+    return _grade_verdicts(ctx)[1]
+
+
+def _grade_verdicts(ctx: sidebar.Context) -> tuple[dict[str, str | None], dict[str, str]]:
+    """(grades, refusals): :func:`budget.recommend.lowest_sufficient_grades` — the call the Check page
+    and ``sar-budget check`` make — for the paper and the derived bounds; the PGA-limited grade with
+    the paper one. ``grades`` carries ``why_none``."""
     s = ctx.scenario
     grades = list(c.grades().values())
-    out: dict[str, str | None] = {}
-    for mode in ("paper", "derived"):
+    out = SufficientGrades({}, {})
+    refused: dict[str, str] = {}
+    for mode, keys in (("paper", ("paper", "pga_limited")), ("derived", ("derived",))):
         try:
-            out[mode] = recommend_grade([s.tc_s], s.range_resolution_m, grades, mode=mode,
-                                        wavelength_m=s.wavelength_m, assumptions=ctx.assumptions(mode)).grade[0]
-        except InputError:
-            continue  # the refusal is shown above the bounds table
-    out["pga_limited"] = recommend_grade([s.tc_s], s.range_resolution_m, grades,
-                                         bounds=pga_limited_bounds(s)[0]).grade[0]
-    return out
+            rec = lowest_sufficient_grades(s, mode, grades, ctx.edits(mode))
+        except InputError as err:  # e.g. a Tc beyond the bounds' navigation model: nothing computed
+            refused.update({k: error_text(err) for k in keys})
+            continue
+        for k in keys:
+            out[k] = rec[k]
+            if rec.why_none.get(k):
+                out.why_none[k] = rec.why_none[k]
+    return out, refused
+
+
+#: Keys of :func:`grade_verdicts` → the metric's label.
+GRADE_LABELS = {"paper": "lowest sufficient grade (paper bounds)",
+                "derived": "lowest sufficient grade (derived bounds)",
+                "pga_limited": "lowest sufficient grade (PGA-limited, binding)"}
 
 
 def _recommendation(ctx: sidebar.Context) -> None:
-    rec = grade_verdicts(ctx)
+    rec, refused = _grade_verdicts(ctx)
+    helps = {"derived": "the scenario's acceleration level and the sidebar's assumptions, as above",
+             "pga_limited": "seed 004's bounds tightened by what PGA cannot remove: fast phase beyond its window "
+                            "and attitude error × lever arm — the verdict the Monte Carlo's after-PGA pass rule "
+                            "follows"}
     cols = st.columns(3)
-    cols[0].metric("lowest sufficient grade (paper bounds)", rec.get("paper") or "none")
-    cols[1].metric("lowest sufficient grade (derived bounds)",
-                   (rec.get("derived") or "none") if "derived" in rec else "–",
-                   help="the scenario's acceleration level and the sidebar's assumptions, as above")
-    cols[2].metric("lowest sufficient grade (PGA-limited, binding)", rec["pga_limited"] or "none",
-                   help="seed 004's bounds tightened by what PGA cannot remove: fast phase beyond its window "
-                        "and attitude error × lever arm — the verdict the Monte Carlo's after-PGA pass rule "
-                        "follows")
+    for col, key in zip(cols, GRADE_LABELS):
+        col.metric(GRADE_LABELS[key], grade_text(rec, key), help=helps.get(key))
+        if key in refused:  # "–": not computed, and why (never "none", which is a verdict)
+            col.caption(f"not computed: {refused[key]}")
+        elif rec.why_none.get(key):  # none: the binding terms and how far the best grade misses them
+            col.caption(f"none: {rec.why_none[key]}")
     st.caption("Bias and noise terms against the best typical values of each grade (seed 004 Tables 3–4); "
                "scale factor and misalignment are left to calibration, as the paper says. The paper and "
                "derived grades are seed 004's verdict; the **PGA-limited** one is the binding verdict (the "
@@ -146,12 +171,21 @@ def _plot(ctx: sidebar.Context, refused: dict) -> None:
     offered = [m for m in BOUND_MODES if m not in refused]  # a refused mode has no curve
     modes = right.multiselect("curves", offered, default=[m for m in sidebar.MODES if m in offered],
                               key="scn_plot_modes")
-    lo, hi = min(lo, s.tc_s / 2), max(hi, s.tc_s * 2)  # keep the scenario's Tc in view
+    # keep the scenario's Tc in view, up to the longest Tc the bounds are computed for (beyond it
+    # the library refuses every bound: the curves stop there, and so does the plot)
+    limit = max_bounds_tc_s()
+    lo, hi = min(lo, s.tc_s / 2), min(max(hi, s.tc_s * 2), limit)
     if lo >= hi:
         st.info("Pick a Tc range with two different ends.")
         return
+    tc = s.tc_s if s.tc_s <= limit else None
+    if tc is None:
+        st.info(f"This scenario's Tc = {s.tc_s:.4g} s is beyond the longest Tc the bounds are computed for "
+                f"({limit:g} s): the plot stops there, without the scenario's marker.", icon=":material/info:")
+    elif hi < s.tc_s * 2:
+        st.caption(f"The plot stops at Tc = {limit:g} s, the longest Tc the bounds are computed for.")
     used = tuple((m, ctx.assumptions(m).model_dump_json()) for m in modes if m != "paper")
-    fig = _figure(s.range_resolution_m, tuple(modes), float(lo), float(hi), s.tc_s, s.wavelength_m, used)
+    fig = _figure(s.range_resolution_m, tuple(modes), float(lo), float(hi), tc, s.wavelength_m, used)
     st.plotly_chart(fig, key="scn_plot", width="stretch")
     st.caption("Shaded: typical ranges per grade (seed 004 Tables 3–4; dash-dot where the paper prints one "
                "value). A grade whose band lies below a curve meets that bound. Dotted vertical: this scenario. "
@@ -184,10 +218,11 @@ def render() -> None:
         st.warning(note, icon=":material/warning:")
     if note := defaults_note(s):
         st.info(note, icon=":material/info:")
-    _recommendation(ctx)
-    _fast_phase(s)
+    # each panel on its own: one the library refuses is its message, and the others still show
+    c.guarded(lambda: _recommendation(ctx))
+    c.guarded(lambda: _fast_phase(s))
     st.subheader("Bounds vs. aperture time")
-    _plot(ctx, refused)
+    c.guarded(lambda: _plot(ctx, refused))
     st.download_button("Download scenario (JSON)", data=json.dumps(s.model_dump(mode="json"), indent=2) + "\n",
                        file_name=f"{s.name}.json", mime="application/json", key="scn_download")
 

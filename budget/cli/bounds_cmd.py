@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bounds import (LeverArmAssumptions, compute_bounds, fast_phase_limits, for_scenario, lever_arm_terms,
-                      scenario_assumptions, scenario_keys)
 from ..errors import InputError
 from .common import add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
@@ -34,6 +32,11 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    # the bounds (and the SAR modules behind their fast-phase limits) when the command runs, not
+    # for --help or an argument error (budget.cli.main)
+    from ..bounds import (LeverArmAssumptions, compute_bounds, fast_phase_limits, for_scenario, lever_arm_terms,
+                          scenario_assumptions, scenario_keys)
+
     if args.tc:
         if args.scenario or args.preset:
             raise InputError("give either --tc or a scenario, not both", field="--tc")

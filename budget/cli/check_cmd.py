@@ -2,12 +2,8 @@
 
 from __future__ import annotations
 
-from ..api import load_parts
-from ..catalog.io import catalog_note, load_catalog, load_grades, user_catalog_path
-from ..check import check_parts, check_scenario_keys
-from ..recommend import check_record, lowest_sufficient_grades
 from .common import add_catalog_option, add_scenario_options, scenario_from_args
-from .mc_cmd import add_platform_motion_options, platform_motion_from_args
+from .motion_options import add_platform_motion_options, platform_motion_from_args
 from .output import add_json_option, write_json
 
 
@@ -25,6 +21,12 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    # the computation's modules when it runs, not for --help or an argument error (budget.cli.main)
+    from ..api import load_parts
+    from ..catalog.io import catalog_note, load_catalog, load_grades, user_catalog_path
+    from ..check import check_parts, check_scenario_keys
+    from ..recommend import check_record, lowest_sufficient_grades
+
     scen = scenario_from_args(args)
     catalog = load_catalog(args.catalog)
     parts = load_parts(args.part, catalog) if args.part else list(catalog.values())

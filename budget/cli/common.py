@@ -15,7 +15,9 @@ from ..scenario import Scenario
 
 #: Argument names (argparse ``dest``) that name an output file; ``-`` means stdout.
 OUTPUT_FILE_OPTIONS = ("json", "out", "report", "out_model", "image", "csv_out", "html")
-#: Argument names that name a file a row is appended to (its folder must exist).
+#: Argument names that name a file a row is appended to. One rule for every output file, these
+#: included: its missing folders are created when it is written, and the command says so
+#: (``created folder …``); the nearest existing folder must be writable, checked before the work.
 APPEND_OPTIONS = ("append",)
 #: Argument names that name an output folder (created if missing).
 OUTPUT_DIR_OPTIONS = ("plots", "out_dir", "figures")
@@ -174,7 +176,7 @@ def check_output_args(args) -> None:
     for name in APPEND_OPTIONS:
         value = getattr(args, name, None)
         if isinstance(value, (str, os.PathLike)):
-            guard(check_output_path(value, "--" + name, must_exist_dir=True), "--" + name, append=True)
+            guard(check_output_path(value, "--" + name), "--" + name, append=True)
     for name in OUTPUT_DIR_OPTIONS:
         value = getattr(args, name, None)
         if isinstance(value, (str, os.PathLike)):

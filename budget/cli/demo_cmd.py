@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from ..bounds import compute_bounds, fast_phase_limits
-from ..catalog.io import load_catalog, load_grades
-from ..check import check_parts
-from ..recommend import recommend_grade
 from ..presets import PRESETS, get_preset
-from ..sar.windows import verdict_window
+
+
+#: The aperture times and range resolution of seed 004's grade conclusion (its table, printed for
+#: comparison under the preset's own grades).
+SEED004_TC_S = (1.0, 10.0, 25.0, 50.0, 100.0)
+SEED004_RANGE_RESOLUTION_M = 0.1
 
 
 def add_parser(sub) -> None:
@@ -17,6 +18,13 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    # the computation's modules when it runs, not for --help or an argument error (budget.cli.main)
+    from ..bounds import compute_bounds, fast_phase_limits
+    from ..catalog.io import load_catalog, load_grades
+    from ..check import check_parts
+    from ..recommend import lowest_sufficient_grades, recommend_grade
+    from ..sar.windows import verdict_window
+
     s = get_preset(args.preset)
     print(f"Scenario {s.name}: {s.medium}, f0 = {s.carrier_frequency_hz:.4g} Hz, "
           f"λ = {s.wavelength_m:.4g} m, R = {s.slant_range_m:g} m, V = {s.platform_speed_m_s:g} m/s, "
@@ -36,6 +44,13 @@ def run(args) -> int:
         for r in flags:
             print(f"  ! {r['part_id']}: {r['flag_reason']}")
     grades = list(load_grades().values())
+    # this preset's own grades, from the call `sar-budget check` makes (lowest_sufficient_grades)
+    own = lowest_sufficient_grades(s, "paper", grades)
     print()
-    print(recommend_grade([1, 10, 25, 50, 100], 0.1, grades).summary())
+    print(f"lowest sufficient grade for {s.name} (typical, bias + noise, paper bounds): {own.text('paper')}")
+    print(f"lowest sufficient grade for {s.name} (typical, bias + noise, PGA-limited bounds): "
+          f"{own.text('pga_limited')}")
+    print()
+    print(f"For comparison, seed 004's table (δr = 0.1 m, Tc = 1 … 100 s; not {s.name}'s geometry):")
+    print(recommend_grade(list(SEED004_TC_S), SEED004_RANGE_RESOLUTION_M, grades).summary())
     return 0

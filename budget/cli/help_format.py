@@ -11,6 +11,12 @@ from __future__ import annotations
 
 import argparse
 import copy
+import re
+
+#: What reads as a negative number, not an option: ``-30``, ``-.5``, ``-1.5e1``, ``-2E-3``.
+#: argparse's own pattern (``^-\d+$|^-\d*\.\d+$``) misses the exponent, so
+#: ``--manoeuvre-angle -1.5e1`` was "expected one argument" while ``-15`` worked.
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 def _no_default(value) -> bool:
@@ -43,6 +49,7 @@ class DefaultsParser(argparse.ArgumentParser):
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", DefaultsFormatter)
         super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER  # scientific notation too (-1.5e1)
 
     def error(self, message: str):
         """A bad option is one line, like every other input error (argparse prints the whole

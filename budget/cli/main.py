@@ -23,27 +23,48 @@ import warnings
 
 from ..errors import describe_error
 
+#: Sub-commands in help order: name → (module of this package that defines it, its one-line help).
+#: ``sar-budget --help`` and a wrong command name are answered from this table alone; only the
+#: module of the command given is imported (:func:`build_parser` with ``argv``), so the help and
+#: argument errors do not wait for every command's dependencies (scipy, pandas, plotly, numba …).
+#: ``tests/test_cli_review_fixes.py`` checks each help here is the one its module registers.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "dashboard": ("dashboard_cmd", "start the interactive dashboard and print its URL"),
+    "demo": ("demo_cmd", "print bounds and the part check for a preset scenario"),
+    "bounds": ("bounds_cmd", "maximum allowed IMU errors for given aperture times"),
+    "check": ("check_cmd", "check catalog parts against a scenario"),
+    "catalog": ("catalog_cmd", "validate, list or show catalog parts"),
+    "motion": ("motion_cmd", "simulate motion and phase errors of an IMU over the aperture"),
+    "sar": ("sar_cmd", "simulate, image and autofocus the default point-target scene"),
+    "focus": ("focus_cmd", "focus recorded SAR phase-history files and autofocus the image"),
+    "noise": ("noise_cmd", "noise lab: Allan characterisation, ARMA + Kalman filter"),
+    "mc": ("mc_cmd", "Monte Carlo verdict: does autofocus absorb what the IMU leaves?"),
+    "sweep": ("mc_cmd", "trade study: parts × scenarios → CSV"),
+    "gap": ("gap_cmd", "model gap: compare a log with its noise model, name missing effects"),
+    "scenario": ("scenario_cmd", "show, write or validate a scenario (JSON/YAML)"),
+    "report": ("report_cmd", "HTML report: scenario, bounds, check, Monte Carlo, figures"),
+}
+
 #: Modules of this package that provide sub-commands, in help order.
-COMMAND_MODULES = (
-    "dashboard_cmd",
-    "demo_cmd",
-    "bounds_cmd",
-    "check_cmd",
-    "catalog_cmd",
-    "motion_cmd",
-    "sar_cmd",
-    "focus_cmd",
-    "noise_cmd",
-    "mc_cmd",
-    "gap_cmd",
-    "scenario_cmd",
-    "report_cmd",
-)
+COMMAND_MODULES = tuple(dict.fromkeys(module for module, _ in COMMANDS.values()))
 
 DEBUG_ENV = "SAR_BUDGET_DEBUG"
 
 
-def build_parser() -> argparse.ArgumentParser:
+def command_in(argv: list[str]) -> str | None:
+    """The sub-command ``argv`` names (its first word that is not a top-level option), or None."""
+    for word in argv:
+        if not word.startswith("-"):
+            return word
+        if word == "--":
+            return None
+    return None
+
+
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The ``sar-budget`` parser. Without ``argv``: every sub-command's full parser (each module
+    imported). With ``argv``: only the module of the command it names is imported and its parser
+    built; the other commands are listed with their help (:data:`COMMANDS`) and nothing else."""
     from .help_format import DefaultsParser  # every sub-command's --help shows its defaults
 
     parser = DefaultsParser(
@@ -53,8 +74,21 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"show the traceback of unexpected errors (or set {DEBUG_ENV}=1)")
 
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=DefaultsParser)
-    for name in COMMAND_MODULES:
+    if argv is None:
+        modules = COMMAND_MODULES
+    else:
+        chosen = command_in(argv)
+        modules = (COMMANDS[chosen][0],) if chosen in COMMANDS else ()
+    for name in modules:
         importlib.import_module(f"{__package__}.{name}").add_parser(sub)
+    built = dict(sub.choices)
+    for name, (_, help_) in COMMANDS.items():  # the others: listed, in help order
+        if name not in built:
+            sub.add_parser(name, help=help_)
+    order = list(COMMANDS)  # help order whichever module was imported first
+    sub._choices_actions.sort(key=lambda a: order.index(a.dest) if a.dest in order else len(order))
+    sub.choices = dict(sorted(sub.choices.items(),
+                              key=lambda kv: order.index(kv[0]) if kv[0] in order else len(order)))
     return parser
 
 
@@ -82,6 +116,19 @@ def _name_scenario_file(err: BaseException, args) -> None:
         name_scenario_file(err, given)
 
 
+def _name_option(err: BaseException, parser, args) -> BaseException:
+    """A library error about one of its fields names the option the user typed instead
+    (``option --manoeuvre-period``, not ``field period_s``: :mod:`.option_names`)."""
+    from pydantic import ValidationError
+
+    from ..errors import from_validation_error
+    from .option_names import name_option
+
+    if isinstance(err, ValidationError):
+        err = from_validation_error(err)
+    return name_option(err, parser, args)
+
+
 def _one_line_warning(label: str):
     """``warnings.showwarning`` for the CLI: ``<label>: warning: <message>`` on one line (the
     default also prints the file, line and source line of the code that warned)."""
@@ -92,8 +139,12 @@ def _one_line_warning(label: str):
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(argv)  # the command's own module only: help and argument errors are fast
     args = parser.parse_args(argv)
+    if getattr(args, "command", None) and not getattr(args, "func", None):
+        parser = build_parser()  # a command the quick look did not find (never expected): the full parser
+        args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
@@ -114,6 +165,7 @@ def main(argv: list[str] | None = None) -> int:
         raise
     except BaseException as err:  # noqa: BLE001 — the error boundary: one line, never a traceback
         _name_scenario_file(err, args)
+        err = _name_option(err, parser, args)
         msg = describe_error(err)
         if msg.kind == "cancelled":
             print(f"{label}: cancelled", file=sys.stderr)

@@ -12,13 +12,13 @@ from ..mc import McOptions, run_mc
 from ..mc.options import (DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS, UNSPECIFIED_DEFAULT, UNSPECIFIED_POLICIES,
                           VERDICT_ACCEPTANCE)
 from ..mc.sweep import cheapest_passing, not_simulated, sweep
-from ..nav.manoeuvre import KINDS as PLATFORM_MOTIONS
 from ..noise.prefilter import prefilter_for
 from ..presets import get_preset
 from ..sar.residual import DEFAULT_PASS_SHARE
 from ..scenario import Scenario
 from .common import (add_catalog_option, add_part_or_model_options, add_scenario_options,
                      part_or_model_from_args, scenario_from_args)
+from .motion_options import add_platform_motion_options, platform_motion_from_args  # noqa: F401 (check, report)
 from .output import add_json_option, write_json
 from .progress import add_quiet_option, progress
 
@@ -58,32 +58,6 @@ def _options(args) -> McOptions:
                 raise err.rename_file(args.acceptance) from None
             raise
     return McOptions.build(**upd)
-
-
-def platform_motion_from_args(args) -> dict | None:
-    """``--platform-motion`` and its parameters as the ``platform_motion`` option (None: not given);
-    a parameter of another kind, or ``--disturbance`` without ``custom``, is refused."""
-    kind = getattr(args, "platform_motion", None)
-    given = {f: getattr(args, a, None) for f, a in (("peak_rate_deg_s", "manoeuvre_rate"),
-                                                   ("period_s", "manoeuvre_period"),
-                                                   ("angle_deg", "manoeuvre_angle"))}
-    given = {k: v for k, v in given.items() if v is not None}
-    path = getattr(args, "disturbance", None)
-    if kind is None:
-        if given or path:
-            raise InputError("manoeuvre parameters need --platform-motion", field="--platform-motion",
-                             expected="oscillation, attitude_change or custom")
-        return None
-    out = {"kind": kind, **given}
-    if kind == "custom":
-        if not path:
-            raise InputError("--platform-motion custom needs --disturbance D.json", field="--disturbance")
-        from ..nav.platform import Disturbance
-        out["disturbance"] = Disturbance.load(path)
-    elif path:
-        raise InputError("--disturbance is the custom platform motion", field="--disturbance", value=path,
-                         expected="--platform-motion custom")
-    return out
 
 
 def _positive(name, v):
@@ -145,24 +119,6 @@ def _add_verdict_options(p) -> None:
     p.add_argument("--prefilter", choices=PREFILTERS, default="none",
                    help="seed 000's ARMA-Kalman filtering of the IMU output before navigation "
                         "(real-time filter or RTS smoother; ARMA fitted on a simulated static record)")
-
-
-def add_platform_motion_options(p, *, unset: str = "straight (default; gyro scale factor and misalignment "
-                                                  "then have no effect)") -> None:
-    """``--platform-motion`` and its parameters (:func:`platform_motion_from_args` reads them);
-    ``unset`` says what the command does without the option."""
-    p.add_argument("--platform-motion", choices=PLATFORM_MOTIONS, default=None,
-                   help=f"what the platform does over the aperture: {unset}, oscillation (roll/pitch/yaw at "
-                        "the scenario's platform_rate_deg_s), attitude_change (a roll through Θ over the "
-                        "aperture, the gyro-scale-factor bound's manoeuvre) or custom (--disturbance)")
-    p.add_argument("--manoeuvre-rate", type=float, default=None, metavar="DEG_S",
-                   help="oscillation: peak rate per axis in deg/s (default the scenario's platform_rate_deg_s)")
-    p.add_argument("--manoeuvre-period", type=float, default=None, metavar="S",
-                   help="oscillation: period in s (default 10)")
-    p.add_argument("--manoeuvre-angle", type=float, default=None, metavar="DEG",
-                   help="attitude_change: roll change Θ in degrees (default 57.3 = 1 rad)")
-    p.add_argument("--disturbance", metavar="D.json", default=None,
-                   help="custom: platform disturbance JSON (sinusoids / random PSD per axis)")
 
 
 def _add_unspecified_option(p) -> None:

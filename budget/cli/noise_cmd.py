@@ -50,7 +50,8 @@ def add_parser(sub) -> None:
                    help="keep isolated spikes that would decide the short-τ Allan deviation (default: "
                         "replaced before the fit, named in a warning)")
     c.add_argument("--as-part", metavar="ID", help="part_id of the catalog row")
-    c.add_argument("--append", metavar="CSV", help="append the row to this user catalog CSV")
+    c.add_argument("--append", metavar="CSV", help="append the row to this user catalog CSV (created if absent; "
+                                                   "a missing folder is created, as for every output)")
     c.add_argument("--replace", action="store_true", help="with --append: replace an existing id")
     _log_options(c)
     add_json_option(c)
@@ -86,6 +87,9 @@ def run_characterize(args) -> int:
     path = Path(args.input)
     if args.append and not args.as_part:
         raise InputError("--append needs --as-part ID (the part_id of the new row)", field="--as-part")
+    if args.replace and not args.append:  # replace in which catalog? (it was silently ignored)
+        raise InputError("--replace needs --append CSV (the user catalog whose row it replaces)",
+                         field="--replace", expected="--append CSV --replace, or no --replace")
     chans = [c.strip() for c in args.channels.split(",") if c.strip()] if args.channels else None
     data = read_measurement(path, rate_hz=args.rate_hz, samples=args.samples, mapping=_mapping(args),
                             repair=args.repair, max_rows=args.max_rows, ci_level=args.ci_level,
@@ -113,6 +117,8 @@ def run_characterize(args) -> int:
             warn(args, f"{path.name}: {warning}")
     if args.append:
         from ..catalog.io import append_part
+        from .output import make_output_folder
+        make_output_folder(args.append)  # one rule for every output: a missing folder is created, and said
         append_part(args.append, result.part, replace=args.replace)
     if args.json:
         write_json(result.to_dict(), args.json)

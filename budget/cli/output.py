@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 import sys
+import warnings
 from pathlib import Path
 
 from ..fileio import atomic_write_text, json_text  # noqa: F401
@@ -41,3 +43,19 @@ def write_frame_csv(frame, dest: str) -> None:
 def add_json_option(parser) -> None:
     parser.add_argument("--json", metavar="FILE", default=None,
                         help="write JSON to FILE ('-' for stdout) instead of a table")
+
+
+def make_output_folder(dest: str) -> None:
+    """Create the missing folders of the output file ``dest`` and say so, as every output's writer
+    does (:func:`budget.fileio.atomic_write_text`): the one rule of the command line's outputs
+    (``--json``, ``--out``, ``--report``, ``--append`` …). ``-`` (stdout) and existing folders: nothing."""
+    if str(dest) == "-":
+        return
+    folder = Path(os.path.realpath(dest)).parent
+    if folder.is_dir():
+        return
+    created = [d for d in (folder, *folder.parents) if not d.exists()]
+    folder.mkdir(parents=True, exist_ok=True)
+    many = len(created) > 1
+    warnings.warn(f"created folder{'s' if many else ''} {', '.join(str(d) for d in reversed(created))} "
+                  f"({'they' if many else 'it'} did not exist) to write {dest}", UserWarning, stacklevel=2)

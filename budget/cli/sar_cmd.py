@@ -8,10 +8,6 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from ..sar import SarGeometry, Scene, smooth_phase_error
-from ..sar.geometry import IMAGE_MARGIN_CELLS
-from ..sar.injected import run_injected_phase_trial
-from ..sar.phase import check_phase_sampled, normalised_time
 from .common import add_scenario_options, scenario_from_args
 from .output import add_json_option, write_json
 
@@ -39,6 +35,12 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    # the simulator when the command runs, not for --help or an argument error (budget.cli.main)
+    from ..sar import SarGeometry, Scene, smooth_phase_error
+    from ..sar.geometry import IMAGE_MARGIN_CELLS
+    from ..sar.injected import run_injected_phase_trial
+    from ..sar.phase import check_phase_sampled, normalised_time
+
     scenario = scenario_from_args(args, default_preset="airborne_xband")
     for name in ("quadratic_rad", "cubic_rad", "sinusoid_rad", "sinusoid_cycles", "snr_db"):
         if not np.isfinite(getattr(args, name)):
