@@ -328,8 +328,8 @@ class CheckResult:
         """The verdict against the ``mode`` bounds, beside the PGA-limited one (fast phase and
         lever arm); every disagreement is explained below the table. Every scenario, each under
         a header naming it (``scenario_index``: that scenario only, its header saying how many
-        others there are): :func:`budget.recommend.check_summary`."""
-        from .recommend import check_summary
+        others there are): :func:`budget.check_text.check_summary`."""
+        from .check_text import check_summary
 
         return check_summary(self, scenario_index)
 
@@ -435,7 +435,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
     1-rad attitude change; None keeps the bounds as they are. ``catalog``: where the part ids were
     looked up, in words (recorded); ``sources``: the file of each scenario (None: preset or
     object), to name them when two different scenarios share a name (refused, as the sweep does:
-    :func:`budget.recommend.refuse_shared_names`). A bound that does not constrain is not named binding; the
+    :func:`budget.scenario_errors.refuse_shared_names`). A bound that does not constrain is not named binding; the
     scenario's own notes (:meth:`Scenario.notes`) and the bounds' limit notes are in
     ``scenario_notes``."""
     parts = list(parts)
@@ -445,7 +445,7 @@ def check_parts(parts: Iterable[PartSpec], scenarios: Sequence[Scenario] | Scena
         raise InputError(f"no {what} to check", field=f"{what}s",
                          expected=f"at least one {what}")
     refuse_repeats(parts, lambda p: getattr(p, "part_id", None), field="parts", what="part")
-    from .recommend import refuse_shared_names
+    from .scenario_errors import refuse_shared_names
     refuse_shared_names(list(zip(scen, sources or [None] * len(scen))), "check's rows")
     if len(parts) * len(scen) > MAX_CHECKS:
         # the exact share of apertures within the fast-phase limit (an eigen-decomposition and a
@@ -591,7 +591,7 @@ def check_arrays(specs: np.ndarray, tc_s: np.ndarray, range_resolution_m: np.nda
 
 
 def __getattr__(name: str):
-    if name == "rotation_line":  # lives with the check's text (budget.recommend); imported from here too
-        from .recommend import rotation_line
+    if name == "rotation_line":  # lives with the check's text (budget.check_text); imported from here too
+        from .check_text import rotation_line
         return rotation_line
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -6,12 +6,17 @@ loading. :class:`budget.scenario.Scenario` is imported where needed (it imports 
 from __future__ import annotations
 
 import difflib
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pydantic import ValidationError
 
 from .errors import InputError
 from .units import unit_of_name, value_text_hint
+
+if TYPE_CHECKING:
+    from .scenario import Scenario
 
 #: Quantities a user may try to give but that are derived (never stored), and what sets them.
 DERIVED_KEYS = {
@@ -129,3 +134,31 @@ def _scenario_keys():
     """The keys a scenario file may have (its model's fields)."""
     from .scenario import Scenario
     return Scenario.model_fields
+
+
+def refuse_shared_names(given: Sequence[tuple[Scenario, object]], what: str = "sweep's rows, heat map and cheapest part") -> None:
+    """Two scenarios under one name (a preset and an edited copy that kept its name, say) give rows
+    nobody can tell apart (one overwrote the other's numbers): refused, naming both — as a repeat
+    when equal (a preset and a file holding it), as a clash when they differ (and in which keys).
+    ``given``: (scenario, its file or None) pairs; the one rule of :func:`budget.mc.sweep.sweep`
+    and :func:`budget.check.check_parts` (``what``: whose rows are keyed by the name)."""
+    from .errors import _equal
+    from .presets import PRESETS
+
+    seen: dict[str, tuple[Scenario, object, int]] = {}
+    for k, (sc, src) in enumerate(given):
+        first = seen.setdefault(sc.name, (sc, src, k))
+        if first[0] is sc:
+            continue
+        # "preset" only for the preset itself: an edited copy that kept the preset's name is not one
+        where = [f"scenarios[{i}] (" + (f"file {w}" if w is not None
+                                         else "preset" if x.name in PRESETS and _equal(x, PRESETS[x.name])
+                                         else "a Scenario object or mapping") + ")" for x, w, i in (first, (sc, src, k))]
+        if _equal(first[0], sc):
+            raise InputError(f"scenario {sc.name!r} given more than once ({where[0]} and {where[1]}, equal)",
+                             field="scenarios", value=sc.name,
+                             expected="each scenario once (a repeat adds identical rows and runs the same trials again)")
+        diff = [f for f in type(sc).model_fields if getattr(sc, f) != getattr(first[0], f)][:4]
+        raise InputError(f"two different scenarios are named {sc.name!r}: {where[0]} and {where[1]}, which differ "
+                         f"in {', '.join(diff) or 'their keys'}", field="scenarios", value=sc.name,
+                         expected=f"a distinct name for each scenario (its 'name' key): the {what} are keyed by it")

@@ -13,7 +13,7 @@ FLOORS = {
     "units": 1, "errors": 1, "fileio": 1, "structured": 1, "safe_text": 1, "rng": 1, "parameters": 1,
     "quadform": 1,
     "scenario": 2, "scenario_limits": 2, "scenario_errors": 2, "aiding_spec": 2, "presets": 2, "catalog": 2, "nav": 2,
-    "bounds": 3, "imu": 3, "sar": 3, "check": 3, "recommend": 3,
+    "bounds": 3, "imu": 3, "sar": 3, "check": 3, "check_text": 3, "recommend": 3,
     "motion": 4, "aiding": 4, "noise": 4,
     "mc": 5, "gap": 5, "seeds": 5, "plots": 5,
     "report": 6, "api": 6,

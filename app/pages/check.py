@@ -11,7 +11,8 @@ from budget.catalog.io import catalog_note, user_catalog_path
 from budget.catalog.schema import GRADES
 from budget.check import check_parts, check_scenario_keys, rotation_line
 from budget.errors import InputError
-from budget.recommend import check_record, lowest_sufficient_grades
+from budget.check_text import check_record
+from budget.recommend import lowest_sufficient_grades
 from budget.fileio import json_text
 from budget.safe_text import frame_csv_text
 from budget.plots.check import margin_heatmap_figure
@@ -51,7 +52,7 @@ def _recommendation(ctx: sidebar.Context, rec: dict[str, str | None]) -> None:
 
 
 def check_json(result, ctx: sidebar.Context, rec: dict[str, str | None], motion_kind: str | None) -> dict:
-    """What ``sar-budget check --json`` writes, for this check (:func:`budget.recommend.check_record`).
+    """What ``sar-budget check --json`` writes, for this check (:func:`budget.check_text.check_record`).
     Parts uploaded on the Catalog page in this session are named under ``catalog`` and
     ``catalog_note``, as the CLI names a user catalog."""
     user = user_catalog_path(None)  # $SAR_BUDGET_CATALOG, merged into the shipped parts as the CLI does

@@ -25,7 +25,8 @@ def run(args) -> int:
     from ..api import load_parts
     from ..catalog.io import catalog_note, load_catalog, load_grades, user_catalog_path
     from ..check import check_parts, check_scenario_keys
-    from ..recommend import check_record, lowest_sufficient_grades
+    from ..check_text import check_record
+    from ..recommend import lowest_sufficient_grades
 
     scen = scenario_from_args(args)
     catalog = load_catalog(args.catalog)

@@ -24,7 +24,7 @@ from ..presets import PRESETS
 from ..sar.geometry import SarGeometry
 from ..sar.residual import DEFAULT_PASS_SHARE
 from ..scenario import Scenario, name_scenario_file
-from ..recommend import refuse_shared_names as _refuse_shared_names
+from ..scenario_errors import refuse_shared_names as _refuse_shared_names
 from .notes import (SIMULATED_DEFAULT_KEYS, aiding_defaults_note, platform_motion_note, resolution_reached,
                     scenario_notes_text)
 from .options import McOptions

@@ -13,7 +13,7 @@ import math
 
 import pandas as pd
 
-from ..check import rotation_line
+from ..check_text import rotation_line
 from ..mc.notes import SIMULATION_NOTES
 
 CSS = """
