@@ -28,29 +28,18 @@ from .sar.residual import DEFAULT_PASS_SHARE
 
 
 def load_scenario(source) -> "Scenario":  # noqa: F821 — imported lazily below
-    """A scenario from a :class:`Scenario`, a preset name, a JSON/YAML path or a mapping of keys."""
-    from .presets import PRESETS, get_preset
-    from .scenario import Scenario
+    """A scenario from a :class:`Scenario`, a preset name, a JSON/YAML path or a mapping of keys
+    (:func:`budget.presets.load_scenario`)."""
+    from .presets import load_scenario as _load
 
-    if isinstance(source, Scenario):
-        return source
-    if isinstance(source, Mapping):
-        return Scenario.from_dict(dict(source), source="scenario mapping")
-    if _is_file(source):
-        return Scenario.load(source)
-    if isinstance(source, str):
-        return get_preset(source)
-    raise InputError(f"cannot use a {type(source).__name__} as a scenario", field="scenario",
-                     expected="a Scenario, a preset name (" + ", ".join(sorted(PRESETS)) +
-                              "), a .json/.yaml path or a mapping of scenario keys")
+    return _load(source)
 
 
 def _is_file(source) -> bool:
     """True if ``source`` is what :func:`load_scenario` reads as a file path."""
-    from .presets import PRESETS
+    from .presets import is_scenario_file
 
-    return isinstance(source, Path) or (isinstance(source, str) and source not in PRESETS and
-                                        Path(source).suffix.lower() in (".json", ".yaml", ".yml"))
+    return is_scenario_file(source)
 
 
 def _scenario_sources(sources) -> list:

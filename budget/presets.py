@@ -7,6 +7,8 @@ Each preset says where its numbers come from. ``get_preset(name)`` returns a
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from pathlib import Path
 
 from .errors import InputError
 from .scenario import Scenario
@@ -65,3 +67,26 @@ def get_preset(name: str) -> Scenario:
     except KeyError:
         raise InputError(f"unknown preset {name!r}", field="preset",
                          expected=", ".join(PRESETS)) from None
+
+
+def is_scenario_file(source) -> bool:
+    """True if ``source`` is what :func:`load_scenario` reads as a file path: a Path, or a string
+    ending in .json/.yaml/.yml that is not a preset's name."""
+    return isinstance(source, Path) or (isinstance(source, str) and source not in PRESETS and
+                                        Path(source).suffix.lower() in (".json", ".yaml", ".yml"))
+
+
+def load_scenario(source) -> Scenario:
+    """A scenario from a :class:`Scenario`, a preset name, a JSON/YAML path or a mapping of keys
+    (the one reader of every function that takes a scenario, :func:`budget.load_scenario`)."""
+    if isinstance(source, Scenario):
+        return source
+    if isinstance(source, Mapping):
+        return Scenario.from_dict(dict(source), source="scenario mapping")
+    if is_scenario_file(source):
+        return Scenario.load(source)
+    if isinstance(source, str):
+        return get_preset(source)
+    raise InputError(f"cannot use a {type(source).__name__} as a scenario", field="scenario",
+                     expected="a Scenario, a preset name (" + ", ".join(sorted(PRESETS)) +
+                              "), a .json/.yaml path or a mapping of scenario keys")

@@ -16,7 +16,6 @@ from .catalog.schema import GRADE_RANK, GradeSpec, PartSpec
 from .check import PARAM_NAMES, assumptions_dict, bound_matrix, fast_phase_matrix, margins, pga_limited_margin
 from .errors import InputError
 from .parameters import FAMILIES, PARAMETERS, grade_value
-from .scenario import Scenario
 
 #: What "sufficient" means per term (seed 004's bounds, or a ready table without its scenario) and
 #: with the check's combined fast-phase limit (PGA-limited bounds given with their scenario).
@@ -237,8 +236,9 @@ def lowest_sufficient_grades(scenario, mode: str = "paper", grades: Sequence[Gra
     from .bounds import scenario_assumptions
     from .bounds.lever_arm import pga_limited_bounds
     from .catalog.io import load_grades
+    from .presets import load_scenario
 
-    scenario = _as_scenario(scenario)
+    scenario = load_scenario(scenario)
     grades = list(load_grades().values() if grades is None else grades)
     rec = recommend_grade([scenario.tc_s], scenario.range_resolution_m, grades, mode=mode,
                           wavelength_m=scenario.wavelength_m,
@@ -248,24 +248,3 @@ def lowest_sufficient_grades(scenario, mode: str = "paper", grades: Sequence[Gra
                               scenario=scenario)
     return SufficientGrades({mode: rec.grade[0], "pga_limited": limited.grade[0]},
                             {mode: rec.why_none[0], "pga_limited": limited.why_none[0]})
-
-
-def _as_scenario(source) -> Scenario:
-    """A scenario from itself, a preset name, a mapping of its keys or a .json/.yaml path, as
-    :func:`budget.load_scenario` reads them (that front door sits above this module)."""
-    from pathlib import Path
-
-    from .presets import PRESETS, get_preset
-
-    if isinstance(source, Scenario):
-        return source
-    if isinstance(source, Mapping):
-        return Scenario.from_dict(dict(source), source="scenario mapping")
-    if isinstance(source, (str, Path)) and not (isinstance(source, str) and source in PRESETS) and \
-            Path(source).suffix.lower() in (".json", ".yaml", ".yml"):
-        return Scenario.load(source)
-    if isinstance(source, str):
-        return get_preset(source)
-    raise InputError(f"cannot use a {type(source).__name__} as a scenario", field="scenario",
-                     expected="a Scenario, a preset name (" + ", ".join(sorted(PRESETS)) +
-                              "), a .json/.yaml path or a mapping of scenario keys")
