@@ -10,7 +10,7 @@ from ..catalog.io import catalog_note, load_catalog
 from ..errors import InputError
 from ..mc import McOptions, run_mc
 from ..mc.options import (DEFAULT_SEED, DEFAULT_TRIALS, PREFILTERS, UNSPECIFIED_DEFAULT, UNSPECIFIED_POLICIES,
-                          VERDICT_ACCEPTANCE)
+                          acceptance_spec_options)
 from ..mc.sweep import cheapest_passing, not_simulated, sweep
 from ..noise.prefilter import prefilter_for
 from ..presets import get_preset
@@ -47,10 +47,10 @@ def _options(args) -> McOptions:
         spec = read_structured(args.acceptance, "an acceptance spec")  # size, depth and duplicate-key limits
         if not isinstance(spec, dict):
             raise InputError("the acceptance spec must be a JSON object", file=args.acceptance)
-        verdict = {k: spec.pop(k) for k in ("max_range_migration_cells", "max_residual_phase_rms_deg")
-                   if k in spec}
-        upd.update(verdict)
-        upd["acceptance"] = {**VERDICT_ACCEPTANCE.model_dump(), **spec}
+        # the library's one merge: the spec over the verdict's defaults, its verdict limits as options
+        merged = acceptance_spec_options(spec)
+        verdict = [k for k in merged if k != "acceptance"]
+        upd.update(merged)
         try:
             return McOptions.build(**upd)
         except InputError as err:  # a field of the spec: name its file
