@@ -197,19 +197,19 @@ def test_recommendation_accepts_names_and_refuses_a_bad_family_clearly():
 
 # --- 8. one perfect-IMU reference per scenario ---------------------------------------------------------
 
-def test_the_reference_does_not_follow_the_parts_image_size():
-    """A part whose defocus widens the image used to get a reference of its own (measured on ku_uav:
-    PSLR limits −21.9 / −22.7 / −22.2 dB on 440 / 500 / 525 pulses); now every part of a scenario
-    is judged against the reference of the scenario's default image."""
-    from budget.mc.chain import ChainSetup, clear_reference_cache, scene_reference
-    clear_reference_cache()
+def test_the_reference_states_the_image_it_was_formed_on_and_rows_carry_its_limits():
+    """The perfect-IMU reference is formed on the part's own image (its defocus may widen it): the
+    summary names the image's pulses, and a sweep row the limits that part was judged against."""
+    from budget.mc.chain import ChainSetup, scene_reference
     s = budget.load_scenario("automotive_24ghz")
-    plain = ChainSetup.build(s, McOptions(defocus_room_cells=0.0))
     wide = ChainSetup.build(s, McOptions(defocus_room_cells=64.0))
-    assert wide.geom.n_pulses > plain.geom.n_pulses
-    ref_wide, ref_plain = scene_reference(wide), scene_reference(plain)
-    assert ref_wide is ref_plain and ref_wide.n_pulses == plain.geom.n_pulses
-    assert f"default {plain.geom.n_pulses}-pulse image" in ref_wide.summary()
+    ref = scene_reference(wide)
+    assert ref.n_pulses == wide.geom.n_pulses
+    assert f"this part's {wide.geom.n_pulses}-pulse image" in ref.summary()
+    table = _quiet(budget.sweep, ["STIM300"], ["automotive_24ghz"], trials=2, seed=1, scene="realistic")
+    row = table.iloc[0]
+    r = _quiet(budget.run_mc, "automotive_24ghz", "STIM300", trials=2, seed=1, scene="realistic")
+    assert row["reference_pslr_limit_db"] == pytest.approx(r.judged_on["reference"]["limits"]["pslr_db"])
 
 
 # --- 9, 10. resolution reached, P(pass), units and the verdict in frames -------------------------------

@@ -66,14 +66,13 @@ class SceneReference:
     spec: dict
     scene_fails_spec: tuple[str, ...]
     perfect_imu_pass_fraction: float
-    #: pulses of the image the reference was formed on (the scenario's default image, the same
-    #: for every part: :func:`budget.mc.chain.scene_reference`); None when not recorded
+    #: pulses of the image the reference was formed on (the part's own image, widened for its
+    #: defocus: :func:`budget.mc.chain.scene_reference`); None when not recorded
     n_pulses: int | None = None
 
     def summary(self) -> str:
         q = self.quantiles
-        on = (f" on the scenario's default {self.n_pulses}-pulse image, the same for every part"
-              if self.n_pulses else "")
+        on = f" on this part's {self.n_pulses}-pulse image" if self.n_pulses else ""
         text = (f"perfect-IMU reference ({self.draws} noise draws{on}, {100 * REFERENCE_QUANTILE:g} % quantile after PGA): PSLR "
                 f"{q['pslr_db']:.1f} dB, ISLR {q['islr_db']:.1f} dB, residual {q['residual_phase_rms_deg']:.2f}°; "
                 f"acceptance relative to it: PSLR ≤ {self.effective()['pslr_db']:.1f} dB, ISLR ≤ "

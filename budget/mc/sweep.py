@@ -90,8 +90,9 @@ def sweep(parts: Sequence, scenarios: Sequence[Scenario], trials: int, seed: int
     ``azimuth_resolution_reached_m`` / ``range_resolution_reached_m`` (what the verdict's window
     resolves, :func:`budget.mc.notes.resolution_reached`), ``scenario_notes`` (:meth:`Scenario.notes`),
     ``reference_pslr_limit_db`` / ``reference_islr_limit_db`` / ``reference_residual_limit_deg`` (the
-    perfect-IMU reference's limits on a cluttered or noisy scene, the same for every part of a
-    scenario: :func:`budget.mc.chain.scene_reference`; NaN without one), ``part_figures`` /
+    perfect-IMU reference's limits on a cluttered or noisy scene, formed on the part's own image,
+    so they move with the image its defocus asked for: :func:`budget.mc.chain.scene_reference`;
+    NaN without one), ``part_figures`` /
     ``part_digest`` / ``part_origin`` (the figures judged, :mod:`budget.mc.provenance`) and
     ``catalog`` (``catalog_source``: where the part ids were looked up, also in ``attrs``).
     ``sources``: the file each scenario was read
