@@ -209,6 +209,7 @@ def test_monte_carlo_agrees_with_the_motion_aware_gyro_misalignment_bound():
     assert _p_pass(scen, "gyro_misalignment", 1.0, "oscillation") >= 0.5
 
 
+@pytest.mark.slow  # CI's second step: 41 s on a fresh clone (fast suite under 10 min on 2 cores)
 def test_report_judges_the_check_on_the_monte_carlo_rotation():
     from budget.mc import McOptions
     from budget.report import build_report

@@ -57,6 +57,7 @@ def test_scenario_page_draws_bounds_and_plot(page, dashboard_url):
     page.screenshot(path=str(ARTIFACTS / "dashboard_scenario.png"))  # README pictures: the per-page test
 
 
+@pytest.mark.slow  # CI's second step: 33 s on a fresh clone (fast suite under 10 min on 2 cores)
 def test_editing_slant_range_updates_the_check_table(page, dashboard_url):
     from playwright.sync_api import expect
 

@@ -148,6 +148,7 @@ def test_every_page_renders_and_the_menu_shows_them_all(browser, dashboard_url, 
     ctx.close()
 
 
+@pytest.mark.slow  # CI's second step: 20 s on a fresh clone (fast suite under 10 min on 2 cores)
 def test_allan_table_on_noise_lab(page, dashboard_url):
     """A published Allan table (the CLI's second input form) is accepted on the dashboard too."""
     from playwright.sync_api import expect
